@@ -1,0 +1,54 @@
+"""The ``frustum`` command.
+
+Each command group lives in its own module and registers its sub-parser through
+a ``register(subparsers)`` function; this module only assembles them.
+"""
+
+import argparse
+import importlib
+import sys
+
+from pipeline import __version__
+from pipeline.errors import InputError
+
+# Modules that provide ``register(subparsers)``; a module missing in a partial
+# checkout is skipped so the rest of the command still works.
+_COMMAND_MODULES = ("simulate", "records")
+
+
+def build_parser():
+    """Return the top-level argument parser with every available sub-command."""
+    parser = argparse.ArgumentParser(
+        prog="frustum",
+        description="Earthquake response of free-standing columns modelled as rigid "
+        "conical frustums rolling on the rim of their base.",
+    )
+    parser.add_argument("--version", action="version", version=f"frustum {__version__}")
+    subparsers = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name in _COMMAND_MODULES:
+        try:
+            module = importlib.import_module(f"pipeline.cli.{name}")
+        except ModuleNotFoundError as exc:
+            if exc.name == f"pipeline.cli.{name}":
+                continue
+            raise
+        module.register(subparsers)
+    return parser
+
+
+def main(argv=None):
+    """Entry point of the ``frustum`` console script; returns the exit status."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "handler", None):
+        parser.print_help()
+        return 2
+    try:
+        return int(args.handler(args) or 0)
+    except InputError as exc:
+        print(f"frustum: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())
