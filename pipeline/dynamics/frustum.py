@@ -1,0 +1,271 @@
+"""Compiled equations of motion of a rigid conical frustum rolling on its rim.
+
+Everything here is dimensionless (the paper's Eq. 9): lengths in units of the
+base radius R, time in units of sqrt(R/g), accelerations in units of g, forces
+in units of m g, energies in units of m g R. The expressions are those derived
+in :mod:`pipeline.dynamics.derivation`; ``tests/dynamics/test_derivation.py``
+checks them against the symbolic result to round-off.
+
+The state vector (length ``N_STATE``) is, in this order::
+
+    phi, theta, psi, phi', theta', psi', x_p, y_p, work
+
+with ``x_p, y_p`` the contact point on the plane (relative to the plane, which
+may move) and ``work`` the work done on the column by the ground motion.
+
+The column enters through a small constants array built by
+:func:`column_constants`; the kernels never allocate.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+# State indices.
+PHI, THETA, PSI, DPHI, DTHETA, DPSI, XP, YP, WORK = range(9)
+N_STATE = 9
+
+# Indices into the constants array.
+C_IY, C_IZ, C_ZC, C_DELTA, C_K, C_IZ1, C_A = range(7)
+N_CONST = 7
+
+
+def column_constants(Iy, Iz, zc):
+    """Pack the dimensionless inertia constants for the kernels.
+
+    Parameters
+    ----------
+    Iy : float
+        Transverse moment of inertia about the rim point, I_y^P / (m R^2) [1].
+    Iz : float
+        Axial moment of inertia about the rim point, I_z^P / (m R^2) [1].
+    zc : float
+        Height of the centre of mass over R, h_hat k1 / 2 [1].
+
+    Returns
+    -------
+    numpy.ndarray
+        Float64 array of length ``N_CONST``: Iy, Iz, zc, Delta, K, Iz - 1, A,
+        where ``Delta = (Iy - 1) Iz - zc^2`` (a quarter of the paper's
+        ``4 (I_y - 1) I_z - h^2 k1^2``; positive for every frustum),
+        ``K = 2 Iy Iz - Iz^2 - Iz - 2 zc^2`` and ``A = Iy - 1 - zc^2`` (the
+        central transverse inertia).
+    """
+    delta = (Iy - 1.0) * Iz - zc * zc
+    if not delta > 0.0:
+        raise ValueError(f"inertia constants give a singular mass matrix (Delta = {delta})")
+    k = 2.0 * Iy * Iz - Iz * Iz - Iz - 2.0 * zc * zc
+    return np.array([Iy, Iz, zc, delta, k, Iz - 1.0, Iy - 1.0 - zc * zc], dtype=np.float64)
+
+
+@njit(cache=True, fastmath=False)
+def accelerations(theta, dphi, dtheta, dpsi, a_xi, a_eta, a_z, c):
+    """Angular accelerations (phi'', theta'', psi'') for theta != 0.
+
+    Parameters
+    ----------
+    theta : float
+        Inclination [rad], 0 < theta < pi/2.
+    dphi, dtheta, dpsi : float
+        Euler angle rates [1/tau].
+    a_xi, a_eta : float
+        Horizontal ground acceleration [g] along the line of nodes
+        ``(cos phi, sin phi)`` and along ``(-sin phi, cos phi)``, the horizontal
+        direction from the contact point to the centre of the base.
+    a_z : float
+        Vertical ground acceleration [g], positive upwards.
+    c : numpy.ndarray
+        Constants from :func:`column_constants`.
+
+    Returns
+    -------
+    tuple of float
+        phi'', theta'', psi'' [1/tau^2]: the paper's Eq. 12 with the corrected
+        g23 and g34 (docs/misprints.md).
+    """
+    Iy = c[C_IY]
+    Iz = c[C_IZ]
+    zc = c[C_ZC]
+    delta = c[C_DELTA]
+    iz1 = c[C_IZ1]
+    s = math.sin(theta)
+    co = math.cos(theta)
+    csc = 1.0 / s
+    cot = co * csc
+    lever = zc * co + s  # height of the centre of mass above P
+    rest = zc * s - co  # minus its horizontal distance from P
+    ddtheta = (
+        ((Iy - Iz - 1.0) * s * co - zc * (co * co - s * s)) * dphi * dphi
+        - (Iz * s + zc * co) * dphi * dpsi
+        + rest * (1.0 + a_z)
+        + lever * a_eta
+    ) / Iy
+    pt = dphi * dtheta
+    st = dpsi * dtheta
+    ddphi = (
+        -(c[C_K] * cot + zc * iz1) * pt + Iz * iz1 * csc * st - zc * iz1 * csc * a_xi
+    ) / delta
+    ddpsi = (
+        (c[C_K] * csc + iz1 * (2.0 * zc * co - (Iy - Iz - 1.0) * s)) * pt
+        - iz1 * (Iz * cot - zc) * st
+        + (c[C_A] + zc * iz1 * cot) * a_xi
+    ) / delta
+    return ddphi, ddtheta, ddpsi
+
+
+@njit(cache=True)
+def contact_force(theta, dphi, dtheta, dpsi, ddphi, ddtheta, ddpsi, a_xi, a_eta, a_z, zc):
+    """Contact force on the column at P, per m g.
+
+    Returns
+    -------
+    tuple of float
+        ``(F_xi, F_n, F_z)``: components along the line of nodes, along the
+        horizontal direction from P towards the base centre, and vertical
+        (the normal force N).
+    """
+    s = math.sin(theta)
+    co = math.cos(theta)
+    lever = zc * co + s
+    rest = zc * s - co
+    f_xi = a_xi + ddphi * rest - ddpsi + 2.0 * dphi * dtheta * lever
+    f_n = a_eta - ddtheta * lever + (dphi * dphi + dtheta * dtheta) * rest - dphi * dpsi
+    f_z = 1.0 + a_z - ddtheta * rest - dtheta * dtheta * lever
+    return f_xi, f_n, f_z
+
+
+@njit(cache=True)
+def energy(theta, dphi, dtheta, dpsi, c):
+    """Total mechanical energy relative to the plane, E / (m g R) (paper Eq. 13).
+
+    The potential energy is measured from the plane: V = Z_C / R.
+    """
+    Iy = c[C_IY]
+    Iz = c[C_IZ]
+    zc = c[C_ZC]
+    s = math.sin(theta)
+    co = math.cos(theta)
+    m_pp = (Iy - 1.0) * s * s + Iz * co * co - 2.0 * zc * s * co
+    m_ps = Iz * co - zc * s
+    kinetic = 0.5 * (Iy * dtheta * dtheta + m_pp * dphi * dphi + Iz * dpsi * dpsi) + m_ps * dphi * dpsi
+    return kinetic + s + zc * co
+
+
+@njit(cache=True)
+def ground_power(theta, dphi, dtheta, dpsi, a_xi, a_eta, a_z, zc):
+    """Power delivered by the ground motion, P / (m g sqrt(g R)).
+
+    In the plane's frame the ground acceleration acts as a uniform field
+    ``-a_g``; its power on the centre of mass is ``-a_g . v_C``, and
+    ``dE/dtau`` equals it along every solution.
+    """
+    s = math.sin(theta)
+    co = math.cos(theta)
+    return a_xi * (dphi * (co - zc * s) + dpsi) + (a_eta * (zc * co + s) - a_z * (co - zc * s)) * dtheta
+
+
+@njit(cache=True)
+def ground_acceleration(t, record, dt):
+    """Ground acceleration at time t by linear interpolation of a record.
+
+    Parameters
+    ----------
+    t : float
+        Time [tau].
+    record : numpy.ndarray, shape (n, 3)
+        Samples of (a_X, a_Y, a_Z) [g] at times 0, dt, 2 dt, ...
+    dt : float
+        Sampling interval [tau].
+
+    Returns
+    -------
+    tuple of float
+        (a_X, a_Y, a_Z) [g]; zero before 0 and after the last sample.
+    """
+    n = record.shape[0]
+    x = t / dt
+    if x < 0.0 or n == 0:
+        return 0.0, 0.0, 0.0
+    k = int(x)
+    if k >= n - 1:
+        if k == n - 1 and x == k:
+            return record[k, 0], record[k, 1], record[k, 2]
+        return 0.0, 0.0, 0.0
+    w = x - k
+    return (
+        record[k, 0] + w * (record[k + 1, 0] - record[k, 0]),
+        record[k, 1] + w * (record[k + 1, 1] - record[k, 1]),
+        record[k, 2] + w * (record[k + 1, 2] - record[k, 2]),
+    )
+
+
+@njit(cache=True)
+def rhs(t, y, params, dydt):
+    """Right-hand side of the rolling phase, for the compiled integrator.
+
+    Parameters
+    ----------
+    t : float
+        Time [tau].
+    y : numpy.ndarray
+        State (see module docstring).
+    params : tuple
+        ``(c, record, dt)``: constants from :func:`column_constants`, the
+        ground acceleration record (n, 3) [g] (n may be 0 for free motion) and
+        its sampling interval [tau].
+    dydt : numpy.ndarray
+        Output, same layout as y.
+    """
+    c, record, dt = params
+    ax, ay, az = ground_acceleration(t, record, dt)
+    phi = y[PHI]
+    cp = math.cos(phi)
+    sp_ = math.sin(phi)
+    a_xi = ax * cp + ay * sp_
+    a_eta = -ax * sp_ + ay * cp
+    ddphi, ddtheta, ddpsi = accelerations(y[THETA], y[DPHI], y[DTHETA], y[DPSI], a_xi, a_eta, az, c)
+    dydt[PHI] = y[DPHI]
+    dydt[THETA] = y[DTHETA]
+    dydt[PSI] = y[DPSI]
+    dydt[DPHI] = ddphi
+    dydt[DTHETA] = ddtheta
+    dydt[DPSI] = ddpsi
+    # Rolling without slip: the contact point moves along -xi at speed R psi'.
+    dydt[XP] = -y[DPSI] * cp
+    dydt[YP] = -y[DPSI] * sp_
+    dydt[WORK] = ground_power(y[THETA], y[DPHI], y[DTHETA], y[DPSI], a_xi, a_eta, az, c[C_ZC])
+
+
+@njit(cache=True)
+def diagnostics(t, y, params, out):
+    """Derived quantities at one state, written into ``out``.
+
+    ``out`` receives: omega_zeta [1/tau], energy [m g R], normal force N
+    [m g], tangential force |F_t| [m g], mobilized friction |F_t|/N [1],
+    and the ground acceleration a_X, a_Y, a_Z [g].
+    """
+    c, record, dt = params
+    ax, ay, az = ground_acceleration(t, record, dt)
+    phi = y[PHI]
+    theta = y[THETA]
+    cp = math.cos(phi)
+    sp_ = math.sin(phi)
+    a_xi = ax * cp + ay * sp_
+    a_eta = -ax * sp_ + ay * cp
+    ddphi, ddtheta, ddpsi = accelerations(theta, y[DPHI], y[DTHETA], y[DPSI], a_xi, a_eta, az, c)
+    f_xi, f_n, f_z = contact_force(
+        theta, y[DPHI], y[DTHETA], y[DPSI], ddphi, ddtheta, ddpsi, a_xi, a_eta, az, c[C_ZC]
+    )
+    f_t = math.sqrt(f_xi * f_xi + f_n * f_n)
+    out[0] = y[DPHI] * math.cos(theta) + y[DPSI]
+    out[1] = energy(theta, y[DPHI], y[DTHETA], y[DPSI], c)
+    out[2] = f_z
+    out[3] = f_t
+    out[4] = f_t / f_z if f_z > 0.0 else math.inf
+    out[5] = ax
+    out[6] = ay
+    out[7] = az
+
+
+N_DIAGNOSTICS = 8
