@@ -91,7 +91,16 @@ def accelerations(theta, dphi, dtheta, dpsi, a_xi, a_eta, a_z, c):
     iz1 = c[C_IZ1]
     s = math.sin(theta)
     co = math.cos(theta)
-    csc = 1.0 / s
+    pt = dphi * dtheta
+    st = dpsi * dtheta
+    if s != 0.0:
+        csc = 1.0 / s
+    elif pt == 0.0 and st == 0.0 and a_xi == 0.0:
+        # Planar motion through full contact: every csc/cot term is multiplied
+        # by an exact zero, so its limit is zero (planar by construction).
+        csc = 0.0
+    else:
+        csc = math.nan  # genuinely singular: out-of-plane motion at theta = 0
     cot = co * csc
     lever = zc * co + s  # height of the centre of mass above P
     rest = zc * s - co  # minus its horizontal distance from P
@@ -101,8 +110,6 @@ def accelerations(theta, dphi, dtheta, dpsi, a_xi, a_eta, a_z, c):
         + rest * (1.0 + a_z)
         + lever * a_eta
     ) / Iy
-    pt = dphi * dtheta
-    st = dpsi * dtheta
     ddphi = (
         -(c[C_K] * cot + zc * iz1) * pt + Iz * iz1 * csc * st - zc * iz1 * csc * a_xi
     ) / delta
@@ -165,6 +172,32 @@ def ground_power(theta, dphi, dtheta, dpsi, a_xi, a_eta, a_z, zc):
     return a_xi * (dphi * (co - zc * s) + dpsi) + (a_eta * (zc * co + s) - a_z * (co - zc * s)) * dtheta
 
 
+_HALF_PI = 0.5 * math.pi
+
+
+@njit(cache=True)
+def sincos(phi):
+    """(sin phi, cos phi), exact at multiples of pi/2.
+
+    In floating point cos(pi/2) is 6e-17, not 0; through the csc(theta)
+    terms such a residue would turn a planar motion into an out-of-plane one.
+    Angles within 1e-14 (relative) of a multiple of pi/2 are snapped to it,
+    so that planar motions stay planar by construction.
+    """
+    q = phi / _HALF_PI
+    k = round(q)
+    if abs(q - k) <= 1e-14 * max(1.0, abs(q)):
+        m = int(k) % 4
+        if m == 0:
+            return 0.0, 1.0
+        if m == 1:
+            return 1.0, 0.0
+        if m == 2:
+            return 0.0, -1.0
+        return -1.0, 0.0
+    return math.sin(phi), math.cos(phi)
+
+
 @njit(cache=True)
 def ground_acceleration(t, record, dt):
     """Ground acceleration at time t by linear interpolation of a record.
@@ -219,9 +252,7 @@ def rhs(t, y, params, dydt):
     """
     c, record, dt = params
     ax, ay, az = ground_acceleration(t, record, dt)
-    phi = y[PHI]
-    cp = math.cos(phi)
-    sp_ = math.sin(phi)
+    sp_, cp = sincos(y[PHI])
     a_xi = ax * cp + ay * sp_
     a_eta = -ax * sp_ + ay * cp
     ddphi, ddtheta, ddpsi = accelerations(y[THETA], y[DPHI], y[DTHETA], y[DPSI], a_xi, a_eta, az, c)
@@ -247,10 +278,8 @@ def diagnostics(t, y, params, out):
     """
     c, record, dt = params
     ax, ay, az = ground_acceleration(t, record, dt)
-    phi = y[PHI]
     theta = y[THETA]
-    cp = math.cos(phi)
-    sp_ = math.sin(phi)
+    sp_, cp = sincos(y[PHI])
     a_xi = ax * cp + ay * sp_
     a_eta = -ax * sp_ + ay * cp
     ddphi, ddtheta, ddpsi = accelerations(theta, y[DPHI], y[DTHETA], y[DPSI], a_xi, a_eta, az, c)
