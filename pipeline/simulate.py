@@ -79,9 +79,11 @@ def housner_restitution(column):
     the old one across the base, gives ``theta'_after / theta'_before =
     1 - 2 m R^2 / I_P = 1 - 2 / I_y_hat`` (docs/model.md). For a slender
     column this tends to Housner's ``1 - 1.5 sin^2(alpha)`` of the block with
-    the same outline.
+    the same outline. Clipped at 0 for squat columns (I_y_hat < 2).
     """
-    return 1.0 - 2.0 / column.inertia_transverse_hat
+    # A squat body (I_y_hat < 2) would come out with a negative ratio: it
+    # does not rebound at all, so the ratio is 0 and it settles.
+    return max(0.0, 1.0 - 2.0 / column.inertia_transverse_hat)
 
 
 def simulate_free(column, initial, duration, settings=SolverSettings(), restitution=None):
