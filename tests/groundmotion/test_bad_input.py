@@ -75,19 +75,17 @@ def test_velocity_file_refused(tmp_path):
 
 
 def test_text_missing_sampling(tmp_path):
-    p = tmp_path / "one.txt"
-    np.savetxt(p, np.zeros(10))
-    with pytest.raises(InputError, match=r"one\.txt: .*expected \[time,\] x"):
-        load(p, units="g")
-    with pytest.raises(InputError, match=r"no sampling: give dt"):
-        load(p, units="g", dt=None, missing_y="zero") if False else _load_one_column_without_dt(p)
-
-
-def _load_one_column_without_dt(p):
     from pipeline.groundmotion.files import read_text
 
-    p.write_text("x\n" + "\n".join("0.0" for _ in range(10)))
-    return read_text(p, units="g", missing_y="zero")
+    p = tmp_path / "one.txt"
+    np.savetxt(p, np.zeros(10))
+    # one unnamed column without dt: it would have to be time and nothing else
+    with pytest.raises(InputError, match=r"one\.txt: 1 columns; expected \[time,\] x"):
+        load(p, units="g")
+    named = tmp_path / "named.txt"
+    named.write_text("x\n" + "\n".join("0.0" for _ in range(10)))
+    with pytest.raises(InputError, match=r"named\.txt: no sampling: give dt \[s\] or a time column"):
+        read_text(named, units="g", missing_y="zero")
 
 
 def test_text_non_uniform_sampling(tmp_path):
