@@ -1,0 +1,119 @@
+"""``frustum records``: list the catalog, show or plot a record (catalog id or file)."""
+
+import json
+import math
+
+from pipeline.errors import InputError
+
+__all__ = ["register"]
+
+
+def register(subparsers):
+    """Add the ``records`` command group to the ``frustum`` parser."""
+    parser = subparsers.add_parser("records", help="ground-motion records: list, show, plot")
+    sub = parser.add_subparsers(dest="records_command", metavar="ACTION")
+    parser.set_defaults(handler=lambda args: (parser.print_help(), 2)[1])
+
+    p_list = sub.add_parser("list", help="record sets and ids of records/catalog.toml")
+    p_list.add_argument("--set", dest="set_id", help="list the records of one set")
+    p_list.set_defaults(handler=_list)
+
+    for name, helptext in (("show", "metadata and intensity measures"), ("plot", "PNG of histories and spectrum")):
+        p = sub.add_parser(name, help=helptext)
+        p.add_argument("record", metavar="ID_OR_FILE", help="catalog id (e.g. FEMA-FF-01) or a record file")
+        p.add_argument("--units", help="units of files without calibration: m/s^2, cm/s^2 (gal), mm/s^2, g")
+        p.add_argument("--components", help="x,y[,z] channel codes or trace ids, e.g. HNE,HNN,HNZ")
+        p.add_argument("--missing-y", choices=("error", "zero"), default="error",
+                       help="a file with one horizontal component: fail (default) or set y = 0")
+        p.add_argument("--dt", type=float, help="time step [s] of a text file without a time column")
+        if name == "show":
+            p.add_argument("--json", action="store_true", help="one JSON object per component (JSON lines)")
+            p.set_defaults(handler=_show)
+        else:
+            p.add_argument("--out", required=True, help="PNG file to write")
+            p.set_defaults(handler=_plot)
+
+
+def _load(args):
+    from pipeline.groundmotion import load
+
+    components = None
+    if args.components:
+        components = [c if c.lower() != "none" else None for c in args.components.split(",")]
+    kwargs = {"dt": args.dt} if args.dt is not None else {}
+    return load(args.record, units=args.units, components=components, missing_y=args.missing_y, **kwargs)
+
+
+def _list(args):
+    from pipeline.groundmotion import catalog
+
+    if args.set_id:
+        for rid in catalog.list_records(args.set_id):
+            e = catalog.entry(rid)
+            label = e.get("description") or ", ".join(str(e[k]) for k in ("event", "year", "station") if k in e)
+            print(f"{rid:18s} {label}")
+        return 0
+    for s in catalog.list_sets():
+        print(f"{s['id']:14s} {s['n_records']:3d} records  {s['title']}")
+        print(f"{'':14s} source: {s['source']}; format: {s['format']}; licence: {s['licence']}")
+    print("\n`frustum records list --set ID` lists a set's record ids.")
+    return 0
+
+
+def _component_summary(gm, name):
+    from pipeline.groundmotion import intensity as im
+
+    a, dt = gm.component(name), gm.dt
+    d595, _, _ = im.significant_duration(a, dt)
+    return {
+        "record_id": gm.record_id,
+        "component": name,
+        "npts": gm.npts,
+        "dt": dt,
+        "duration": gm.duration,
+        "pga": im.pga(a),
+        "pgv": im.pgv(a, dt),
+        "pgd": im.pgd(a, dt),
+        "arias": im.arias_intensity(a, dt),
+        "cav": im.cav(a, dt),
+        "d5_95": d595,
+        "sa_0.2s": im.spectral_acceleration(a, dt, 0.2),
+        "sa_1.0s": im.spectral_acceleration(a, dt, 1.0),
+    }
+
+
+def _show(args):
+    gm = _load(args)
+    rows = [_component_summary(gm, c) for c in gm.components]
+    if args.json:
+        for row in rows:
+            print(json.dumps(row, allow_nan=False))
+        return 0
+    print(f"{gm.record_id}: {gm.npts} samples, dt = {gm.dt:g} s, duration {gm.duration:g} s, components {', '.join(gm.components)}")
+    for k, v in gm.metadata.items():
+        if k != "parameters":
+            print(f"  {k}: {v}")
+    units = {"pga": "m/s^2", "pgv": "m/s", "pgd": "m", "arias": "m/s", "cav": "m/s", "d5_95": "s",
+             "sa_0.2s": "m/s^2", "sa_1.0s": "m/s^2"}
+    print(f"  {'measure':18s}" + "".join(f"{c:>12s}" for c in gm.components))
+    for key, unit in units.items():
+        print(f"  {key + ' [' + unit + ']':18s}" + "".join(f"{row[key]:12.4g}" for row in rows))
+    from pipeline.groundmotion import intensity as im
+
+    print(f"  RotD50 PGA {im.rotd50(gm.acc_x, gm.acc_y, gm.dt):.4g} m/s^2, RotD100 PGA {im.rotd100(gm.acc_x, gm.acc_y, gm.dt):.4g} m/s^2")
+    for name, tr in zip(gm.components, gm.stream):
+        print(f"  processing of {name} ({tr.id}):")
+        for line in tr.stats.get("processing", []):
+            print(f"    {line}")
+    return 0
+
+
+def _plot(args):
+    from pipeline.groundmotion.plot import plot_motion
+
+    if not str(args.out).lower().endswith(".png"):
+        raise InputError(f"--out {args.out}: the plot is a PNG; give a file name ending in .png")
+    gm = _load(args)
+    plot_motion(gm, args.out)
+    print(f"wrote {args.out}")
+    return 0
