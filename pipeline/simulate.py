@@ -116,11 +116,9 @@ def simulate_free(column, initial, duration, settings=SolverSettings(), restitut
     rate = t_scale  # (rad/s) * t_scale = rad per tau
     y0 = np.zeros(fk.N_STATE)
     y0[fk.PHI], y0[fk.THETA], y0[fk.PSI] = initial.phi, initial.theta, initial.psi
-    y0[fk.DPHI], y0[fk.DTHETA], y0[fk.DPSI] = (
-        initial.phi_dot * rate,
-        initial.theta_dot * rate,
-        initial.psi_dot * rate,
-    )
+    y0[fk.DPHI] = initial.phi_dot * rate
+    y0[fk.DTHETA] = initial.theta_dot * rate
+    y0[fk.OMEGA] = (initial.phi_dot * math.cos(initial.theta) + initial.psi_dot) * rate
     n_out = int(math.floor(duration / settings.output_step + 1e-9)) + 1
     time = np.arange(n_out) * settings.output_step
     tau_out = time / t_scale
@@ -149,7 +147,7 @@ def _response_dataset(column, time, tau_out, states, params, outcome, restitutio
         "y_p": states[:, fk.YP] * column.R,
         "phi_dot": states[:, fk.DPHI] * per_s,
         "theta_dot": states[:, fk.DTHETA] * per_s,
-        "psi_dot": states[:, fk.DPSI] * per_s,
+        "psi_dot": (states[:, fk.OMEGA] - states[:, fk.DPHI] * np.cos(states[:, fk.THETA])) * per_s,
         "omega_zeta": diag[:, 0] * per_s,
         "energy_hat": diag[:, 1],
         "normal_force_hat": diag[:, 2],

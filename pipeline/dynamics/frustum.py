@@ -8,10 +8,26 @@ checks them against the symbolic result to round-off.
 
 The state vector (length ``N_STATE``) is, in this order::
 
-    phi, theta, psi, phi', theta', psi', x_p, y_p, work
+    phi, theta, psi, phi', theta', omega_zeta, x_p, y_p, work, dissipated
 
-with ``x_p, y_p`` the contact point on the plane (relative to the plane, which
-may move) and ``work`` the work done on the column by the ground motion.
+with ``omega_zeta = phi' cos(theta) + psi'`` the spin (paper Eq. 3), ``x_p,
+y_p`` the contact point on the plane (relative to the plane, which may move),
+``work`` the work done on the column by the ground motion and ``dissipated``
+the energy removed by the optional contact damping.
+
+Why the spin and not psi' as third speed: near small theta, phi' and psi'
+grow like 1/theta^2 and nearly cancel in omega_zeta; in the paper's form of
+theta'' (Eq. 12) the terms phi'^2 and phi' psi' cancel the same way and lose
+digits. With omega_zeta the equations read (docs/model.md)::
+
+    theta'' = [s (Iy-1) c + zc s) phi'^2 - (Iz s + zc c) phi' omega_zeta
+               + (zc s - c)(1 + a_z) + (zc c + s) a_eta] / Iy
+    omega_zeta' = [A omega_eta theta' + (Iz-1) zc omega_zeta theta' + A a_xi] / Delta
+    phi'' = -(2 cot(theta) + zc (Iz-1)/Delta) phi' theta'
+            + (Iz-1) (Iz omega_zeta theta' - zc a_xi) / (Delta sin(theta))
+
+(s = sin theta, c = cos theta, omega_eta = phi' s): the spin equation is
+regular at theta = 0 and no large terms cancel.
 
 The column enters through a small constants array built by
 :func:`column_constants`; the kernels never allocate.
@@ -23,8 +39,8 @@ import numpy as np
 from numba import njit
 
 # State indices.
-PHI, THETA, PSI, DPHI, DTHETA, DPSI, XP, YP, WORK = range(9)
-N_STATE = 9
+PHI, THETA, PSI, DPHI, DTHETA, OMEGA, XP, YP, WORK, DISSIPATED = range(10)
+N_STATE = 10
 
 # Indices into the constants array.
 C_IY, C_IZ, C_ZC, C_DELTA, C_K, C_IZ1, C_A = range(7)
@@ -59,16 +75,18 @@ def column_constants(Iy, Iz, zc):
     return np.array([Iy, Iz, zc, delta, k, Iz - 1.0, Iy - 1.0 - zc * zc], dtype=np.float64)
 
 
-@njit(cache=True, fastmath=False)
-def accelerations(theta, dphi, dtheta, dpsi, a_xi, a_eta, a_z, c):
-    """Angular accelerations (phi'', theta'', psi'') for theta != 0.
+@njit(cache=True)
+def accelerations(theta, dphi, dtheta, omega, a_xi, a_eta, a_z, c):
+    """Accelerations (phi'', theta'', omega_zeta') of rolling on the rim, theta != 0.
 
     Parameters
     ----------
     theta : float
         Inclination [rad], 0 < theta < pi/2.
-    dphi, dtheta, dpsi : float
-        Euler angle rates [1/tau].
+    dphi, dtheta : float
+        Precession and inclination rates [1/tau].
+    omega : float
+        Spin omega_zeta = phi' cos(theta) + psi' [1/tau].
     a_xi, a_eta : float
         Horizontal ground acceleration [g] along the line of nodes
         ``(cos phi, sin phi)`` and along ``(-sin phi, cos phi)``, the horizontal
@@ -81,8 +99,9 @@ def accelerations(theta, dphi, dtheta, dpsi, a_xi, a_eta, a_z, c):
     Returns
     -------
     tuple of float
-        phi'', theta'', psi'' [1/tau^2]: the paper's Eq. 12 with the corrected
-        g23 and g34 (docs/misprints.md).
+        phi'' [1/tau^2], theta'' [1/tau^2], omega_zeta' [1/tau^2]: the paper's
+        Eq. 12 (with g23 and g34 corrected, docs/misprints.md) in the speeds
+        (phi', theta', omega_zeta).
     """
     Iy = c[C_IY]
     Iz = c[C_IZ]
@@ -92,37 +111,29 @@ def accelerations(theta, dphi, dtheta, dpsi, a_xi, a_eta, a_z, c):
     s = math.sin(theta)
     co = math.cos(theta)
     pt = dphi * dtheta
-    st = dpsi * dtheta
     if s != 0.0:
         csc = 1.0 / s
-    elif pt == 0.0 and st == 0.0 and a_xi == 0.0:
-        # Planar motion through full contact: every csc/cot term is multiplied
-        # by an exact zero, so its limit is zero (planar by construction).
+    elif pt == 0.0 and omega * dtheta == 0.0 and a_xi == 0.0:
+        # Planar motion through full contact: every csc term is multiplied by
+        # an exact zero, so its limit is zero (planar by construction).
         csc = 0.0
     else:
         csc = math.nan  # genuinely singular: out-of-plane motion at theta = 0
-    cot = co * csc
     lever = zc * co + s  # height of the centre of mass above P
     rest = zc * s - co  # minus its horizontal distance from P
     ddtheta = (
-        ((Iy - Iz - 1.0) * s * co - zc * (co * co - s * s)) * dphi * dphi
-        - (Iz * s + zc * co) * dphi * dpsi
+        s * ((Iy - 1.0) * co + zc * s) * dphi * dphi
+        - (Iz * s + zc * co) * dphi * omega
         + rest * (1.0 + a_z)
         + lever * a_eta
     ) / Iy
-    ddphi = (
-        -(c[C_K] * cot + zc * iz1) * pt + Iz * iz1 * csc * st - zc * iz1 * csc * a_xi
-    ) / delta
-    ddpsi = (
-        (c[C_K] * csc + iz1 * (2.0 * zc * co - (Iy - Iz - 1.0) * s)) * pt
-        - iz1 * (Iz * cot - zc) * st
-        + (c[C_A] + zc * iz1 * cot) * a_xi
-    ) / delta
-    return ddphi, ddtheta, ddpsi
+    domega = (c[C_A] * (dphi * s * dtheta + a_xi) + iz1 * zc * omega * dtheta) / delta
+    ddphi = -(2.0 * co * csc + zc * iz1 / delta) * pt + iz1 * (Iz * omega * dtheta - zc * a_xi) * csc / delta
+    return ddphi, ddtheta, domega
 
 
 @njit(cache=True)
-def contact_force(theta, dphi, dtheta, dpsi, ddphi, ddtheta, ddpsi, a_xi, a_eta, a_z, zc):
+def contact_force(theta, dphi, dtheta, omega, ddphi, ddtheta, domega, a_xi, a_eta, a_z, zc):
     """Contact force on the column at P, per m g.
 
     Returns
@@ -136,31 +147,29 @@ def contact_force(theta, dphi, dtheta, dpsi, ddphi, ddtheta, ddpsi, a_xi, a_eta,
     co = math.cos(theta)
     lever = zc * co + s
     rest = zc * s - co
-    f_xi = a_xi + ddphi * rest - ddpsi + 2.0 * dphi * dtheta * lever
-    f_n = a_eta - ddtheta * lever + (dphi * dphi + dtheta * dtheta) * rest - dphi * dpsi
+    f_xi = a_xi - domega + zc * s * ddphi + dphi * dtheta * (2.0 * zc * co + s)
+    f_n = a_eta - ddtheta * lever + zc * s * dphi * dphi + rest * dtheta * dtheta - dphi * omega
     f_z = 1.0 + a_z - ddtheta * rest - dtheta * dtheta * lever
     return f_xi, f_n, f_z
 
 
 @njit(cache=True)
-def energy(theta, dphi, dtheta, dpsi, c):
+def energy(theta, dphi, dtheta, omega, c):
     """Total mechanical energy relative to the plane, E / (m g R) (paper Eq. 13).
 
-    The potential energy is measured from the plane: V = Z_C / R.
+    Evaluated in body components (its second form), which stay accurate when
+    phi' is large; the potential energy is measured from the plane, V = Z_C / R.
     """
     Iy = c[C_IY]
-    Iz = c[C_IZ]
     zc = c[C_ZC]
     s = math.sin(theta)
-    co = math.cos(theta)
-    m_pp = (Iy - 1.0) * s * s + Iz * co * co - 2.0 * zc * s * co
-    m_ps = Iz * co - zc * s
-    kinetic = 0.5 * (Iy * dtheta * dtheta + m_pp * dphi * dphi + Iz * dpsi * dpsi) + m_ps * dphi * dpsi
-    return kinetic + s + zc * co
+    w_eta = dphi * s
+    kinetic = 0.5 * (Iy * dtheta * dtheta + (Iy - 1.0) * w_eta * w_eta + c[C_IZ] * omega * omega) - zc * w_eta * omega
+    return kinetic + s + zc * math.cos(theta)
 
 
 @njit(cache=True)
-def ground_power(theta, dphi, dtheta, dpsi, a_xi, a_eta, a_z, zc):
+def ground_power(theta, dphi, dtheta, omega, a_xi, a_eta, a_z, zc):
     """Power delivered by the ground motion, P / (m g sqrt(g R)).
 
     In the plane's frame the ground acceleration acts as a uniform field
@@ -169,7 +178,7 @@ def ground_power(theta, dphi, dtheta, dpsi, a_xi, a_eta, a_z, zc):
     """
     s = math.sin(theta)
     co = math.cos(theta)
-    return a_xi * (dphi * (co - zc * s) + dpsi) + (a_eta * (zc * co + s) - a_z * (co - zc * s)) * dtheta
+    return a_xi * (omega - zc * s * dphi) + (a_eta * (zc * co + s) - a_z * (co - zc * s)) * dtheta
 
 
 _HALF_PI = 0.5 * math.pi
@@ -255,17 +264,20 @@ def rhs(t, y, params, dydt):
     sp_, cp = sincos(y[PHI])
     a_xi = ax * cp + ay * sp_
     a_eta = -ax * sp_ + ay * cp
-    ddphi, ddtheta, ddpsi = accelerations(y[THETA], y[DPHI], y[DTHETA], y[DPSI], a_xi, a_eta, az, c)
+    theta = y[THETA]
+    ddphi, ddtheta, domega = accelerations(theta, y[DPHI], y[DTHETA], y[OMEGA], a_xi, a_eta, az, c)
+    dpsi = y[OMEGA] - y[DPHI] * math.cos(theta)
     dydt[PHI] = y[DPHI]
     dydt[THETA] = y[DTHETA]
-    dydt[PSI] = y[DPSI]
+    dydt[PSI] = dpsi
     dydt[DPHI] = ddphi
     dydt[DTHETA] = ddtheta
-    dydt[DPSI] = ddpsi
+    dydt[OMEGA] = domega
     # Rolling without slip: the contact point moves along -xi at speed R psi'.
-    dydt[XP] = -y[DPSI] * cp
-    dydt[YP] = -y[DPSI] * sp_
-    dydt[WORK] = ground_power(y[THETA], y[DPHI], y[DTHETA], y[DPSI], a_xi, a_eta, az, c[C_ZC])
+    dydt[XP] = -dpsi * cp
+    dydt[YP] = -dpsi * sp_
+    dydt[WORK] = ground_power(theta, y[DPHI], y[DTHETA], y[OMEGA], a_xi, a_eta, az, c[C_ZC])
+    dydt[DISSIPATED] = 0.0
 
 
 @njit(cache=True)
@@ -282,13 +294,13 @@ def diagnostics(t, y, params, out):
     sp_, cp = sincos(y[PHI])
     a_xi = ax * cp + ay * sp_
     a_eta = -ax * sp_ + ay * cp
-    ddphi, ddtheta, ddpsi = accelerations(theta, y[DPHI], y[DTHETA], y[DPSI], a_xi, a_eta, az, c)
+    ddphi, ddtheta, domega = accelerations(theta, y[DPHI], y[DTHETA], y[OMEGA], a_xi, a_eta, az, c)
     f_xi, f_n, f_z = contact_force(
-        theta, y[DPHI], y[DTHETA], y[DPSI], ddphi, ddtheta, ddpsi, a_xi, a_eta, az, c[C_ZC]
+        theta, y[DPHI], y[DTHETA], y[OMEGA], ddphi, ddtheta, domega, a_xi, a_eta, az, c[C_ZC]
     )
     f_t = math.sqrt(f_xi * f_xi + f_n * f_n)
-    out[0] = y[DPHI] * math.cos(theta) + y[DPSI]
-    out[1] = energy(theta, y[DPHI], y[DTHETA], y[DPSI], c)
+    out[0] = y[OMEGA]
+    out[1] = energy(theta, y[DPHI], y[DTHETA], y[OMEGA], c)
     out[2] = f_z
     out[3] = f_t
     out[4] = f_t / f_z if f_z > 0.0 else math.inf

@@ -116,7 +116,7 @@ def integrate_rolling(params, y0, tau_out, states, rtol, atol, restitution, max_
         tau = t_stop
         if len(sol.t_events[1]):
             return Outcome(OVERTURNED, tau, n_landings, n_rhs)
-        planar = y[fk.DPHI] == 0.0 and y[fk.DPSI] == 0.0
+        planar = y[fk.DPHI] == 0.0 and y[fk.OMEGA] == 0.0
         if not planar or n_landings >= max_landings:
             return Outcome(LANDED, tau, n_landings, n_rhs)
         y = _planar_landing(y, restitution)
