@@ -187,6 +187,7 @@ def landing_impact(y, theta_c, c, y_out):
     y_out[fk.PSI] = y[fk.PSI] - math.pi
     y_out[fk.THETA] = theta_c
     y_out[fk.DTHETA] = n1
-    y_out[fk.DPHI] = n2 / s
+    # theta_c = 0 is allowed for planar motion only (n2 = 0 there)
+    y_out[fk.DPHI] = n2 / s if s != 0.0 else (0.0 if n2 == 0.0 else math.nan)
     y_out[fk.OMEGA] = n3
     return ke_after - ke_before

@@ -203,6 +203,28 @@ def accelerations():
     return tuple(sp.simplify(s) for s in sol)
 
 
+@lru_cache(maxsize=None)
+def couple_accelerations():
+    """Accelerations caused by a couple ``M = -nu omega`` on the body.
+
+    The generalized forces are ``Q_i = M . d(omega)/d(q_i')`` and the extra
+    accelerations ``M^-1 Q`` (the mass matrix of :func:`equations_of_motion`).
+
+    Returns
+    -------
+    tuple of sympy expressions
+        (d phi'', d theta'', d psi'') in terms of the rates and ``nu``.
+    """
+    nu = sp.Symbol("nu", positive=True)
+    k = kinematics()
+    omega = k["omega"]
+    Q = sp.Matrix(
+        [_to_symbols((-nu * omega).dot(sp.diff(omega, sp.diff(q, tau)))) for q in (phi_f, theta_f, psi_f)]
+    )
+    M, _, _ = equations_of_motion()
+    return tuple(sp.simplify(x) for x in M.LUsolve(Q)), nu
+
+
 def paper_coefficients(h_k1):
     """The paper's printed g_ij of Eq. 12 as sympy expressions (as printed).
 

@@ -42,6 +42,10 @@ from numba import njit
 PHI, THETA, PSI, DPHI, DTHETA, OMEGA, XP, YP, WORK, DISSIPATED = range(10)
 N_STATE = 10
 
+# Indices into the options array (the fourth element of ``params``).
+OPT_THETA_C, OPT_THETA_LIE, OPT_NU = range(3)
+N_OPT = 3
+
 # Indices into the constants array.
 C_IY, C_IZ, C_ZC, C_DELTA, C_K, C_IZ1, C_A = range(7)
 N_CONST = 7
@@ -181,6 +185,43 @@ def ground_power(theta, dphi, dtheta, omega, a_xi, a_eta, a_z, zc):
     return a_xi * (omega - zc * s * dphi) + (a_eta * (zc * co + s) - a_z * (co - zc * s)) * dtheta
 
 
+@njit(cache=True)
+def damping_accelerations(theta, dphi, dtheta, omega, nu, c):
+    """Accelerations caused by a viscous contact couple ``M = -nu omega``.
+
+    The optional dissipation model (docs/model.md): the contact transmits,
+    besides the force, a couple opposing the body's angular velocity, a
+    viscous form of the contact moment of Kessler and O'Reilly (2002) for a
+    contact patch that is not a point. Its generalized forces
+    ``(M.e_Z, M.e_xi, M.e_zeta)`` through the inverse mass matrix give
+
+    * ``d theta'' = -nu theta' / Iy``
+    * ``d phi'' = -nu (Iz omega_eta + zc omega_zeta) / (Delta sin theta)``
+    * ``d omega_zeta' = -nu ((Iy - 1) omega_zeta + zc omega_eta) / Delta``
+
+    Parameters
+    ----------
+    nu : float
+        Couple per unit angular velocity, per (m g R sqrt(R/g)) [1].
+
+    Returns
+    -------
+    tuple of float
+        (d phi'', d theta'', d omega_zeta', dissipated power nu |omega|^2).
+    """
+    if nu == 0.0:
+        return 0.0, 0.0, 0.0, 0.0
+    s = math.sin(theta)
+    w_eta = dphi * s
+    delta = c[C_DELTA]
+    zc = c[C_ZC]
+    ddtheta = -nu * dtheta / c[C_IY]
+    ddphi = -nu * (c[C_IZ] * dphi + zc * omega / s) / delta if s != 0.0 else 0.0
+    domega = -nu * ((c[C_IY] - 1.0) * omega + zc * w_eta) / delta
+    power = nu * (dtheta * dtheta + w_eta * w_eta + omega * omega)
+    return ddphi, ddtheta, domega, power
+
+
 _HALF_PI = 0.5 * math.pi
 
 
@@ -253,31 +294,33 @@ def rhs(t, y, params, dydt):
     y : numpy.ndarray
         State (see module docstring).
     params : tuple
-        ``(c, record, dt)``: constants from :func:`column_constants`, the
-        ground acceleration record (n, 3) [g] (n may be 0 for free motion) and
-        its sampling interval [tau].
+        ``(c, record, dt, opts)``: constants from :func:`column_constants`,
+        the ground acceleration record (n, 3) [g] (n may be 0 for free
+        motion), its sampling interval [tau], and the options array
+        (``OPT_THETA_C``, ``OPT_THETA_LIE``, ``OPT_NU``).
     dydt : numpy.ndarray
         Output, same layout as y.
     """
-    c, record, dt = params
+    c, record, dt, opts = params
     ax, ay, az = ground_acceleration(t, record, dt)
     sp_, cp = sincos(y[PHI])
     a_xi = ax * cp + ay * sp_
     a_eta = -ax * sp_ + ay * cp
     theta = y[THETA]
     ddphi, ddtheta, domega = accelerations(theta, y[DPHI], y[DTHETA], y[OMEGA], a_xi, a_eta, az, c)
+    d1, d2, d3, power = damping_accelerations(theta, y[DPHI], y[DTHETA], y[OMEGA], opts[OPT_NU], c)
     dpsi = y[OMEGA] - y[DPHI] * math.cos(theta)
     dydt[PHI] = y[DPHI]
     dydt[THETA] = y[DTHETA]
     dydt[PSI] = dpsi
-    dydt[DPHI] = ddphi
-    dydt[DTHETA] = ddtheta
-    dydt[OMEGA] = domega
+    dydt[DPHI] = ddphi + d1
+    dydt[DTHETA] = ddtheta + d2
+    dydt[OMEGA] = domega + d3
     # Rolling without slip: the contact point moves along -xi at speed R psi'.
     dydt[XP] = -dpsi * cp
     dydt[YP] = -dpsi * sp_
     dydt[WORK] = ground_power(theta, y[DPHI], y[DTHETA], y[OMEGA], a_xi, a_eta, az, c[C_ZC])
-    dydt[DISSIPATED] = 0.0
+    dydt[DISSIPATED] = power
 
 
 @njit(cache=True)
@@ -288,13 +331,17 @@ def diagnostics(t, y, params, out):
     [m g], tangential force |F_t| [m g], mobilized friction |F_t|/N [1],
     and the ground acceleration a_X, a_Y, a_Z [g].
     """
-    c, record, dt = params
+    c, record, dt, opts = params
     ax, ay, az = ground_acceleration(t, record, dt)
     theta = y[THETA]
     sp_, cp = sincos(y[PHI])
     a_xi = ax * cp + ay * sp_
     a_eta = -ax * sp_ + ay * cp
     ddphi, ddtheta, domega = accelerations(theta, y[DPHI], y[DTHETA], y[OMEGA], a_xi, a_eta, az, c)
+    d1, d2, d3, _power = damping_accelerations(theta, y[DPHI], y[DTHETA], y[OMEGA], opts[OPT_NU], c)
+    ddphi += d1
+    ddtheta += d2
+    domega += d3
     f_xi, f_n, f_z = contact_force(
         theta, y[DPHI], y[DTHETA], y[OMEGA], ddphi, ddtheta, domega, a_xi, a_eta, az, c[C_ZC]
     )

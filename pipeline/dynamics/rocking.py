@@ -9,7 +9,8 @@ distance pivot-centre of mass over R) this is Housner's
 ``theta'' = -p^2 [sin(alpha sgn(theta) - theta) (1 + a_z) + a_u cos(alpha sgn(theta) - theta)]``
 written with the frustum's own inertia ``I_y`` about the rim.
 
-State: ``theta, theta', work`` (work done by the ground [m g R]).
+State: ``theta, theta', work, dissipated`` (work done by the ground and
+energy removed by the optional viscous contact couple, both [m g R]).
 """
 
 import math
@@ -18,8 +19,8 @@ from numba import njit
 
 from pipeline.dynamics import frustum as fk
 
-THETA2, DTHETA2, WORK2 = range(3)
-N_STATE2 = 3
+THETA2, DTHETA2, WORK2, DISSIPATED2 = range(4)
+N_STATE2 = 4
 
 
 @njit(cache=True)
@@ -50,15 +51,17 @@ def angular_acceleration(theta, a_u, a_z, c):
 def rhs(t, y, params, dydt):
     """Right-hand side for the compiled integrator.
 
-    ``params = (c, record, dt)`` with ``record[:, 0]`` the acceleration along
-    u [g] and ``record[:, 2]`` the vertical one (column 1 is unused), sampled
-    at ``dt`` [tau].
+    ``params = (c, record, dt, opts)`` as for the frustum, with
+    ``record[:, 0]`` the acceleration along u [g] and ``record[:, 2]`` the
+    vertical one (column 1 is unused), sampled at ``dt`` [tau].
     """
-    c, record, dt = params
+    c, record, dt, opts = params
     a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
     theta = y[THETA2]
+    nu = opts[fk.OPT_NU]
     dydt[THETA2] = y[DTHETA2]
-    dydt[DTHETA2] = angular_acceleration(theta, a_u, a_z, c)
+    dydt[DTHETA2] = angular_acceleration(theta, a_u, a_z, c) - nu * y[DTHETA2] / c[fk.C_IY]
+    dydt[DISSIPATED2] = nu * y[DTHETA2] * y[DTHETA2]
     zc = c[fk.C_ZC]
     th = abs(theta)
     sgn = 1.0 if theta >= 0.0 else -1.0

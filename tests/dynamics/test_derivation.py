@@ -115,3 +115,20 @@ def test_printed_g_coefficients_misprints_are_exactly_g23_and_g34():
     g34 = (4 * (d.Iy - 1) + 2 * hk1 * (d.Iz - 1) * sp.cot(th) - hk1**2) / D * a_xi
     assert abs(float((der["g23"] - g23).subs(vals))) < 1e-12
     assert abs(float((der["g34"] - g34).subs(vals))) < 1e-12
+
+
+def test_damping_couple_accelerations_match_symbolic():
+    (dp, dt_, ds), nu = d.couple_accelerations()
+    f = sp.lambdify((d.theta, d.dphi, d.dtheta, d.dpsi, nu, d.Iy, d.Iz, d.zc), (dp, dt_, ds), "math")
+    rng = np.random.default_rng(11)
+    for c, s in _random_states(50, seed=4):
+        nu_val = rng.uniform(0.01, 0.5)
+        omega = s["dphi"] * np.cos(s["theta"]) + s["dpsi"]
+        got = fk.damping_accelerations(s["theta"], s["dphi"], s["dtheta"], omega, nu_val, c)
+        ddphi, ddtheta, ddpsi = f(s["theta"], s["dphi"], s["dtheta"], s["dpsi"], nu_val, c[fk.C_IY], c[fk.C_IZ], c[fk.C_ZC])
+        domega = ddphi * np.cos(s["theta"]) + ddpsi  # the rates themselves are unchanged by M
+        terms = nu_val * (abs(s["dphi"]) + abs(omega) / np.sin(s["theta"]) + abs(s["dtheta"]))
+        np.testing.assert_allclose(got[:3], (ddphi, ddtheta, domega), rtol=1e-10, atol=1e-13 * max(1.0, terms))
+        # dissipated power = -M . omega = nu |omega|^2
+        w2 = s["dtheta"] ** 2 + (s["dphi"] * np.sin(s["theta"])) ** 2 + omega**2
+        assert got[3] == pytest.approx(nu_val * w2, rel=1e-13)

@@ -9,7 +9,7 @@ from scipy.integrate import solve_ivp
 
 from pipeline.dynamics import frustum as fk
 from pipeline.geometry import Column
-from pipeline.simulate import InitialState, SolverSettings, simulate_free
+from pipeline.simulate import InitialState, ModelSettings, simulate_free
 from pipeline.units import G
 
 PAPER_COLUMN = Column(R=0.5, r=0.4, h=4.0)  # Figure 4
@@ -29,7 +29,7 @@ PAPER_CASES = {
 def _run(case, column=PAPER_COLUMN, duration=TAU_100, restitution=1.0, samples=4000):
     theta0, dphi0, dpsi0 = PAPER_CASES[case]
     init = InitialState.from_dimensionless(column.R, 0.0, theta0, 0.0, dphi0, 0.0, dpsi0)
-    settings = SolverSettings(rtol=1e-12, atol=1e-14, output_step=duration / samples)
+    settings = ModelSettings(rtol=1e-12, atol=1e-14, output_step=duration / samples, contact_tilt=0.0)
     return simulate_free(column, init, duration, settings, restitution=restitution)
 
 
@@ -41,7 +41,7 @@ def paper_runs():
 @pytest.mark.parametrize("case", list(PAPER_CASES))
 def test_energy_is_conserved_over_tau_100(paper_runs, case):
     ds = paper_runs[case]
-    assert ds.attrs["outcome"].startswith("reached_end")
+    assert not np.isnan(ds.theta.values).any()  # ran to the end, never lay down
     assert float(ds.tau[-1]) == pytest.approx(100.0)
     energy = ds.energy_hat.values
     # acceptance: 1e-9 relative; DOP853 at rtol 1e-12 gives ~1e-11 (IC1 includes
@@ -73,9 +73,10 @@ def test_ic1_stays_planar_and_follows_eq14(paper_runs):
     tau_land = sol.t[-1]
     phase = np.mod(tau, 2 * tau_land)
     mirrored = np.where(phase <= tau_land, phase, 2 * tau_land - phase)
-    # 58 located landings, each to ~1e-13 in tau, drift the phase by ~1e-11:
-    # theta changes by |theta'| * 1e-11 ~ 1e-13; 1e-10 is a safe bound.
-    np.testing.assert_allclose(ds.theta.values, sol.sol(mirrored)[0], rtol=0, atol=1e-10)
+    # 58 landings, each located to ~1e-12 relative in tau (<= 1e-10 by tau = 100),
+    # drift the phase by <= 6e-9; theta then differs by <= |theta'|max (0.03)
+    # times that, 2e-10: 5e-10 bounds it.
+    np.testing.assert_allclose(ds.theta.values, sol.sol(mirrored)[0], rtol=0, atol=5e-10)
 
 
 @pytest.mark.parametrize("case", ["IC2", "IC3"])
@@ -163,7 +164,8 @@ def test_thin_disc_trajectory_matches_independent_model():
     ref = solve_ivp(fun, (0, 15), y0, method="DOP853", rtol=1e-11, atol=1e-13, dense_output=True)
     thin = Column(R=1.0, r=1.0, h=1e-9)
     init = InitialState.from_dimensionless(1.0, *y0)
-    ds = simulate_free(thin, init, 15 * math.sqrt(1 / G), SolverSettings(1e-11, 1e-13, output_step=0.05 * math.sqrt(1 / G)))
+    ds = simulate_free(thin, init, 15 * math.sqrt(1 / G),
+                       ModelSettings(rtol=1e-11, atol=1e-13, output_step=0.05 * math.sqrt(1 / G), contact_tilt=0.0))
     tau = ds.tau.values
     want = ref.sol(tau)
     # independent integrations at rtol 1e-11 over a mildly chaotic 15 tau: 1e-6
