@@ -41,6 +41,9 @@ RADIUS_RANGE = (1e-3, 50.0)  # [m]
 SLENDERNESS_RANGE = (0.05, 200.0)  # h/R [1]
 BETA_RANGE = (0.05, 20.0)  # r/R [1]
 
+# Landings logged individually (time, theta' before/after, energy jump).
+MAX_LOGGED_IMPACTS = 10_000
+
 
 @dataclass(frozen=True)
 class InitialState:
@@ -172,6 +175,7 @@ class Response:
 
     summary: dict
     histories: xr.Dataset | None = field(default=None, repr=False)
+    impacts: np.ndarray | None = field(default=None, repr=False)
 
 
 def housner_restitution(column):
@@ -251,7 +255,7 @@ def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), 
     raw = _run(column, settings, record, dt, y0, duration)
     summary = _summary(column, settings, raw, motion, excitation)
     ds = _histories(column, settings, raw, excitation, motion) if histories else None
-    return Response(summary, ds)
+    return Response(summary, ds, _impact_table(raw, column))
 
 
 def simulate_free(column, initial, duration, settings=ModelSettings(rtol=1e-12, atol=1e-14, contact_tilt=0.0),
@@ -306,6 +310,7 @@ class _Raw:
     states: np.ndarray
     phase: np.ndarray
     summary: np.ndarray
+    impacts: np.ndarray
     params: tuple
     n_filled: int
     t_scale: float
@@ -325,13 +330,25 @@ def _run(column, settings, record, dt, y0, duration):
     summary = np.zeros(hy.N_SUMMARY)
     restitution = -1.0 if settings.restitution is None else float(settings.restitution)
     runner = hy.run_frustum if settings.model == "3d" else hy.run_rocking
-    n = runner(params, restitution, y0, tau_end, tau, states, phase, breaks, settings.rtol, settings.atol, summary)
+    impacts = np.full((MAX_LOGGED_IMPACTS, 4), np.nan)
+    n = runner(params, restitution, y0, tau_end, tau, states, phase, breaks, settings.rtol, settings.atol,
+               summary, impacts)
     if summary[hy.S_STATUS] < 0:
         raise RuntimeError(
             f"integration failed at t = {summary[hy.S_END_TIME] * t_scale:.6g} s "
             f"(status {summary[hy.S_STATUS]:.0f}); try other tolerances or a larger contact_tilt"
         )
-    return _Raw(tau, states, phase, summary, params, n, t_scale, y0)
+    n_logged = min(int(summary[hy.S_N_IMPACTS]), MAX_LOGGED_IMPACTS)
+    return _Raw(tau, states, phase, summary, impacts[:n_logged], params, n, t_scale, y0)
+
+
+def _impact_table(raw, column):
+    """Landings in SI: time [s], theta' before and after [rad/s], energy jump per weight [m]."""
+    table = raw.impacts.copy()
+    table[:, 0] *= raw.t_scale
+    table[:, 1:3] /= raw.t_scale
+    table[:, 3] *= column.R
+    return table
 
 
 def _diagnostics(raw, settings):

@@ -115,6 +115,17 @@ def _init_summary(summary):
 
 
 @njit(cache=True)
+def _log_impact(impacts, summary, t, rate_before, rate_after, energy_jump):
+    """Record a landing in the log (the first ``len(impacts)`` only)."""
+    k = int(summary[S_N_IMPACTS]) - 1
+    if 0 <= k < impacts.shape[0]:
+        impacts[k, 0] = t
+        impacts[k, 1] = rate_before
+        impacts[k, 2] = rate_after
+        impacts[k, 3] = energy_jump
+
+
+@njit(cache=True)
 def _turning_point(summary, t, theta, mu, normal):
     """Update the peaks at a turning point of theta."""
     if theta > summary[S_PEAK_THETA]:
@@ -127,7 +138,7 @@ def _turning_point(summary, t, theta, mu, normal):
 
 
 @njit(cache=True)
-def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_breaks, rtol, atol, summary):
+def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_breaks, rtol, atol, summary, impacts):
     """Run the three-dimensional frustum through the record and its tail.
 
     Parameters
@@ -155,6 +166,9 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
         Integration tolerances.
     summary : float64[N_SUMMARY]
         Filled with the summary quantities (``S_*`` indices).
+    impacts : float64[k, 4]
+        Filled with the first k landings: time [tau], theta' before and
+        after [1/tau], energy jump [m g R] (after settling, theta' after is 0).
     """
     c, record, dt, opts = params
     zc = c[fk.C_ZC]
@@ -241,8 +255,11 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
         e_after = fk.energy(y_new[fk.THETA], y_new[fk.DPHI], y_new[fk.DTHETA], y_new[fk.OMEGA], c)
         kinetic = e_after - fk.energy(theta_c, 0.0, 0.0, 0.0, c)
         h = 0.0
-        if y_new[fk.DTHETA] <= 0.0 or kinetic < settle_kinetic:
-            # settles: full base contact, at rest on the ground
+        settles = y_new[fk.DTHETA] <= 0.0 or kinetic < settle_kinetic
+        _log_impact(impacts, summary, t, y[fk.DTHETA], 0.0 if settles else y_new[fk.DTHETA],
+                    (rest_energy if settles else e_after) - e_before)
+        if settles:
+            # full base contact, at rest on the ground
             s_phi, c_phi = fk.sincos(y[fk.PHI])
             rotation = y[fk.PHI] + y[fk.PSI]
             bx = y[fk.XP] - s_phi * math.cos(theta_c)
@@ -274,7 +291,7 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
 
 
 @njit(cache=True)
-def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_breaks, rtol, atol, summary):
+def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_breaks, rtol, atol, summary, impacts):
     """Run classical planar rocking; arguments as :func:`run_frustum`.
 
     The record's column 0 is the acceleration along the plane's direction u;
@@ -353,7 +370,10 @@ def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
         h = 0.0
         new_rate = e * y[rk.DTHETA2]
         kinetic = 0.5 * c[fk.C_IY] * new_rate * new_rate
-        if kinetic < settle_kinetic:
+        settles = kinetic < settle_kinetic
+        _log_impact(impacts, summary, t, y[rk.DTHETA2], 0.0 if settles else new_rate,
+                    (rest_energy if settles else kinetic + lift_energy) - e_before)
+        if settles:
             summary[S_TRANSITION] += rest_energy - e_before
             y[rk.THETA2] = 0.0
             y[rk.DTHETA2] = 0.0

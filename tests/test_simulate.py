@@ -1,0 +1,189 @@
+"""Earthquake response: the acceptance points of the earthquake-response issue."""
+
+import math
+
+import numpy as np
+import pytest
+
+from pipeline.errors import InputError
+from pipeline.geometry import Column
+from pipeline.groundmotion import GroundMotion, harmonic, load, rectangular_pulse
+from pipeline.simulate import Excitation, ModelSettings, housner_restitution, simulate, simulate_free, InitialState
+from pipeline.units import G
+
+PAPER = Column(0.5, 0.4, 4.0)
+
+
+@pytest.fixture(scope="module")
+def fema1():
+    return load("FEMA-FF-01")
+
+
+def _x_only(motion, factor=1.0):
+    """The record's x component alone (y = 0): a one-directional excitation."""
+    return GroundMotion.from_arrays(motion.acc_x * factor, np.zeros(motion.npts), motion.dt,
+                                    record_id=motion.record_id + "-x")
+
+
+def test_below_uplift_nothing_moves():
+    a_up = PAPER.uplift_acceleration()
+    motion = harmonic(0.98 * a_up, 1.5, duration=6.0, dt=0.005)
+    r = simulate(PAPER, motion, Excitation(angle=0.4))
+    assert not r.summary["uplifted"] and r.summary["n_impacts"] == 0
+    assert np.all(r.histories.theta.values == 0.0)  # exactly, not approximately
+    assert np.all(r.histories.phase.values == 0)
+    assert r.summary["peak_theta"] == 0.0 and r.summary["residual_displacement"] == 0.0
+
+
+def test_just_above_uplift_it_moves():
+    a_up = PAPER.uplift_acceleration()
+    motion = harmonic(1.05 * a_up, 1.5, duration=6.0, dt=0.005)
+    r = simulate(PAPER, motion)
+    assert r.summary["uplifted"] and r.summary["peak_theta"] > 0
+
+
+@pytest.mark.parametrize("scale", [1.0, 2.5])
+def test_cylinder_in_one_direction_reproduces_planar_rocking(fema1, scale):
+    cylinder = Column(0.4, 0.4, 4.0)
+    motion = _x_only(fema1)
+    r3 = simulate(cylinder, motion, Excitation(scale=scale), ModelSettings(model="3d"))
+    r2 = simulate(cylinder, motion, Excitation(scale=scale), ModelSettings(model="2d"))
+    h3, h2 = r3.histories, r2.histories
+    # planar by construction: no precession, no spin, the pivot stays on the x axis
+    assert np.all(h3.phi_dot.values == 0.0) and np.all(h3.omega_zeta.values == 0.0)
+    assert np.all(np.nan_to_num(h3.y_p.values) == 0.0)
+    first = r3.impacts[0, 0] if len(r3.impacts) else np.inf
+    before = h3.time.values < first
+    assert before.sum() > 50
+    # same ODE by two code paths at rtol 1e-9: agreement far inside 1e-6 rad
+    np.testing.assert_allclose(h3.theta.values[before], h2.theta.values[before], rtol=0, atol=1e-6)
+    assert r3.summary["n_impacts"] == r2.summary["n_impacts"]
+    assert r3.summary["overturned"] == r2.summary["overturned"]
+    assert r3.summary["peak_theta"] == pytest.approx(r2.summary["peak_theta"], rel=1e-4)
+
+
+@pytest.mark.parametrize("slenderness", [4.0, 8.0])
+def test_free_planar_rocking_restitution_at_every_landing(slenderness):
+    col = Column(0.5, 0.45, 0.5 * slenderness)
+    e = housner_restitution(col)
+    init = InitialState(theta=0.5 * col.critical_tilt)
+    settings = ModelSettings(contact_tilt=1e-5, rtol=1e-11, atol=1e-13)
+    from pipeline.simulate import _run  # the landing log of the kernel
+    import pipeline.dynamics.frustum as fk
+    y0 = np.zeros(fk.N_STATE)
+    y0[fk.THETA] = init.theta
+    raw = _run(col, settings, np.zeros((0, 3)), 1.0, y0, 8.0)
+    log = raw.impacts
+    assert len(log) >= 5
+    ratios = -log[:-1, 2] / log[:-1, 1]  # the last one may settle
+    np.testing.assert_allclose(ratios, e, rtol=1e-9)
+
+
+def test_restitution_tends_to_housner_block_value_for_slender_columns():
+    """1 - e against Housner (1963) 1.5 sin^2(alpha) for the block of the same outline.
+
+    Housner's rectangular block of width 2b and height 2H (here 2b = 2R,
+    2H = h) rocking about a corner has e = 1 - 1.5 sin^2(alpha), alpha =
+    atan(b / H), from the same angular-momentum argument with I_O = 4/3 m (b^2 + H^2).
+    """
+    ratios = []
+    for slenderness in (5.0, 20.0, 100.0, 400.0):
+        col = Column(1.0, 1.0, slenderness)
+        alpha = math.atan(1.0 / (0.5 * slenderness))
+        ratios.append((1 - housner_restitution(col)) / (1.5 * math.sin(alpha) ** 2))
+    deviations = [abs(r - 1) for r in ratios]
+    assert deviations == sorted(deviations, reverse=True)  # approaches 1 monotonically
+    assert deviations[-1] < 1e-4  # cylinder vs block inertia differ by O(1/slenderness^2)
+
+
+def _housner_rectangular_pulse_minimum(column, duration):
+    """Minimum amplitude of a rectangular pulse that overturns, linearised Housner model.
+
+    Linearised rocking (Housner 1963): theta'' = p^2 (theta - alpha + a/g)
+    during the pulse, theta'' = p^2 (theta - alpha) after it. From rest,
+    theta = (a/g - alpha)(cosh(p t) - 1); after the pulse the column passes
+    theta = alpha iff theta'/p >= alpha - theta at its end, i.e.
+    (a/g - alpha)(exp(p t_d) - 1) >= alpha:  a_min = g alpha / (1 - exp(-p t_d)).
+    """
+    p = column.frequency_parameter()
+    return G * column.critical_tilt / (1 - math.exp(-p * duration))
+
+
+def _minimum_overturning_amplitude(column, duration, model):
+    lo, hi = column.uplift_acceleration(), 10 * G
+    for _ in range(30):  # bisection to 1e-9 relative
+        mid = math.sqrt(lo * hi)
+        pulse = rectangular_pulse(mid, duration, dt=0.0005, duration=duration + 1.0)
+        if simulate(column, pulse, settings=ModelSettings(model=model, tail=3.0), histories=False).summary["overturned"]:
+            hi = mid
+        else:
+            lo = mid
+    return hi
+
+
+@pytest.mark.parametrize("duration", [0.3, 0.5, 1.0])
+@pytest.mark.parametrize("model", ["3d", "2d"])
+def test_rectangular_pulse_overturning_matches_linearised_housner(duration, model):
+    slender = Column(0.2, 0.2, 4.0)  # h/R = 20, alpha = 0.0997 rad
+    found = _minimum_overturning_amplitude(slender, duration, model)
+    # the linearisation (sin(alpha - theta) ~ alpha - theta, cos ~ 1) errs by
+    # O(alpha^2) ~ 1 %, within the 3 % the issue allows
+    assert found == pytest.approx(_housner_rectangular_pulse_minimum(slender, duration), rel=0.03)
+
+
+def test_incidence_angle_only_turns_the_3d_response(fema1):
+    base = simulate(PAPER, fema1, Excitation(angle=0.0))
+    turned = simulate(PAPER, fema1, Excitation(angle=0.7))
+    for key in ("peak_theta", "n_impacts", "overturned", "peak_mu_mob", "residual_displacement", "work_ground"):
+        assert turned.summary[key] == base.summary[key], key
+    # contact point path turned by the angle
+    c, s = math.cos(0.7), math.sin(0.7)
+    x0, y0 = base.histories.x_p.values, base.histories.y_p.values
+    np.testing.assert_allclose(turned.histories.x_p.values, c * x0 - s * y0, atol=1e-12, equal_nan=True)
+
+
+@pytest.mark.parametrize("damping", [0.0, 0.05])
+@pytest.mark.parametrize("scale", [1.0, 2.0])
+def test_energy_budget_balances(fema1, damping, scale):
+    r = simulate(PAPER, fema1, Excitation(scale=scale), ModelSettings(damping=damping), histories=False)
+    s = r.summary
+    # E_final - E_initial = work + transitions - dissipated, to 1e-6 of the work
+    assert abs(s["energy_balance_error"]) < 1e-6 * abs(s["work_ground"])
+    assert s["energy_transitions"] <= 1e-9  # impacts and settling never add energy...
+    if damping:
+        assert s["energy_dissipated"] > 0
+    else:
+        assert s["energy_dissipated"] == 0.0
+
+
+def test_damping_reduces_the_response(fema1):
+    plain = simulate(PAPER, fema1, histories=False).summary
+    damped = simulate(PAPER, fema1, settings=ModelSettings(damping=0.2), histories=False).summary
+    assert damped["energy_final"] < plain["energy_final"]
+
+
+@pytest.mark.parametrize("record", ["FEMA-FF-01", "FEMA-FF-03"])
+def test_tolerance_convergence_of_peak_theta(record):
+    """Tightening the tolerances tenfold changes peak theta by less than 1e-3 relative."""
+    motion = load(record)
+    loose = simulate(PAPER, motion, settings=ModelSettings(rtol=1e-9, atol=1e-12), histories=False).summary
+    tight = simulate(PAPER, motion, settings=ModelSettings(rtol=1e-10, atol=1e-13), histories=False).summary
+    assert not loose["overturned"] and not tight["overturned"]
+    assert tight["peak_theta"] == pytest.approx(loose["peak_theta"], rel=1e-3)
+
+
+def test_bad_input_is_rejected_with_a_message(fema1):
+    with pytest.raises(InputError, match="scale = 0"):
+        Excitation(scale=0)
+    with pytest.raises(InputError, match="scale = -2"):
+        Excitation(scale=-2)
+    with pytest.raises(InputError, match="model = '4d' is unknown"):
+        ModelSettings(model="4d")
+    with pytest.raises(InputError, match="slenderness h/R = 1000"):
+        simulate(Column(0.01, 0.01, 10.0), fema1)
+    with pytest.raises(InputError, match="column R = 200 m"):
+        simulate(Column(200, 200, 400), fema1)
+    with pytest.raises(InputError, match="NaN or infinite"):
+        bad = fema1.acc_x.copy()
+        bad[100] = np.nan
+        simulate(PAPER, GroundMotion.from_arrays(bad, fema1.acc_y, fema1.dt, record_id="bad"))
