@@ -216,6 +216,17 @@ def test_small_angle_coefficients_f_ij_and_appendix_c():
     syms = (Iy, Iz, HK, th)
     for got, want in ((f11, F[0, 0]), (f13, F[0, 1]), (f31, F[1, 0]), (f33, F[1, 1])):
         assert _vanishes(got - want, syms)
+    # the printed f23 and f34 are expansions of the *corrected* g23 and g34, not the printed ones
+    g = d.paper_coefficients(HK)
+    f23 = -(2 * th * Iz + HK) / (2 * Iy)
+    g23_corrected = -(2 * Iz * sp.sin(th) + HK * sp.cos(th)) / (2 * Iy)
+    assert _vanishes(f23 - sp.series(g23_corrected, th, 0, 2).removeO(), syms)
+    assert not _vanishes(f23 - sp.series(g["g23"], th, 0, 2).removeO(), syms)
+    f34 = (4 * Iy - HK**2 - 4) / D + 1 / th * 2 * HK * (Iz - 1) / D  # per unit a_xi
+    g34_corrected = (4 * (Iy - 1) + 2 * HK * (Iz - 1) * sp.cot(th) - HK**2) / D
+    g34_printed = (4 * (Iy - 1) + 2 * (Iz - 1) * sp.cot(th) - HK**2) / D
+    assert _vanishes(f34 - sp.series(g34_corrected, th, 0, 1).removeO(), syms)
+    assert not _vanishes(f34 - sp.series(g34_printed, th, 0, 1).removeO(), syms)
     # reading h_1 as h_hat alone (h = hk/k1 with k1 != 1) breaks f11
     k1 = sp.Symbol("k1", positive=True)
     f11_h = -1 / th * (4 * (Iz - 1) * Iz / Dn + 2) + 2 * (HK / k1) * (Iz - 1) / Dn
