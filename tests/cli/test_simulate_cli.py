@@ -45,3 +45,30 @@ def test_bad_input_is_named(argv, message, tmp_path, capsys):
     assert main(argv) == 2
     assert message in capsys.readouterr().err
     assert not (tmp_path / "x.nc").exists()
+
+
+def test_earthquake_simulation_writes_netcdf_and_plot(tmp_path, capsys):
+    out, png = tmp_path / "r.nc", tmp_path / "r.png"
+    status = main(["simulate", "--column", "0.5,0.4,4", "--record", "FEMA-FF-01", "--angle", "30",
+                   "--scale", "1", "--model", "3d", "--out", str(out), "--plot", str(png)])
+    assert status == 0
+    text = capsys.readouterr().out
+    assert "stands" in text and "impacts" in text
+    ds = xr.open_dataset(out)
+    for name in REQUIRED + ["ground_acc_x", "ground_acc_y", "phase", "x_b"]:
+        assert name in ds and ds[name].attrs.get("long_name"), name
+    assert ds.attrs["record_id"] == "FEMA-FF-01"
+    assert ds.attrs["incidence_angle_rad"] == pytest.approx(math.radians(30))
+    assert np.all(ds.theta.values[ds.time.values < 3.0] == 0.0)  # at rest before the strong motion
+    assert png.stat().st_size > 20_000
+
+
+@pytest.mark.parametrize("argv,message", [
+    (["--record", "FEMA-FF-99"], "FEMA-FF-99"),
+    (["--record", "FEMA-FF-01", "--scale", "0"], "scale = 0"),
+    (["--record", "FEMA-FF-01", "--theta0", "3"], "drop --theta0"),
+    (["--theta0", "3"], "--duration"),
+])
+def test_earthquake_bad_input(argv, message, tmp_path, capsys):
+    assert main(["simulate", "--column", "0.5,0.4,4", *argv, "--out", str(tmp_path / "x.nc")]) == 2
+    assert message in capsys.readouterr().err

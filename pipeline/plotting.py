@@ -1,0 +1,88 @@
+"""Figures people look at: one response, and (later) study results.
+
+matplotlib with the non-interactive Agg backend; every axis carries its unit.
+"""
+
+import math
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from pipeline.units import G  # noqa: E402
+
+
+def plot_response(ds, summary, path, friction=0.7):
+    """Four panels of one simulation, saved to ``path`` (PNG or PDF by suffix).
+
+    theta(t) against theta_crit, the path of the contact point and of the base
+    centre on the ground, the mobilized friction coefficient against the
+    friction coefficient, and the ground acceleration.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Histories from :func:`pipeline.simulate.simulate`.
+    summary : dict
+        Its summary.
+    path : str or os.PathLike
+    friction : float
+        Friction coefficient drawn on the mu_mob panel [1].
+    """
+    t = ds.time.values
+    fig, axes = plt.subplots(2, 2, figsize=(12, 8), constrained_layout=True)
+    ax = axes[0, 0]
+    theta_crit = math.degrees(ds.attrs["theta_crit_rad"])
+    ax.plot(t, np.degrees(ds.theta.values), lw=0.8, label=r"$\theta$")
+    ax.axhline(theta_crit, color="C3", ls="--", lw=1, label=rf"$\theta_{{crit}}$ = {theta_crit:.1f}°")
+    if summary.get("overturned"):
+        ax.axvline(summary["overturn_time"], color="k", lw=0.8, ls=":", label="overturned")
+        ax.set_ylim(0, 1.5 * theta_crit)
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("inclination θ [deg]")
+    ax.set_title("Inclination of the column axis")
+    ax.legend(loc="upper right")
+
+    ax = axes[0, 1]
+    ax.plot(ds.x_p.values * 100, ds.y_p.values * 100, lw=0.5, label="contact point")
+    if "x_b" in ds:
+        ax.plot(ds.x_b.values * 100, ds.y_b.values * 100, lw=1.2, color="C1", label="base centre")
+    R = ds.attrs["column_R_m"] * 100
+    circle = np.linspace(0, 2 * np.pi, 200)
+    ax.plot(R * np.cos(circle), R * np.sin(circle), color="0.6", lw=0.8, ls="--", label="base at start")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("X [cm]")
+    ax.set_ylabel("Y [cm]")
+    ax.set_title("Paths on the ground (plane of the base)")
+    ax.legend(loc="upper right", fontsize="small")
+
+    ax = axes[1, 0]
+    ax.semilogy(t, np.clip(ds.mu_mob.values, 1e-4, None), lw=0.6, label=r"$\mu_{mob}$")
+    ax.axhline(friction, color="C3", ls="--", lw=1, label=f"friction coefficient {friction:g}")
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel(r"mobilized friction $|F_t|/N$ [1]")
+    ax.set_title("Friction the contact must supply")
+    ax.legend(loc="upper right")
+
+    ax = axes[1, 1]
+    for name, label in (("ground_acc_x", "X"), ("ground_acc_y", "Y"), ("ground_acc_z", "Z")):
+        values = ds[name].values / G
+        if np.any(values):
+            ax.plot(t, values, lw=0.6, label=label)
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("ground acceleration [g]")
+    ax.set_title("Excitation")
+    ax.legend(loc="upper right")
+
+    title = ds.attrs.get("record_id", "free motion")
+    fig.suptitle(
+        f"{title}, {ds.attrs.get('model', '3d')} model, column R = {ds.attrs['column_R_m']:g} m, "
+        f"r = {ds.attrs['column_r_m']:g} m, h = {ds.attrs['column_h_m']:g} m: "
+        f"peak θ = {math.degrees(summary['peak_theta']):.2f}° "
+        f"({'overturned' if summary.get('overturned') else 'stands'})"
+    )
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
