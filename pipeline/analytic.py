@@ -32,6 +32,7 @@ equation numbers follow the paper:
   :func:`impact_velocity_exact`.
 """
 
+import math
 from dataclasses import dataclass
 
 import mpmath
@@ -394,6 +395,63 @@ def impact_velocity(theta0, dphi0, dpsi0, dtheta0, column):
     return -np.sqrt(arg) if arg >= 0 else np.nan
 
 
+def rates_along_theta(theta0, dphi0, dpsi0, column, theta_end=1e-8, rtol=1e-11):
+    """Exact free-motion rates (phi', psi') as functions of theta, by integrating in theta.
+
+    Eq. 12 without ground motion gives ``d(phi', psi')/dtheta = G(theta) (phi', psi')``
+    (:func:`coupling_matrix`), linear and independent of time: the rates are
+    single-valued functions of theta whatever theta'. Integrated from theta0
+    down to ``theta_end`` with scipy's DOP853.
+
+    Returns
+    -------
+    scipy.integrate.OdeSolution
+        Dense solution: ``sol(theta)`` -> (phi', psi') [1/tau].
+    """
+    from scipy.integrate import solve_ivp
+
+    def f(t, x):
+        return coupling_matrix(t, column) @ x
+
+    sol = solve_ivp(f, (theta0, theta_end), [dphi0, dpsi0], method="DOP853", rtol=rtol, atol=1e-14,
+                    dense_output=True)
+    if sol.status != 0:
+        raise RuntimeError(f"integration in theta failed: {sol.message}")
+    return sol.sol
+
+
+def turning_inclination(theta0, dphi0, dpsi0, column, dtheta0=0.0):
+    """theta_min of free motion: the first theta below theta0 where theta' = 0 [rad].
+
+    The paper's "introducing Eqs. 23 into the total energy" (Section 4.2), done
+    with the exact rates (:func:`rates_along_theta`) instead of the small-angle
+    ones: ``I_y theta'^2 / 2 = E0 - E(theta, phi'(theta), 0, psi'(theta))``.
+    Returns 0.0 when theta' stays non-zero down to 1e-8 rad (impact).
+
+    Parameters
+    ----------
+    theta0 : float
+        Initial inclination [rad] (theta'0 <= 0: the column first descends).
+    dphi0, dpsi0, dtheta0 : float
+        Initial rates [1/tau].
+    column : Column or sequence
+    """
+    from scipy.optimize import brentq
+
+    E0 = total_energy(theta0, dphi0, dtheta0, dpsi0, column)
+    sol = rates_along_theta(theta0, dphi0, dpsi0, column)
+
+    def margin(t):  # I_y theta'^2 / 2 at inclination t
+        dphi, dpsi = sol(t)
+        return E0 - total_energy(t, dphi, 0.0, dpsi, column)
+
+    grid = theta0 * np.logspace(0, math.log10(1e-8 / theta0), 400)[1:]
+    for a, b in zip(grid[:-1], grid[1:]):
+        if margin(b) < 0.0 <= margin(a):
+            return brentq(margin, b, a, xtol=1e-15, rtol=1e-13)
+    return 0.0
+
+
 def total_energy(theta, dphi, dtheta, dpsi, column):
     """Total energy E / (m g R) of free motion, the paper's Eq. 13 [1]."""
     Iy, Iz, hk1 = _constants(column)
@@ -638,7 +696,9 @@ __all__ = [
     "rate_sum",
     "rocking_acceleration",
     "spin_approx",
+    "rates_along_theta",
     "total_energy",
+    "turning_inclination",
     "wobbling_constants",
     "wobbling_p",
     "wobbling_rates",

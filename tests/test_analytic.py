@@ -509,9 +509,14 @@ def test_impact_condition_theta_min_dips_to_zero_at_eq30():
           f"spin at impact: Eq. 31 {spin_eq31:.4f}, exact {spin_exact:.4f}; theta_min {tmin}")
     assert curvature < 0.01  # linear: theta_min proportional to the distance from the ratio
     assert abs(d_zero) < 1e-4  # the numerical dip is at the Appendix B ratio (sampling limits ~1e-5)
-    # the other side dips far lower (the spin term of the energy is odd in omega_eta):
-    # the sampled minimum bounds theta_min from above
-    assert tmin[-0.01] < 0.5 * tmin[0.01]
+    # the energy with the exact rates gives the same theta_min (integration in theta vs in tau)
+    for dd in (0.005, 0.01):
+        exact = an.turning_inclination(THETA0, 0.1, 0.1 * r_exact * (1 + dd), col)
+        assert exact == pytest.approx(tmin[dd], rel=1e-4)  # Hermite refinement of 0.001-tau samples
+    # the other side dips ~70x lower (the spin term -hk1 omega_eta omega_zeta / 2 of the
+    # energy is odd in omega_eta); the sampled minimum bounds theta_min from above
+    steep = an.turning_inclination(THETA0, 0.1, 0.1 * r_exact * 0.99, col)
+    assert 0.0 < steep <= tmin[-0.01] and steep < 0.05 * tmin[0.01]
     # small-angle formulas: truncation O(theta0^2) relative (measured 0.24 theta0^2)
     assert abs(r_closed / r_exact - 1) < THETA0**2
     assert abs(r_series / r_exact - 1) < THETA0**2
@@ -557,6 +562,10 @@ def test_away_from_the_impact_ratio_the_column_turns(section4):
     # theta0 and theta_min > 0 and returns to theta0 (energy conserved).
     run = section4
     assert run["theta"].min() > 0.1 * THETA0
+    # theta_min from the energy with the exact rates (Section 4.2's recipe): sampled
+    # minimum is within the sampling error (theta'' dtau^2 ~ 1e-5) above it
+    t_min = an.turning_inclination(THETA0, 0.1, -0.2, FIG4)
+    assert 0.0 <= run["theta"].min() - t_min < 1e-5
     assert run["theta"][-1] == pytest.approx(THETA0, abs=2e-3)  # sampled near the return
     # Eq. 29 is far from met: both its terms are O(p phi'0 theta0^2); at the impact ratio
     # it vanishes, here it is of that size
