@@ -26,6 +26,8 @@ equation numbers follow the paper:
 * Eqs. 26-27: :func:`wobbling_rates_approx`, :func:`spin_approx`;
 * Eqs. 29-32: :func:`impact_residual`, :func:`impact_ratio`,
   :func:`impact_ratio_series`, :func:`impact_spin`, :func:`impact_velocity`;
+* Section 4.2, theta_min from the energy with the exact rates:
+  :func:`rates_along_theta`, :func:`turning_inclination`, :func:`total_energy` (Eq. 13);
 * Appendix B: :func:`appell_solution` (Gauss hypergeometric functions through
   ``mpmath.hyp2f1``; ``scipy.special.hyp2f1`` takes real parameters only and
   here they are complex), :func:`impact_ratio_exact`,
