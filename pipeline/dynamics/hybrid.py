@@ -114,6 +114,19 @@ def _init_summary(summary):
     summary[S_MIN_NORMAL] = math.inf
 
 
+# A rebound that would rise less than this above theta_c is a settling:
+# shorter excursions than an integration step could slip past the landing
+# event (and with theta_c = 0 the column would never settle otherwise).
+MIN_REBOUND_TILT = 1e-8  # [rad]
+
+
+@njit(cache=True)
+def _settle_kinetic(theta_c, zc):
+    """Kinetic energy [m g R] below which a landing column settles to rest."""
+    top = theta_c + max(theta_c, MIN_REBOUND_TILT)
+    return (math.sin(top) + zc * math.cos(top)) - (math.sin(theta_c) + zc * math.cos(theta_c))
+
+
 @njit(cache=True)
 def _log_impact(impacts, summary, t, rate_before, rate_after, energy_jump):
     """Record a landing in the log (the first ``len(impacts)`` only)."""
@@ -179,8 +192,7 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
     y_new = y0.copy()
     rotation = y0[fk.PHI] + y0[fk.PSI]  # body rotation about the vertical while at rest
     rest_energy = zc  # V at theta = 0
-    settle_kinetic = (math.sin(2 * theta_c) + zc * math.cos(2 * theta_c)) - (
-        math.sin(theta_c) + zc * math.cos(theta_c))
+    settle_kinetic = _settle_kinetic(theta_c, zc)
     phase = PHASE_ROLLING if y0[fk.THETA] > 0.0 else PHASE_REST
     t = 0.0
     out_i = 0
@@ -308,7 +320,7 @@ def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
     y = y0.copy()
     rest_energy = zc
     lift_energy = rk.energy(theta_c, 0.0, c)
-    settle_kinetic = rk.energy(2 * theta_c, 0.0, c) - lift_energy
+    settle_kinetic = _settle_kinetic(theta_c, zc)
     phase = PHASE_ROLLING if y0[rk.THETA2] != 0.0 else PHASE_REST
     t = 0.0
     out_i = 0

@@ -171,3 +171,15 @@ def test_thin_disc_trajectory_matches_independent_model():
     # independent integrations at rtol 1e-11 over a mildly chaotic 15 tau: 1e-6
     for i, name in enumerate(["phi", "theta", "psi"]):
         np.testing.assert_allclose(ds[name].values, want[i], atol=1e-6)
+
+
+@pytest.mark.parametrize("contact_tilt", [0.0, 1e-5])
+def test_decaying_planar_rocking_settles_and_never_crosses_zero(contact_tilt):
+    """Regression: impacts piling up must end at rest, not slip through theta = 0."""
+    theta0, _, _ = PAPER_CASES["IC1"]
+    init = InitialState.from_dimensionless(PAPER_COLUMN.R, 0.0, theta0, 0.0, 0.0, 0.0, 0.0)
+    duration = 60 * math.sqrt(PAPER_COLUMN.R / G)
+    settings = ModelSettings(rtol=1e-12, atol=1e-14, output_step=duration / 3000, contact_tilt=contact_tilt)
+    ds = simulate_free(PAPER_COLUMN, init, duration, settings)  # Housner restitution
+    assert np.nanmin(ds.theta.values) >= 0.0
+    assert ds.phase.values[-1] == 0 and ds.theta.values[-1] == 0.0
