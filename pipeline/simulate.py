@@ -353,25 +353,8 @@ def _impact_table(raw, column):
 
 def _diagnostics(raw, settings):
     """Per-row omega_zeta, energy, normal force, |F_t|, mu_mob, ground acceleration (dimensionless)."""
-    n = raw.tau.shape[0]
-    out = np.full((n, fk.N_DIAGNOSTICS), np.nan)
-    c, record, dt, opts = raw.params
-    buf = np.empty(fk.N_DIAGNOSTICS)
-    for i in range(n):
-        t = raw.tau[i]
-        ax, ay, az = fk.ground_acceleration(t, record, dt)
-        if raw.phase[i] == hy.PHASE_REST or np.isnan(raw.states[i, 0]):
-            # full contact: the base carries the weight and the ground's push
-            normal = 1.0 + az
-            tangential = math.hypot(ax, ay)
-            out[i] = (0.0, c[fk.C_ZC], normal, tangential, tangential / normal if normal > 0 else math.inf, ax, ay, az)
-        elif settings.model == "3d":
-            fk.diagnostics(t, raw.states[i], raw.params, buf)
-            out[i] = buf
-        else:
-            theta, dtheta = raw.states[i, rk.THETA2], raw.states[i, rk.DTHETA2]
-            mu, normal = hy._rocking_contact(theta, dtheta, ax, az, c, opts[fk.OPT_NU])
-            out[i] = (0.0, rk.energy(theta, dtheta, c), normal, mu * normal, mu, ax, ay, az)
+    out = np.full((raw.tau.shape[0], fk.N_DIAGNOSTICS), np.nan)
+    hy.diagnostics_rows(raw.tau, raw.states, raw.phase, raw.params, settings.model == "3d", out)
     return out
 
 

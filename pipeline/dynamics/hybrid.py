@@ -419,3 +419,44 @@ def _rocking_contact(theta, dtheta, a_u, a_z, c, nu):
     f_z = (sgn * co - zc * s) * ddtheta - (sgn * s + zc * co) * w2 + 1.0 + a_z
     mu = abs(f_u) / f_z if f_z > 0.0 else math.inf
     return mu, f_z
+
+
+@njit(cache=True)
+def diagnostics_rows(tau, states, phase, params, model_3d, out):
+    """Diagnostics of every output row (compiled loop), written to ``out``.
+
+    Columns as :func:`pipeline.dynamics.frustum.diagnostics`: omega_zeta,
+    energy, normal force, |F_t|, mu_mob, a_X, a_Y, a_Z (dimensionless). At
+    rest (or on rows never reached) the base carries the weight and the
+    ground's push: N = 1 + a_z, |F_t| = |a_h|.
+    """
+    c, record, dt, opts = params
+    buf = np.empty(fk.N_DIAGNOSTICS)
+    for i in range(tau.shape[0]):
+        t = tau[i]
+        ax, ay, az = fk.ground_acceleration(t, record, dt)
+        if phase[i] == PHASE_REST or math.isnan(states[i, 0]):
+            normal = 1.0 + az
+            tangential = math.sqrt(ax * ax + ay * ay)
+            out[i, 0] = 0.0
+            out[i, 1] = c[fk.C_ZC]
+            out[i, 2] = normal
+            out[i, 3] = tangential
+            out[i, 4] = tangential / normal if normal > 0.0 else math.inf
+            out[i, 5] = ax
+            out[i, 6] = ay
+            out[i, 7] = az
+        elif model_3d:
+            fk.diagnostics(t, states[i], params, buf)
+            out[i, :] = buf
+        else:
+            theta, dtheta = states[i, rk.THETA2], states[i, rk.DTHETA2]
+            mu, normal = _rocking_contact(theta, dtheta, ax, az, c, opts[fk.OPT_NU])
+            out[i, 0] = 0.0
+            out[i, 1] = rk.energy(theta, dtheta, c)
+            out[i, 2] = normal
+            out[i, 3] = mu * normal
+            out[i, 4] = mu
+            out[i, 5] = ax
+            out[i, 6] = ay
+            out[i, 7] = az
