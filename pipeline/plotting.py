@@ -86,3 +86,60 @@ def plot_response(ds, summary, path, friction=0.7):
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return path
+
+
+def plot_study(ds, path):
+    """Summary of a study's results, saved to ``path`` (PNG or PDF by suffix).
+
+    Left: peak inclination over theta_crit against the PGA of the scaled
+    record (peak of the horizontal vector), one marker per record, angle and
+    scale, per model, for the first column; overturned runs are drawn at the
+    top. Right: fraction of overturned runs (over records and angles) against
+    the scale level, one line per column and model.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Results of :func:`pipeline.sweep.run_study` (or
+        :func:`pipeline.dataset.open_results`).
+    path : str or os.PathLike
+    """
+    ok = ds.status == 0
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.5), constrained_layout=True)
+    first = ds.isel(column=0)
+    markers = "os^vD"
+    for mi, model in enumerate(ds.model.values):
+        sub = first.sel(model=model)
+        pga = np.broadcast_to(sub.pga.transpose("record", "scale").values[:, None, :],
+                              sub.peak_theta_ratio.transpose("record", "angle", "scale").shape)
+        ratio = sub.peak_theta_ratio.transpose("record", "angle", "scale").values
+        over = sub.overturned.transpose("record", "angle", "scale").values == 1
+        good = sub.status.transpose("record", "angle", "scale").values == 0
+        ax1.scatter((pga / G)[good & ~over], ratio[good & ~over], s=14, marker=markers[mi % 5], alpha=0.7,
+                    label=f"{model}: stands")
+        if (good & over).any():
+            ax1.scatter((pga / G)[good & over], np.full((good & over).sum(), 1.05), s=22,
+                        marker=markers[mi % 5], facecolors="none", edgecolors="k", label=f"{model}: overturned")
+    ax1.axhline(1.0, color="0.5", lw=0.8, ls="--")
+    ax1.set_xlabel("PGA of the scaled record (horizontal vector) [g]")
+    ax1.set_ylabel(r"peak $\theta$ / $\theta_{crit}$ [1] (overturned at 1.05)")
+    ax1.set_ylim(0, 1.12)
+    ax1.set_title(f"column {first.column.values.item()}", fontsize=10)
+    ax1.legend(fontsize=8)
+    frac = (ds.overturned.where(ok)).mean(dim=("record", "angle"))
+    xlabel = "scale factor on the record [1]"
+    units = ds.scale.attrs.get("units", "1")
+    if units != "1":
+        xlabel = f"{ds.scale.attrs.get('long_name', 'target level').split('(')[0].strip()} [{units}]"
+    for column in ds.column.values[:6]:
+        for model in ds.model.values:
+            ax2.plot(ds.scale.values, frac.sel(column=column, model=model).values, marker="o",
+                     label=f"{column} ({model})")
+    ax2.set_xlabel(xlabel)
+    ax2.set_ylabel("fraction overturned (records x angles) [1]")
+    ax2.set_ylim(-0.03, 1.03)
+    ax2.legend(fontsize=8)
+    fig.suptitle(ds.attrs.get("title", "study"), fontsize=11)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path

@@ -1,0 +1,540 @@
+"""Study files: TOML in, a frozen, validated :class:`Study` out.
+
+A study is the grid columns x records x incidence angles x scales x models
+with the options of the model and where the results go. :func:`load_study`
+reads and checks the whole file before anything is computed: an unknown
+field, a wrong type, an empty grid or a record that cannot be loaded raises
+:class:`pipeline.errors.InputError` naming the file, the field and the fix.
+
+Format (every length in metres, angles in degrees, accelerations in m/s^2;
+see docs/studies.md for the full reference)::
+
+    title = "Quickstart"
+    output = "out/quickstart.nc"     # relative to the study file's folder
+    models = ["3d", "2d"]            # default ["3d"]
+
+    [[columns]]                      # explicit dimensions ...
+    name = "paper"
+    R = 0.5
+    r = 0.4
+    h = 4.0
+    [[columns]]                      # ... or a named real column (pipeline/data/columns.toml)
+    named = "pompeys-pillar"
+
+    [column_grid]                    # ... and/or a grid: R x slenderness h/R x beta r/R
+    R = 0.5
+    slenderness = [6.0, 8.0]
+    beta = [0.8, 1.0]
+
+    [records]
+    ids = ["FEMA-FF-01"]             # catalog ids (frustum records list)
+    sets = ["SYN"]                   # whole catalog sets
+    files = [{path = "quake.mseed", units = "g"}]
+    synthetic = [{generator = "ricker_wavelet", id = "ricker", ap = 3.0, fp = 2.0}]
+
+    [excitation]
+    angles = [0.0, 45.0, 90.0]       # [deg]
+    scales = [0.5, 1.0, 2.0]         # factors on the record, or instead:
+    # intensity = {measure = "pga", values = [1.0, 2.0, 4.0]}   # targets [m/s^2] or [m/s]
+    vertical = true
+    sa_period = 1.0                  # optional: also report Sa(T) [s]
+
+    [options]                        # pipeline.simulate.ModelSettings
+    friction = 0.7
+
+    [execution]
+    block_columns = 4                # columns per Dask task (default: automatic)
+"""
+
+import hashlib
+import math
+import tomllib
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+
+from pipeline.errors import InputError
+from pipeline.geometry import Column
+from pipeline.simulate import MODELS, ModelSettings, check_column
+
+__all__ = ["Study", "RecordSpec", "ColumnInfo", "Intensity", "load_study", "load_motions", "parse_study", "named_columns"]
+
+_TOP = {"title", "summary", "output", "models", "columns", "column_grid", "records", "excitation", "options",
+        "execution"}
+_COLUMN = {"name", "R", "r", "h", "named"}
+_GRID = {"R", "slenderness", "beta"}
+_RECORDS = {"ids", "sets", "files", "synthetic"}
+_FILE = {"path", "units", "id"}
+_EXCITATION = {"angles", "scales", "intensity", "vertical", "sa_period"}
+_INTENSITY = {"measure", "values"}
+_OPTIONS = {"restitution", "contact_tilt", "damping", "friction", "tail", "rtol", "atol"}
+_EXECUTION = {"block_columns"}
+_GENERATORS = ("one_sine_pulse", "cycloidal_pulse", "rectangular_pulse", "ricker_wavelet",
+               "mavroeidis_papageorgiou", "harmonic", "kanai_tajimi", "clough_penzien")
+INTENSITY_MEASURES = ("pga", "pgv")
+
+
+@dataclass(frozen=True)
+class ColumnInfo:
+    """A column of the study and what is known about it.
+
+    Attributes
+    ----------
+    column : pipeline.geometry.Column
+    label : str
+        Unique label in the results (``column`` coordinate).
+    latitude, longitude : float
+        Position [degree] of a named real column, NaN otherwise.
+    source : str
+        Where the dimensions come from.
+    """
+
+    column: Column
+    label: str
+    latitude: float = math.nan
+    longitude: float = math.nan
+    source: str = ""
+
+
+@dataclass(frozen=True)
+class RecordSpec:
+    """Where one record comes from: a catalog id, a file or a synthesis.
+
+    Attributes
+    ----------
+    kind : {"catalog", "file", "synthetic"}
+    id : str
+        Record label in the results (the catalog id, the file's id, the
+        synthetic record's id).
+    path : str
+        Absolute file path (kind "file").
+    units : str or None
+        Units of a file that does not state them.
+    generator : str
+        Synthesis function (kind "synthetic").
+    params : tuple of (str, object)
+        Its keyword arguments.
+    field : str
+        Where it was given in the study file, for messages.
+    """
+
+    kind: str
+    id: str
+    path: str = ""
+    units: str | None = None
+    generator: str = ""
+    params: tuple = ()
+    field: str = ""
+
+    def load(self):
+        """Load the record as a :class:`pipeline.groundmotion.GroundMotion` (SI)."""
+        from pipeline.groundmotion import load, synthesis
+
+        if self.kind == "catalog":
+            return load(self.id)
+        if self.kind == "file":
+            return load(self.path, units=self.units) if self.units else load(self.path)
+        func = getattr(synthesis, self.generator)
+        return func(**dict(self.params), record_id=self.id)
+
+
+@dataclass(frozen=True)
+class Intensity:
+    """Scaling to target intensity levels instead of fixed factors.
+
+    Attributes
+    ----------
+    measure : {"pga", "pgv"}
+        Peak of the horizontal acceleration [m/s^2] or velocity [m/s] vector
+        (independent of the incidence angle), as the ``pga``/``pgv`` results.
+    values : tuple of float
+        Target levels, in the measure's units.
+    """
+
+    measure: str
+    values: tuple
+
+
+@dataclass(frozen=True)
+class Study:
+    """A validated study.
+
+    Attributes
+    ----------
+    path : str
+        The study file (absolute).
+    digest : str
+        SHA-256 of the study file's bytes.
+    title, summary : str
+    output : str
+        Results file (absolute).
+    columns : tuple of ColumnInfo
+    records : tuple of RecordSpec
+    angles : tuple of float
+        Incidence angles [degree].
+    scales : tuple of float or None
+        Factors on the records, or None with ``intensity``.
+    intensity : Intensity or None
+    models : tuple of str
+    vertical : bool
+        Use the records' vertical components.
+    sa_period : float or None
+        Period [s] of the reported spectral acceleration.
+    options : tuple of (str, object)
+        Keyword arguments of :class:`pipeline.simulate.ModelSettings` (no model).
+    block_columns : int or None
+        Columns per task (None: automatic).
+    """
+
+    path: str
+    digest: str
+    title: str
+    summary: str
+    output: str
+    columns: tuple
+    records: tuple
+    angles: tuple
+    scales: tuple | None
+    intensity: Intensity | None
+    models: tuple
+    vertical: bool
+    sa_period: float | None
+    options: tuple
+    block_columns: int | None
+
+    @property
+    def levels(self):
+        """Values of the ``scale`` dimension: factors, or intensity targets."""
+        return self.scales if self.scales is not None else self.intensity.values
+
+    @property
+    def shape(self):
+        """(columns, records, angles, scales, models)."""
+        return (len(self.columns), len(self.records), len(self.angles), len(self.levels), len(self.models))
+
+    @property
+    def n_simulations(self):
+        """Size of the grid (3D runs are shared over angles, see pipeline.sweep)."""
+        return math.prod(self.shape)
+
+    def settings(self, model):
+        """:class:`pipeline.simulate.ModelSettings` of one model."""
+        return ModelSettings(model=model, **dict(self.options))
+
+
+def named_columns():
+    """The named real columns of ``pipeline/data/columns.toml`` (id -> dict)."""
+    text = resources.files("pipeline").joinpath("data/columns.toml").read_text(encoding="utf-8")
+    return tomllib.loads(text)
+
+
+def load_study(path, load_records=True):
+    """Read and validate a study file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    load_records : bool
+        Also load every record once, so that a record that cannot be loaded
+        fails here, before any computation.
+
+    Returns
+    -------
+    Study
+
+    Raises
+    ------
+    InputError
+        Naming the file and the field.
+    """
+    path = Path(path).resolve()
+    try:
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read the study file ({exc.strerror}); check the path") from None
+    try:
+        data = tomllib.loads(raw.decode("utf-8"))
+    except (UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise InputError(f"{path}: not a valid TOML file: {exc}") from None
+    study = parse_study(data, path, hashlib.sha256(raw).hexdigest())
+    if load_records:
+        load_motions(study)
+    return study
+
+
+def load_motions(study):
+    """Load every record of a study, in order.
+
+    Returns
+    -------
+    list of pipeline.groundmotion.GroundMotion
+
+    Raises
+    ------
+    InputError
+        Naming the study file, the field and the record that cannot be loaded.
+    """
+    motions = []
+    for spec in study.records:
+        try:
+            motions.append(spec.load())
+        except Exception as exc:  # noqa: BLE001 - any loader failure is a bad field
+            text = str(exc) if isinstance(exc, InputError) else f"{type(exc).__name__}: {exc}"
+            raise InputError(f"{study.path}: field {spec.field}: record {spec.id!r} cannot be loaded: {text}") from None
+    return motions
+
+
+class _Checker:
+    """Type checks that name the file and the field."""
+
+    def __init__(self, path):
+        self.path = path
+
+    def fail(self, field, message):
+        raise InputError(f"{self.path}: field {field}: {message}")
+
+    def table(self, value, field, allowed):
+        if not isinstance(value, dict):
+            self.fail(field, f"must be a table, got {type(value).__name__}")
+        unknown = sorted(set(value) - allowed)
+        if unknown:
+            self.fail(f"{field}.{unknown[0]}" if field else unknown[0],
+                      f"unknown field; allowed here: {', '.join(sorted(allowed))}")
+        return value
+
+    def number(self, value, field, positive=False, lo=None, hi=None):
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            self.fail(field, f"must be a number, got {value!r}")
+        value = float(value)
+        if positive and value <= 0:
+            self.fail(field, f"must be positive, got {value!r}")
+        if (lo is not None and value < lo) or (hi is not None and value > hi):
+            self.fail(field, f"{value!r} is out of range [{lo}, {hi}]")
+        return value
+
+    def numbers(self, value, field, positive=False, scalar_ok=False):
+        if scalar_ok and not isinstance(value, list):
+            value = [value]
+        if not isinstance(value, list):
+            self.fail(field, f"must be a list of numbers, got {type(value).__name__}")
+        if not value:
+            self.fail(field, "is empty: give at least one value (an empty grid computes nothing)")
+        out = tuple(self.number(v, f"{field}[{i}]", positive) for i, v in enumerate(value))
+        if len(set(out)) != len(out):
+            self.fail(field, f"has repeated values {list(out)}; give each value once")
+        return out
+
+    def string(self, value, field):
+        if not isinstance(value, str) or not value.strip():
+            self.fail(field, f"must be a non-empty string, got {value!r}")
+        return value
+
+    def strings(self, value, field):
+        if not isinstance(value, list):
+            self.fail(field, f"must be a list of strings, got {type(value).__name__}")
+        return [self.string(v, f"{field}[{i}]") for i, v in enumerate(value)]
+
+
+def parse_study(data, path="<study>", digest=""):
+    """Validate a study given as a dict (parsed TOML); see :func:`load_study`."""
+    path = Path(path)
+    ck = _Checker(path)
+    ck.table(data, "", _TOP)
+    title = ck.string(data.get("title", path.stem), "title")
+    summary = data.get("summary", "")
+    if not isinstance(summary, str):
+        ck.fail("summary", "must be a string")
+    output = ck.string(data.get("output", f"{path.stem}.nc"), "output")
+    output = str((path.parent / output).resolve())
+    models = data.get("models", ["3d"])
+    models = tuple(ck.strings(models, "models"))
+    if not models:
+        ck.fail("models", f"is empty: give one or more of {', '.join(MODELS)}")
+    for i, m in enumerate(models):
+        if m not in MODELS:
+            ck.fail(f"models[{i}]", f"{m!r} is unknown; choose from {', '.join(MODELS)}")
+    if len(set(models)) != len(models):
+        ck.fail("models", "has repeated models")
+    columns = _columns(data, ck)
+    records = _records(data.get("records"), ck, path)
+    angles, scales, intensity, vertical, sa_period = _excitation(data.get("excitation"), ck)
+    options = ck.table(data.get("options", {}), "options", _OPTIONS)
+    for key, value in options.items():
+        if key == "restitution":
+            ck.number(value, "options.restitution", lo=0.0, hi=1.0)
+        else:
+            ck.number(value, f"options.{key}")
+    options = tuple(sorted((k, float(v)) for k, v in options.items()))
+    for m in models:
+        try:
+            ModelSettings(model=m, **dict(options))
+        except InputError as exc:
+            ck.fail("options", str(exc))
+    execution = ck.table(data.get("execution", {}), "execution", _EXECUTION)
+    block = execution.get("block_columns")
+    if block is not None and (isinstance(block, bool) or not isinstance(block, int) or block < 1):
+        ck.fail("execution.block_columns", f"must be a positive integer, got {block!r}")
+    return Study(
+        path=str(path), digest=digest, title=title, summary=summary, output=output, columns=columns,
+        records=records, angles=angles, scales=scales, intensity=intensity, models=models, vertical=vertical,
+        sa_period=sa_period, options=options, block_columns=block,
+    )
+
+
+def _columns(data, ck):
+    out = []
+    entries = data.get("columns", [])
+    if not isinstance(entries, list):
+        ck.fail("columns", "must be an array of tables ([[columns]])")
+    presets = None
+    for i, entry in enumerate(entries):
+        field = f"columns[{i}]"
+        ck.table(entry, field, _COLUMN)
+        if "named" in entry:
+            if set(entry) - {"named", "name"}:
+                ck.fail(field, "a named column takes no dimensions (give either named = ID or R, r, h)")
+            presets = presets or named_columns()
+            key = ck.string(entry["named"], f"{field}.named")
+            if key not in presets:
+                ck.fail(f"{field}.named", f"{key!r} is not a named column; known: {', '.join(sorted(presets))}")
+            p = presets[key]
+            label = ck.string(entry.get("name", key), f"{field}.name")
+            info = ColumnInfo(Column(p["R"], p["r"], p["h"], name=label), label,
+                              float(p.get("latitude", math.nan)), float(p.get("longitude", math.nan)),
+                              p.get("source", ""))
+        else:
+            missing = [k for k in ("R", "r", "h") if k not in entry]
+            if missing:
+                ck.fail(f"{field}.{missing[0]}", "missing: give R, r and h in metres, or named = ID")
+            dims = [ck.number(entry[k], f"{field}.{k}", positive=True) for k in ("R", "r", "h")]
+            label = ck.string(entry.get("name", f"R{dims[0]:g}-r{dims[1]:g}-h{dims[2]:g}"), f"{field}.name")
+            info = ColumnInfo(Column(*dims, name=label), label, source="study file")
+        _check(ck, info.column, field)
+        out.append(info)
+    grid = data.get("column_grid")
+    if grid is not None:
+        ck.table(grid, "column_grid", _GRID)
+        for k in sorted(_GRID):
+            if k not in grid:
+                ck.fail(f"column_grid.{k}", "missing: a grid needs R, slenderness and beta")
+        radii = ck.numbers(grid["R"], "column_grid.R", positive=True, scalar_ok=True)
+        slender = ck.numbers(grid["slenderness"], "column_grid.slenderness", positive=True, scalar_ok=True)
+        betas = ck.numbers(grid["beta"], "column_grid.beta", positive=True, scalar_ok=True)
+        for R in radii:
+            for s in slender:
+                for b in betas:
+                    label = f"R{R:g}-s{s:g}-b{b:g}"
+                    col = Column(R, b * R, s * R, name=label)
+                    _check(ck, col, "column_grid")
+                    out.append(ColumnInfo(col, label, source="study grid"))
+    if not out:
+        ck.fail("columns", "no columns: give [[columns]] entries or a [column_grid]")
+    labels = [c.label for c in out]
+    dup = sorted({x for x in labels if labels.count(x) > 1})
+    if dup:
+        ck.fail("columns", f"column label {dup[0]!r} is used twice; give each column a distinct name")
+    return tuple(out)
+
+
+def _check(ck, column, field):
+    try:
+        check_column(column)
+    except InputError as exc:
+        ck.fail(field, str(exc))
+
+
+def _records(section, ck, path):
+    if section is None:
+        ck.fail("records", "missing: give [records] with ids, sets, files or synthetic")
+    ck.table(section, "records", _RECORDS)
+    from pipeline.groundmotion import list_records, list_sets
+
+    out = []
+    known_sets = list_sets()
+    for i, set_id in enumerate(ck.strings(section.get("sets", []), "records.sets")):
+        if set_id not in known_sets:
+            ck.fail(f"records.sets[{i}]", f"{set_id!r} is not a record set; known: {', '.join(known_sets)}")
+        for rid in list_records(set_id):
+            out.append(RecordSpec("catalog", rid, field=f"records.sets[{i}]"))
+    for i, rid in enumerate(ck.strings(section.get("ids", []), "records.ids")):
+        out.append(RecordSpec("catalog", rid, field=f"records.ids[{i}]"))
+    files = section.get("files", [])
+    if not isinstance(files, list):
+        ck.fail("records.files", "must be a list of tables {path = ..., units = ...}")
+    for i, entry in enumerate(files):
+        field = f"records.files[{i}]"
+        ck.table(entry, field, _FILE)
+        file_path = ck.string(entry.get("path"), f"{field}.path")
+        full = (path.parent / file_path).resolve()
+        units = entry.get("units")
+        if units is not None:
+            ck.string(units, f"{field}.units")
+        rid = ck.string(entry.get("id", Path(file_path).stem), f"{field}.id")
+        out.append(RecordSpec("file", rid, path=str(full), units=units, field=field))
+    synth = section.get("synthetic", [])
+    if not isinstance(synth, list):
+        ck.fail("records.synthetic", "must be a list of tables {generator = ..., id = ..., ...}")
+    for i, entry in enumerate(synth):
+        field = f"records.synthetic[{i}]"
+        if not isinstance(entry, dict):
+            ck.fail(field, "must be a table {generator = ..., id = ..., parameters}")
+        gen = ck.string(entry.get("generator"), f"{field}.generator")
+        if gen not in _GENERATORS:
+            ck.fail(f"{field}.generator", f"{gen!r} is unknown; choose from {', '.join(_GENERATORS)}")
+        rid = ck.string(entry.get("id"), f"{field}.id")
+        params = tuple(sorted((k, v) for k, v in entry.items() if k not in ("generator", "id")))
+        _check_signature(ck, gen, params, field)
+        out.append(RecordSpec("synthetic", rid, generator=gen, params=params, field=field))
+    if not out:
+        ck.fail("records", "no records: give ids, sets, files or synthetic (an empty grid computes nothing)")
+    ids = [r.id for r in out]
+    dup = sorted({x for x in ids if ids.count(x) > 1})
+    if dup:
+        ck.fail("records", f"record {dup[0]!r} is given twice; give each record once (files/synthetic: set id)")
+    return tuple(out)
+
+
+def _check_signature(ck, generator, params, field):
+    import inspect
+
+    from pipeline.groundmotion import synthesis
+
+    sig = inspect.signature(getattr(synthesis, generator))
+    for key, _ in params:
+        if key not in sig.parameters or key == "record_id":
+            allowed = [p for p in sig.parameters if p != "record_id"]
+            ck.fail(f"{field}.{key}", f"unknown parameter of {generator}; allowed: {', '.join(allowed)}")
+    given = {k for k, _ in params}
+    for name, p in sig.parameters.items():
+        if p.default is inspect.Parameter.empty and name not in given:
+            ck.fail(f"{field}.{name}", f"missing: {generator} needs it")
+
+
+def _excitation(section, ck):
+    if section is None:
+        ck.fail("excitation", "missing: give [excitation] with angles and scales (or intensity)")
+    ck.table(section, "excitation", _EXCITATION)
+    angles = ck.numbers(section.get("angles", [0.0]), "excitation.angles")
+    scales = intensity = None
+    if "scales" in section and "intensity" in section:
+        ck.fail("excitation.intensity", "give either scales or intensity, not both")
+    if "intensity" in section:
+        table = ck.table(section["intensity"], "excitation.intensity", _INTENSITY)
+        measure = ck.string(table.get("measure"), "excitation.intensity.measure")
+        if measure not in INTENSITY_MEASURES:
+            ck.fail("excitation.intensity.measure", f"{measure!r}: choose {' or '.join(INTENSITY_MEASURES)}")
+        if "values" not in table:
+            ck.fail("excitation.intensity.values", "missing: give the target levels")
+        values = ck.numbers(table["values"], "excitation.intensity.values", positive=True)
+        intensity = Intensity(measure, values)
+    else:
+        if "scales" not in section:
+            ck.fail("excitation.scales", "missing: give the factors on the records (or intensity)")
+        scales = ck.numbers(section["scales"], "excitation.scales", positive=True)
+    vertical = section.get("vertical", True)
+    if not isinstance(vertical, bool):
+        ck.fail("excitation.vertical", f"must be true or false, got {vertical!r}")
+    sa_period = section.get("sa_period")
+    if sa_period is not None:
+        sa_period = ck.number(sa_period, "excitation.sa_period", positive=True)
+    return angles, scales, intensity, vertical, sa_period

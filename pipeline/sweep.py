@@ -1,0 +1,606 @@
+"""A study's grid -> tasks -> Dask -> one results Dataset, resumable.
+
+The grid is columns x records x angles x scales x models. One task runs one
+record on a block of columns for every angle, scale and model, so that a task
+lasts long enough (about a second) for Dask's per-task cost (a few ms) to stay
+far below 5 %. This is the only module of the package that imports Dask.
+
+Physics used to save work: the 3D column is axisymmetric, so its response to
+the record turned by the incidence angle is the response to the record as
+recorded, turned by that angle (:mod:`pipeline.simulate` already runs 3D in the
+record's frame). Every 3D summary value is therefore exactly independent of
+the angle: a task runs 3D once per (column, record, scale) and broadcasts the
+values over the angles. The 2D model (rocking in the plane of the X component
+of the turned pair) is run at every angle.
+
+Nothing is lost: each finished task is written, atomically, to a checkpoint
+folder next to the output (``OUTPUT.checkpoint/``) by the process that drives
+the study; a rerun of the same study (same file bytes, records, software
+version) skips the tasks found there. The final netCDF file is written under a
+temporary name and renamed; the checkpoint folder is removed afterwards.
+Only the driving process writes files, so workers need no shared disk.
+
+Public functions: :func:`run_study`, :func:`plan`, :func:`run_task`,
+:func:`assemble`, :func:`record_intensity`.
+"""
+
+import hashlib
+import json
+import math
+import os
+import shutil
+import sys
+import tempfile
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import xarray as xr
+
+from pipeline import __version__
+from pipeline.dataset import STUDY_VARIABLES, annotate, append_history, write_results
+from pipeline.errors import InputError
+from pipeline.simulate import Excitation, simulate
+from pipeline.units import deg_to_rad
+
+FLOAT_VARIABLES = ("peak_theta", "peak_theta_ratio", "peak_time", "overturn_time", "uplift_time", "peak_mu_mob",
+                   "residual_rotation", "residual_displacement", "work_ground", "energy_balance_error")
+FLAG_VARIABLES = ("overturned", "uplifted", "sliding_onset", "lift_off", "status")
+INT_VARIABLES = ("n_impacts",)
+RESULT_VARIABLES = FLOAT_VARIABLES + INT_VARIABLES + FLAG_VARIABLES
+_DTYPES = {**{n: np.float64 for n in FLOAT_VARIABLES}, **{n: np.int32 for n in INT_VARIABLES},
+           **{n: np.int8 for n in FLAG_VARIABLES}}
+DIMS = ("column", "record", "angle", "scale", "model")
+
+# Simulations a task should hold at least (one FEMA record: ~5-20 ms each).
+TARGET_SIMULATIONS_PER_TASK = 64
+
+
+@dataclass(frozen=True)
+class Task:
+    """One unit of work: a record on a block of columns, every angle, scale and model.
+
+    Attributes
+    ----------
+    index : int
+        Task number in the study (names its checkpoint file).
+    record : int
+        Index of the record in the study.
+    start, stop : int
+        Column indices of the block, ``columns[start:stop]``.
+    columns : tuple of pipeline.geometry.Column
+    angles : tuple of float
+        Incidence angles [rad].
+    factors : tuple of float
+        Factors on the record, one per scale level [1].
+    settings : tuple of pipeline.simulate.ModelSettings
+        One per model.
+    vertical : bool
+    """
+
+    index: int
+    record: int
+    start: int
+    stop: int
+    columns: tuple
+    angles: tuple
+    factors: tuple
+    settings: tuple
+    vertical: bool
+
+    @property
+    def n_simulations(self):
+        """Simulations actually run (3D once over all angles)."""
+        per = sum(1 if s.model == "3d" else len(self.angles) for s in self.settings)
+        return len(self.columns) * len(self.factors) * per
+
+
+@dataclass
+class RunReport:
+    """What :func:`run_study` did.
+
+    Attributes
+    ----------
+    path : str
+        The results file.
+    dataset : xarray.Dataset
+    n_tasks : int
+    computed, skipped : list of int
+        Task indices computed in this run, and found in the checkpoint.
+    simulations : int
+        Simulations run in this run (3D shared over angles counts once).
+    grid_size : int
+        Cells of the results grid.
+    seconds : float
+        Wall time of the computing phase [s] (cluster start-up included).
+    """
+
+    path: str
+    dataset: xr.Dataset = field(repr=False)
+    n_tasks: int = 0
+    computed: list = field(default_factory=list)
+    skipped: list = field(default_factory=list)
+    simulations: int = 0
+    grid_size: int = 0
+    seconds: float = 0.0
+    failed: int = 0
+
+
+# -- intensity measures --------------------------------------------------------------------------
+
+def record_intensity(motion, sa_period=None):
+    """Angle-independent intensity measures of a record as given (factor 1).
+
+    Parameters
+    ----------
+    motion : pipeline.groundmotion.GroundMotion
+    sa_period : float, optional
+        Period [s] of the spectral acceleration.
+
+    Returns
+    -------
+    dict
+        ``pga``: peak of the horizontal acceleration vector max|(a_x, a_y)|
+        [m/s^2]; ``pgv``: peak of the horizontal velocity vector (trapezoidal
+        integration from rest) [m/s]; ``sa``: 5 %-damped RotD50 spectral
+        acceleration at ``sa_period`` [m/s^2] (NaN without a period). The
+        vector peaks do not change when the pair is turned, so they do not
+        depend on the incidence angle; all three are linear in the scale factor.
+    """
+    from pipeline.groundmotion import intensity as im
+
+    ax, ay, dt = np.asarray(motion.acc_x), np.asarray(motion.acc_y), motion.dt
+    out = {
+        "pga": float(np.max(np.hypot(ax, ay))),
+        "pgv": float(np.max(np.hypot(im.velocity(ax, dt), im.velocity(ay, dt)))),
+        "sa": math.nan,
+    }
+    if sa_period is not None:
+        out["sa"] = im.rotd50(ax, ay, dt, measure="sa", period=sa_period)
+    return out
+
+
+def scale_factors(study, measures):
+    """Factors on each record, one per scale level: (n_records, n_scales) [1]."""
+    if study.scales is not None:
+        return np.tile(np.asarray(study.scales, dtype=np.float64), (len(measures), 1))
+    out = np.empty((len(measures), len(study.intensity.values)))
+    for i, (spec, m) in enumerate(zip(study.records, measures)):
+        value = m[study.intensity.measure]
+        if not value > 0:
+            raise InputError(f"{study.path}: field {spec.field}: record {spec.id!r} has "
+                             f"{study.intensity.measure} = {value!r}; it cannot be scaled to a target level")
+        out[i] = np.asarray(study.intensity.values) / value
+    return out
+
+
+# -- plan ----------------------------------------------------------------------------------------
+
+def block_size(study):
+    """Columns per task: the study's ``block_columns`` or enough for ~64 simulations.
+
+    Depends on the study only (not on the number of workers), so that a study
+    resumed with another cluster finds the same tasks in its checkpoint.
+    """
+    if study.block_columns:
+        return min(study.block_columns, len(study.columns))
+    per_column = len(study.levels) * sum(1 if m == "3d" else len(study.angles) for m in study.models)
+    return max(1, min(len(study.columns), math.ceil(TARGET_SIMULATIONS_PER_TASK / per_column)))
+
+
+def plan(study, factors):
+    """The study's tasks, record-major.
+
+    Parameters
+    ----------
+    study : pipeline.study.Study
+    factors : numpy.ndarray
+        (n_records, n_scales) factors from :func:`scale_factors`.
+
+    Returns
+    -------
+    list of Task
+    """
+    size = block_size(study)
+    angles = tuple(deg_to_rad(a) for a in study.angles)
+    settings = tuple(study.settings(m) for m in study.models)
+    columns = [c.column for c in study.columns]
+    tasks = []
+    for ri in range(len(study.records)):
+        for start in range(0, len(columns), size):
+            stop = min(start + size, len(columns))
+            tasks.append(Task(len(tasks), ri, start, stop, tuple(columns[start:stop]), angles,
+                              tuple(float(f) for f in factors[ri]), settings, study.vertical))
+    return tasks
+
+
+# -- one task ------------------------------------------------------------------------------------
+
+def run_task(task, motion):
+    """Run one task; a failing simulation is flagged (status 1), not raised.
+
+    Parameters
+    ----------
+    task : Task
+    motion : pipeline.groundmotion.GroundMotion
+
+    Returns
+    -------
+    dict
+        ``index``, ``record``, ``start``, ``stop``, ``runs`` (simulations run),
+        ``seconds`` (compute time [s]), ``errors`` (first messages) and
+        ``arrays``: name -> array (n_block_columns, n_angles, n_scales, n_models).
+    """
+    t0 = time.perf_counter()
+    shape = (len(task.columns), len(task.angles), len(task.factors), len(task.settings))
+    arrays = {name: np.zeros(shape, dtype=_DTYPES[name]) for name in RESULT_VARIABLES}
+    for name in FLOAT_VARIABLES:
+        arrays[name][...] = np.nan
+    runs, errors = 0, []
+    for ci, column in enumerate(task.columns):
+        for mi, settings in enumerate(task.settings):
+            for si, factor in enumerate(task.factors):
+                # 3D: one run at the first angle, broadcast (axisymmetry, module docstring).
+                angle_runs = [(task.angles[0], slice(None))] if settings.model == "3d" else \
+                    [(a, ai) for ai, a in enumerate(task.angles)]
+                for angle, where in angle_runs:
+                    runs += 1
+                    index = (ci, where, si, mi)
+                    try:
+                        summary = simulate(column, motion, Excitation(angle=angle, scale=factor,
+                                                                      vertical=task.vertical),
+                                           settings, histories=False).summary
+                    except Exception as exc:  # noqa: BLE001 - one failure must not kill the study
+                        arrays["status"][index] = 1
+                        if len(errors) < 5:
+                            errors.append(f"{column.name} {settings.model} angle {math.degrees(angle):g} deg "
+                                          f"factor {factor:g}: {type(exc).__name__}: {exc}")
+                        continue
+                    for name in FLOAT_VARIABLES:
+                        arrays[name][index] = summary[name]
+                    arrays["n_impacts"][index] = summary["n_impacts"]
+                    for name in FLAG_VARIABLES[:-1]:
+                        arrays[name][index] = 1 if summary[name] else 0
+    return {"index": task.index, "record": task.record, "start": task.start, "stop": task.stop, "runs": runs,
+            "seconds": time.perf_counter() - t0, "errors": errors, "arrays": arrays}
+
+
+def warm_up(models=("3d", "2d")):
+    """Run a tiny simulation per model so the compiled kernels are loaded (or compiled once).
+
+    Called in the driving process before workers start, so that a stale numba
+    cache is rebuilt once rather than by every worker; workers call it too so
+    that loading the cache is not counted inside the first task.
+    """
+    from pipeline.geometry import Column
+    from pipeline.groundmotion.synthesis import one_sine_pulse
+    from pipeline.simulate import ModelSettings
+
+    motion = one_sine_pulse(5.0, 0.2, dt=0.01, duration=0.3, record_id="warm-up")
+    for model in models:
+        simulate(Column(0.5, 0.4, 4.0), motion, Excitation(), ModelSettings(model=model, tail=0.2),
+                 histories=False)
+    return True
+
+
+# -- checkpoint ----------------------------------------------------------------------------------
+
+class Checkpoint:
+    """Per-study folder of finished tasks (``task-NNNNNN.npz``, written atomically).
+
+    Parameters
+    ----------
+    folder : str
+    key : str
+        Identity of the computation (study digest, record digests, software
+        version, task layout). A folder holding another key is emptied.
+    """
+
+    def __init__(self, folder, key):
+        self.folder = folder
+        self.key = key
+        os.makedirs(folder, exist_ok=True)
+        manifest = os.path.join(folder, "manifest.json")
+        old = None
+        if os.path.exists(manifest):
+            try:
+                with open(manifest, encoding="utf-8") as f:
+                    old = json.load(f).get("key")
+            except (OSError, ValueError):
+                old = None
+        if old != key:
+            for name in os.listdir(folder):
+                if name.startswith("task-") or name.startswith(".partial-"):
+                    os.unlink(os.path.join(folder, name))
+            self._atomic(manifest, json.dumps({"key": key, "software": __version__}).encode())
+
+    def _path(self, index):
+        return os.path.join(self.folder, f"task-{index:06d}.npz")
+
+    def _atomic(self, path, payload):
+        fd, tmp = tempfile.mkstemp(prefix=".partial-", dir=self.folder)
+        try:
+            with os.fdopen(fd, "wb") as f:
+                f.write(payload)
+                f.flush()
+                os.fsync(f.fileno())
+            os.replace(tmp, path)
+        except BaseException:
+            if os.path.exists(tmp):
+                os.unlink(tmp)
+            raise
+
+    def done(self):
+        """Indices of the finished tasks found in the folder."""
+        return {int(n[5:11]) for n in os.listdir(self.folder) if n.startswith("task-") and n.endswith(".npz")}
+
+    def save(self, result):
+        """Write one task's result (atomic: temporary name, then rename)."""
+        import io
+
+        buf = io.BytesIO()
+        meta = {k: result[k] for k in ("index", "record", "start", "stop", "runs", "seconds", "errors")}
+        np.savez(buf, meta=np.array(json.dumps(meta)), **result["arrays"])
+        self._atomic(self._path(result["index"]), buf.getvalue())
+
+    def load(self, index):
+        """Read one task's result back (same layout as :func:`run_task` returns)."""
+        with np.load(self._path(index)) as f:
+            meta = json.loads(str(f["meta"]))
+            meta["arrays"] = {name: f[name] for name in RESULT_VARIABLES}
+        return meta
+
+    def remove(self):
+        """Delete the folder (after the results file is written)."""
+        shutil.rmtree(self.folder, ignore_errors=True)
+
+
+def checkpoint_key(study, motions, tasks):
+    """Identity of a study's computation, for the checkpoint."""
+    h = hashlib.sha256()
+    for part in [study.digest, __version__, str(block_size(study)), str(len(tasks))]:
+        h.update(part.encode())
+    for m in motions:
+        h.update(m.sha256().encode())
+    return h.hexdigest()
+
+
+# -- progress ------------------------------------------------------------------------------------
+
+class Progress:
+    """A text progress bar on stderr: tasks, simulations, elapsed time and ETA."""
+
+    def __init__(self, total, done=0, stream=None, enabled=True, width=30):
+        self.total, self.done, self.width = total, done, width
+        self.stream = stream or sys.stderr
+        self.enabled = enabled
+        self.start = time.monotonic()
+        self.first = done
+        self.tty = hasattr(self.stream, "isatty") and self.stream.isatty()
+        self.last_line = -1.0
+        self.show()
+
+    def advance(self, n=1):
+        self.done += n
+        self.show()
+
+    def show(self, final=False):
+        if not self.enabled or (final and getattr(self, "shown_total", False)):
+            return
+        elapsed = time.monotonic() - self.start
+        frac = self.done / self.total if self.total else 1.0
+        if not self.tty and not final and self.done not in (self.first, self.total) \
+                and elapsed - self.last_line < 5.0:
+            return  # in logs: a line every 5 s at most
+        self.last_line = elapsed
+        new = self.done - self.first
+        eta = elapsed / new * (self.total - self.done) if new else math.nan
+        bar = "#" * int(round(frac * self.width))
+        text = (f"[{bar:<{self.width}}] {self.done}/{self.total} tasks {100 * frac:5.1f}% "
+                f"elapsed {elapsed:6.1f} s" + (f" eta {eta:6.1f} s" if math.isfinite(eta) else ""))
+        self.stream.write(("\r" + text) if self.tty else text + "\n")
+        if self.tty and self.done == self.total:
+            self.stream.write("\n")
+        self.stream.flush()
+        self.shown_total = self.done == self.total
+
+
+# -- run -----------------------------------------------------------------------------------------
+
+def _allocate(shape):
+    arrays = {name: np.zeros(shape, dtype=_DTYPES[name]) for name in RESULT_VARIABLES}
+    for name in FLOAT_VARIABLES:
+        arrays[name][...] = np.nan
+    arrays["status"][...] = 1  # unfilled cells are failures until a task fills them
+    return arrays
+
+
+def _place(arrays, result):
+    ri, a, b = result["record"], result["start"], result["stop"]
+    for name in RESULT_VARIABLES:
+        arrays[name][a:b, ri] = result["arrays"][name]
+
+
+def run_study(study, *, out=None, motions=None, scheduler=None, workers=None, serial=False, progress=True,
+              keep_checkpoint=False, window=None):
+    """Run a study and write its results file.
+
+    Parameters
+    ----------
+    study : pipeline.study.Study
+    out : str, optional
+        Results file; default ``study.output``.
+    motions : list of GroundMotion, optional
+        The study's records, already loaded (:func:`pipeline.study.load_motions`).
+    scheduler : str, optional
+        Address of an existing ``dask.distributed`` scheduler
+        (``tcp://host:port``); default: a local cluster of processes.
+    workers : int, optional
+        Worker processes of the local cluster (default: the number of cores).
+    serial : bool
+        Run the tasks in this process, without Dask (same numbers).
+    progress : bool
+        Show a progress bar on stderr.
+    keep_checkpoint : bool
+        Keep the checkpoint folder after the results file is written.
+    window : int, optional
+        Tasks in flight at once on the cluster (default 2 per worker + 2):
+        bounds the memory of scheduler and driver for any study size.
+
+    Returns
+    -------
+    RunReport
+    """
+    from pipeline.study import load_motions
+
+    out = os.path.abspath(out or study.output)
+    motions = motions if motions is not None else load_motions(study)
+    measures = [record_intensity(m, study.sa_period) for m in motions]
+    factors = scale_factors(study, measures)
+    tasks = plan(study, factors)
+    ckpt = Checkpoint(out + ".checkpoint", checkpoint_key(study, motions, tasks))
+    arrays = _allocate(study.shape)
+    done = ckpt.done() & {t.index for t in tasks}
+    for index in sorted(done):
+        _place(arrays, ckpt.load(index))
+    pending = [t for t in tasks if t.index not in done]
+    report = RunReport(out, None, len(tasks), [], sorted(done), 0, study.n_simulations)
+    bar = Progress(len(tasks), len(done), enabled=progress)
+    t0 = time.monotonic()
+
+    def finish(result):
+        ckpt.save(result)
+        _place(arrays, result)
+        report.computed.append(result["index"])
+        report.simulations += result["runs"]
+        for line in result["errors"]:
+            print(f"frustum: simulation failed (status 1): record {study.records[result['record']].id}: {line}",
+                  file=sys.stderr)
+        bar.advance()
+
+    if pending:
+        warm_up(study.models)
+        if serial:
+            for task in pending:
+                finish(run_task(task, motions[task.record]))
+        else:
+            _run_dask(pending, motions, finish, scheduler, workers, window, study.models)
+    report.seconds = time.monotonic() - t0
+    bar.show(final=True)
+    ds = assemble(study, motions, measures, factors, arrays)
+    append_history(ds, f"frustum {__version__} study run {study.path} (sha256 {study.digest}): "
+                       f"{len(report.computed)} tasks computed, {len(report.skipped)} from checkpoint")
+    write_results(ds, out)
+    report.dataset = ds
+    report.failed = int(ds.status.sum())
+    if not keep_checkpoint:
+        ckpt.remove()
+    return report
+
+
+def _run_dask(pending, motions, finish, scheduler, workers, window, models):
+    import logging
+
+    import distributed
+
+    cluster = None
+    if scheduler:
+        try:
+            client = distributed.Client(scheduler, timeout="30s")
+        except OSError as exc:
+            raise InputError(f"--scheduler {scheduler}: cannot connect ({exc}); start it with `dask scheduler` "
+                             "or drop --scheduler for a local cluster") from None
+        client.wait_for_workers(1, timeout=60)
+    else:
+        n = workers or os.cpu_count() or 1
+        cluster = distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                           dashboard_address=None, silence_logs=logging.ERROR)
+        client = distributed.Client(cluster)
+    try:
+        n_workers = max(1, len(client.scheduler_info().get("workers", {})))
+        client.run(warm_up, models)
+        limit = window or 2 * n_workers + 2
+        needed = sorted({t.record for t in pending})
+        scattered = {ri: client.scatter(motions[ri], hash=False) for ri in needed}
+        queue = iter(pending)
+        running = distributed.as_completed()
+
+        def submit_next():
+            task = next(queue, None)
+            if task is not None:
+                running.add(client.submit(run_task, task, scattered[task.record], pure=False, retries=2,
+                                          key=f"frustum-task-{task.index}-{os.getpid()}-{time.monotonic_ns()}"))
+
+        for _ in range(limit):
+            submit_next()
+        for future in running:
+            result = future.result()
+            future.release()  # results are not kept on the cluster
+            finish(result)
+            submit_next()
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+# -- results -------------------------------------------------------------------------------------
+
+def assemble(study, motions, measures, factors, arrays):
+    """The results Dataset of a study (see docs/studies.md for the schema)."""
+    ds = xr.Dataset({name: (DIMS, arrays[name]) for name in RESULT_VARIABLES})
+    cols = [c.column for c in study.columns]
+    coords = {
+        "column": ("column", [c.label for c in study.columns]),
+        "record": ("record", [s.id for s in study.records]),
+        "angle": ("angle", np.asarray(study.angles, dtype=np.float64)),
+        "scale": ("scale", np.asarray(study.levels, dtype=np.float64)),
+        "model": ("model", list(study.models)),
+        "column_R": ("column", [c.R for c in cols]),
+        "column_r": ("column", [c.r for c in cols]),
+        "column_h": ("column", [c.h for c in cols]),
+        "slenderness": ("column", [c.slenderness for c in cols]),
+        "beta": ("column", [c.beta for c in cols]),
+        "theta_crit": ("column", [c.critical_tilt for c in cols]),
+        "earthquake": ("record", [str(m.metadata.get("event") or m.metadata.get("generator") or "unknown")
+                                  for m in motions]),
+        "station": ("record", [str(m.metadata.get("station") or "unknown") for m in motions]),
+        "year": ("record", np.array([int(m.metadata.get("year") or -1) for m in motions], dtype=np.int32)),
+        "magnitude": ("record", np.array([float(m.metadata.get("magnitude") or math.nan) for m in motions])),
+        "record_sha256": ("record", [m.sha256() for m in motions]),
+        "scale_factor": (("record", "scale"), factors),
+        "pga": (("record", "scale"), factors * np.array([[m["pga"]] for m in measures])),
+        "pgv": (("record", "scale"), factors * np.array([[m["pgv"]] for m in measures])),
+    }
+    if any(math.isfinite(c.latitude) for c in study.columns):
+        coords["latitude"] = ("column", [c.latitude for c in study.columns])
+        coords["longitude"] = ("column", [c.longitude for c in study.columns])
+    if study.sa_period is not None:
+        coords["sa"] = (("record", "scale"), factors * np.array([[m["sa"]] for m in measures]))
+    ds = ds.assign_coords(coords)
+    annotate(ds, STUDY_VARIABLES)
+    if study.intensity is not None:
+        units = {"pga": "m s-2", "pgv": "m s-1"}[study.intensity.measure]
+        ds["scale"].attrs.update(units=units, long_name=f"target {study.intensity.measure} of the scaled record "
+                                 "(peak of the horizontal vector); the factor is scale_factor")
+    if study.sa_period is not None:
+        ds["sa"].attrs["period"] = study.sa_period
+        ds["sa"].attrs["long_name"] += f" (period {study.sa_period:g} s)"
+    ds["angle"].attrs["comment"] = "degrees counter-clockwise; 3D results do not depend on it (axisymmetry)"
+    ds["model"].attrs["comment"] = ("3d: rigid conical frustum rolling on the rim of its base (the paper); "
+                                    "2d: planar rocking in the vertical plane of the X component of the turned pair")
+    ds.attrs.update({
+        "title": study.title,
+        "summary": study.summary or (
+            f"Earthquake response of {len(cols)} free-standing column(s) modelled as rigid conical frustums "
+            f"to {len(motions)} record(s), {len(study.angles)} incidence angle(s), {len(study.levels)} scale "
+            f"level(s), model(s) {', '.join(study.models)}."),
+        "source": f"frustum-pipeline {__version__} (pipeline.sweep)",
+        "study_file": os.path.basename(study.path),
+        "study_path": study.path,
+        "study_sha256": study.digest,
+        "model_options": json.dumps(dict(study.options), sort_keys=True),
+        "vertical_component": "used" if study.vertical else "ignored",
+        "energy_units": "energies and work per unit weight, E/(m g) [m]",
+    })
+    return ds
