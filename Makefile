@@ -15,10 +15,11 @@ setup: $(BIN)/python
 setup-test: $(BIN)/python
 	$(BIN)/python -m pip install --quiet -e ".[records,test]"
 
-# The main job: the default study on a local Dask cluster (until the
-# earthquake pipeline lands, the paper reproduction).
+# The main job: the default study (the paper's column, FEMA far-field pairs, several
+# angles and scales, both models) on a local Dask cluster of processes; writes
+# out/quickstart.nc and out/quickstart.png (about half a minute on two cores).
 main: setup
-	$(BIN)/python studies/paper/reproduce.py --out studies/paper
+	$(BIN)/frustum study run studies/quickstart.toml --plot out/quickstart.png
 
 test: setup-test
 	$(BIN)/python -m pytest -q

@@ -1,0 +1,218 @@
+"""``frustum workflow run FILE``: run a workflow's studies in order, idempotently, with a log.
+
+A workflow file (TOML) names studies and where their outputs and plots go::
+
+    title = "Nightly studies"
+    log = "../out/nightly.log"          # relative to the workflow file
+
+    [execution]                         # optional: how the studies run
+    workers = 2                         # local cluster size (default: cores)
+    # scheduler = "tcp://10.0.0.5:8786" # or an existing cluster
+
+    [[steps]]
+    study = "../studies/quickstart.toml"
+    output = "../out/quickstart.nc"     # default: the study's output field
+    plot = "../out/quickstart.png"      # optional
+
+A step is up to date when its output exists and records the same study file
+digest, record digests and software version as now; then nothing is
+recomputed (a missing or older plot is redrawn from the file). Steps run in
+order; the first failing step stops the workflow and the command exits 1.
+Two runs of the same workflow never overlap (a lock next to the log).
+"""
+
+import fcntl
+import os
+import sys
+import time
+import tomllib
+import traceback
+from datetime import datetime, timezone
+from pathlib import Path
+
+from pipeline import __version__
+from pipeline.errors import InputError
+
+_TOP = {"title", "log", "execution", "steps"}
+_EXECUTION = {"workers", "scheduler"}
+_STEP = {"study", "output", "plot"}
+
+
+def register(subparsers):
+    """Add the ``workflow`` sub-command group."""
+    p = subparsers.add_parser(
+        "workflow", help="run a workflow: ordered studies, outputs and plots (for cron/systemd)",
+        description="Workflows: a TOML file naming studies, their outputs and plots. `frustum workflow run` "
+        "is idempotent (up-to-date steps are skipped), logs to a file and exits non-zero on failure.",
+    )
+    sub = p.add_subparsers(dest="workflow_command", metavar="ACTION")
+    run = sub.add_parser("run", help="run the workflow's steps that are not up to date")
+    run.add_argument("file", metavar="FILE.toml", help="workflow file")
+    run.add_argument("--workers", type=int, default=None, metavar="N", help="override execution.workers")
+    run.add_argument("--scheduler", metavar="ADDRESS", help="override execution.scheduler")
+    run.add_argument("--force", action="store_true", help="rerun every step even if up to date")
+    run.set_defaults(handler=run_workflow_command)
+    p.set_defaults(handler=lambda args: (p.print_help(), 2)[1])
+
+
+def load_workflow(path):
+    """Read and validate a workflow file.
+
+    Returns
+    -------
+    dict
+        ``title``, ``log`` (absolute), ``workers``, ``scheduler`` and
+        ``steps``: list of dicts with absolute ``study``, ``output`` (or None)
+        and ``plot`` (or None).
+    """
+    path = Path(path).resolve()
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read the workflow file ({exc.strerror}); check the path") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{path}: not a valid TOML file: {exc}") from None
+
+    def fail(field, message):
+        raise InputError(f"{path}: field {field}: {message}")
+
+    for key in data:
+        if key not in _TOP:
+            fail(key, f"unknown field; allowed: {', '.join(sorted(_TOP))}")
+    execution = data.get("execution", {})
+    if not isinstance(execution, dict):
+        fail("execution", "must be a table")
+    for key in execution:
+        if key not in _EXECUTION:
+            fail(f"execution.{key}", f"unknown field; allowed: {', '.join(sorted(_EXECUTION))}")
+    workers = execution.get("workers")
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        fail("execution.workers", f"must be a positive integer, got {workers!r}")
+    scheduler = execution.get("scheduler")
+    if scheduler is not None and not isinstance(scheduler, str):
+        fail("execution.scheduler", "must be an address string such as tcp://host:8786")
+    steps = data.get("steps")
+    if not isinstance(steps, list) or not steps:
+        fail("steps", "give one or more [[steps]] with study = FILE")
+
+    def resolve(value, field):
+        if value is None:
+            return None
+        if not isinstance(value, str) or not value:
+            fail(field, f"must be a path, got {value!r}")
+        return str((path.parent / value).resolve())
+
+    out = []
+    for i, step in enumerate(steps):
+        if not isinstance(step, dict):
+            fail(f"steps[{i}]", "must be a table")
+        for key in step:
+            if key not in _STEP:
+                fail(f"steps[{i}].{key}", f"unknown field; allowed: {', '.join(sorted(_STEP))}")
+        if "study" not in step:
+            fail(f"steps[{i}].study", "missing: name the study file")
+        study = resolve(step["study"], f"steps[{i}].study")
+        if not os.path.isfile(study):
+            fail(f"steps[{i}].study", f"{study} does not exist")
+        out.append({"study": study, "output": resolve(step.get("output"), f"steps[{i}].output"),
+                    "plot": resolve(step.get("plot"), f"steps[{i}].plot")})
+    log = resolve(data.get("log", f"{path.stem}.log"), "log")
+    return {"title": data.get("title", path.stem), "log": log, "workers": workers, "scheduler": scheduler,
+            "steps": out, "path": str(path)}
+
+
+def up_to_date(study, motions, output):
+    """Whether ``output`` holds the results of this study, these records and this software version."""
+    if not os.path.isfile(output):
+        return False
+    from pipeline.dataset import open_results
+
+    try:
+        ds = open_results(output)
+    except Exception:  # noqa: BLE001 - an unreadable file is simply not up to date
+        return False
+    return (ds.attrs.get("study_sha256") == study.digest
+            and ds.attrs.get("source", "").startswith(f"frustum-pipeline {__version__} ")
+            and list(ds.record_sha256.values.astype(str)) == [m.sha256() for m in motions])
+
+
+class _Log:
+    def __init__(self, path):
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        self.file = open(path, "a", encoding="utf-8")  # noqa: SIM115 - closed in run_workflow
+
+    def __call__(self, line):
+        stamp = datetime.now(timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+        self.file.write(f"{stamp} {line}\n")
+        self.file.flush()
+        print(line, file=sys.stderr)
+
+
+def run_workflow(path, workers=None, scheduler=None, force=False):
+    """Run a workflow; returns the exit status (0 done, 1 a step failed).
+
+    Parameters
+    ----------
+    path : str
+        Workflow file.
+    workers, scheduler
+        Override the file's ``execution`` table.
+    force : bool
+        Rerun steps that are up to date.
+    """
+    from pipeline.study import load_motions, load_study
+    from pipeline.sweep import run_study
+
+    wf = load_workflow(path)
+    workers = workers or wf["workers"]
+    scheduler = scheduler or wf["scheduler"]
+    log = _Log(wf["log"])
+    lock = open(wf["log"] + ".lock", "w")  # noqa: SIM115
+    try:
+        try:
+            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            log(f"workflow {wf['path']}: another run holds {wf['log']}.lock; not starting")
+            return 1
+        log(f"workflow {wf['path']} ({wf['title']}): start, frustum {__version__}, {len(wf['steps'])} step(s)")
+        for i, step in enumerate(wf["steps"]):
+            t0 = time.monotonic()
+            try:
+                study = load_study(step["study"], load_records=False)
+                motions = load_motions(study)
+                output = step["output"] or study.output
+                if not force and up_to_date(study, motions, output):
+                    log(f"step {i + 1}: {step['study']}: up to date ({output}), nothing recomputed")
+                    computed = False
+                else:
+                    report = run_study(study, out=output, motions=motions, scheduler=scheduler,
+                                       workers=workers, progress=False)
+                    log(f"step {i + 1}: {step['study']}: {len(report.computed)} task(s) computed, "
+                        f"{len(report.skipped)} from checkpoint, {report.simulations} simulations, "
+                        f"{report.failed} failed, {time.monotonic() - t0:.1f} s -> {output}")
+                    computed = True
+                plot = step["plot"]
+                if plot and (computed or not os.path.isfile(plot) or os.path.getmtime(plot) < os.path.getmtime(output)):
+                    from pipeline.dataset import open_results
+                    from pipeline.plotting import plot_study
+
+                    plot_study(open_results(output), plot)
+                    log(f"step {i + 1}: plot -> {plot}")
+            except Exception as exc:  # noqa: BLE001 - log every failure, exit non-zero
+                log(f"step {i + 1}: {step['study']}: FAILED: {type(exc).__name__}: {exc}")
+                if not isinstance(exc, InputError):
+                    log(traceback.format_exc().rstrip())
+                log(f"workflow {wf['path']}: failed at step {i + 1}")
+                return 1
+        log(f"workflow {wf['path']}: done")
+        return 0
+    finally:
+        lock.close()
+        log.file.close()
+
+
+def run_workflow_command(args):
+    """Handler of ``frustum workflow run``."""
+    if args.workers is not None and args.workers < 1:
+        raise InputError(f"--workers {args.workers}: give a positive number of worker processes")
+    return run_workflow(args.file, workers=args.workers, scheduler=args.scheduler, force=args.force)
