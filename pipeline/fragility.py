@@ -265,6 +265,13 @@ def open_results(path):
             ds = ds.load()
     except (OSError, ValueError) as exc:
         raise InputError(f"{path}: cannot be read as netCDF ({exc}); give the file 'frustum study run' wrote") from None
+    # study files keep the dimension labels in auxiliary character coordinates
+    # (pipeline.dataset.write_results): put them back on their dimensions
+    for dim, label in (("column", "column_label"), ("record", "record_label"), ("model", "model_label")):
+        if label in ds.variables and ds[label].dims == (dim,):
+            attrs = dict(ds[label].attrs)
+            values = np.asarray(ds[label].values).astype(str)
+            ds = ds.drop_vars(label).assign_coords({dim: (dim, values, attrs)})
     ds.attrs["source_file"] = path
     return _normalise(ds, path)
 

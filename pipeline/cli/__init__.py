@@ -13,7 +13,7 @@ from pipeline.errors import InputError
 
 # Modules that provide ``register(subparsers)``; a module missing in a partial
 # checkout is skipped so the rest of the command still works.
-_COMMAND_MODULES = ("simulate", "records", "study", "workflow")
+_COMMAND_MODULES = ("simulate", "records", "study", "workflow", "fragility", "report")
 
 
 def build_parser():

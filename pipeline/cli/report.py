@@ -1,0 +1,56 @@
+"""``frustum report``: a Markdown report, CSV, GeoJSON and figures of a study."""
+
+import argparse
+
+from pipeline.errors import InputError
+
+_EXAMPLES = """\
+examples:
+  frustum report out/quickstart.nc --out out/quickstart-report
+  probabilities stated at 0.15, 0.3 and 0.45 g, 500 bootstrap replicates:
+    frustum report out/quickstart.nc --out report --pga-levels 0.15,0.3,0.45 --bootstrap 500
+"""
+
+
+def register(subparsers):
+    """Add the ``report`` sub-command."""
+    p = subparsers.add_parser(
+        "report",
+        help="write a short Markdown report with figures, CSV and GeoJSON of study results",
+        description="Write DIR/report.md (what was simulated, the model's assumptions, the probability of "
+        "overturning at stated PGA levels, 2D against 3D when both were run, figures), DIR/summary.csv "
+        "(one row per column and model), DIR/columns.geojson (columns with coordinates), DIR/fragility.nc "
+        "and DIR/figures/ (PNG and PDF).",
+        epilog=_EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument("results", metavar="FILE.nc", help="study results written by 'frustum study run'")
+    p.add_argument("--out", required=True, metavar="DIR", help="folder to write (created)")
+    p.add_argument("--pga-levels", default="0.1,0.2,0.3,0.5,0.8", metavar="G1,G2,...",
+                   help="PGA levels [g] at which to state the probability of overturning (default 0.1,0.2,0.3,0.5,0.8)")
+    p.add_argument("--states", default="0.25,0.5,1", metavar="S1,S2,...",
+                   help="damage states as thresholds on peak theta/theta_crit (default 0.25,0.5,1)")
+    p.add_argument("--bootstrap", type=int, default=200, metavar="N",
+                   help="bootstrap replicates over records (default 200)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the bootstrap (default 0)")
+    p.add_argument("--title", default=None, help="report title (default: the study's title)")
+    p.set_defaults(handler=run)
+
+
+def run(args):
+    from pipeline import fragility as F
+    from pipeline.cli.fragility import parse_states
+    from pipeline.report import write_report
+
+    try:
+        levels = tuple(float(v) for v in args.pga_levels.split(",") if v.strip())
+    except ValueError:
+        raise InputError(f"--pga-levels {args.pga_levels!r}: give PGA values in g separated by commas") from None
+    if not levels or any(not (v > 0) for v in levels):
+        raise InputError(f"--pga-levels {args.pga_levels!r}: give positive PGA values in g, e.g. 0.1,0.2,0.3")
+    results = F.open_results(args.results)
+    out = write_report(results, args.out, pga_levels_g=levels, states=parse_states(args.states),
+                       bootstrap=args.bootstrap, seed=args.seed, title=args.title)
+    print(f"wrote {out['report']}, {out['csv']}" + (f", {out['geojson']}" if out["geojson"] else "")
+          + f" and {len(out['figures'])} figure(s)")
+    return 0

@@ -1,0 +1,337 @@
+"""Figures of study results and fragility curves (PNG and PDF).
+
+Companion of :mod:`pipeline.plotting` (one response); this module draws what a
+study gives: fragility curves with their data and bootstrap bands, the IDA
+view, overturning probability over slenderness and conicity, over incidence
+angle (polar) and contact-point paths of chosen runs. Every function writes
+``<stem>.png`` and ``<stem>.pdf`` and returns the two paths.
+
+Accelerations are drawn in g with m/s^2 on a second axis; velocities in m/s.
+"""
+
+import math
+import os
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from pipeline.units import G  # noqa: E402
+
+_MODEL_STYLE = {"3d": dict(color="C0", ls="-"), "2d": dict(color="C3", ls="--")}
+_MODEL_NAME = {"3d": "3D rolling frustum", "2d": "2D planar rocking"}
+_STATE_COLORS = ["k", "C2", "C1", "C4", "C5", "C6"]
+
+
+def _save(fig, stem):
+    stem = os.fspath(stem)
+    os.makedirs(os.path.dirname(os.path.abspath(stem)), exist_ok=True)
+    paths = []
+    for ext in ("png", "pdf"):
+        path = f"{stem}.{ext}"
+        fig.savefig(path, dpi=130)
+        paths.append(path)
+    plt.close(fig)
+    return paths
+
+
+def im_axis(im, units):
+    """(factor, label, secondary) to draw an IM: accelerations in g, others as stored."""
+    name = {"pga": "PGA", "pgv": "PGV", "sa": "Sa(T)"}.get(im, im)
+    if units in ("m s-2", "m/s^2", "m/s2"):
+        return 1.0 / G, f"{name} [g]", (f"{name} [m/s²]", G)
+    if units in ("m s-1", "m/s"):
+        return 1.0, f"{name} [m/s]", None
+    return 1.0, f"{name} [{units}]", None
+
+
+def _plain_log(axis):
+    """Log axis with plain numbers (0.2, 0.5, 1, 2) instead of powers of ten."""
+    from matplotlib.ticker import FuncFormatter, LogLocator
+
+    fmt = FuncFormatter(lambda v, _: f"{v:g}")
+    axis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
+    axis.set_major_formatter(fmt)
+    axis.set_minor_formatter(FuncFormatter(lambda v, _: ""))
+
+
+def _secondary(ax, secondary):
+    if secondary:
+        label, factor = secondary
+        top = ax.secondary_xaxis("top", functions=(lambda v: v * factor, lambda v: v / factor))
+        top.set_xlabel(label)
+        if ax.get_xscale() == "log":
+            _plain_log(top.xaxis)
+
+
+def plot_fragility(frag, stem, column=None, states=None, models=None, title=None):
+    """Fragility curves of one column: fitted curves, bootstrap bands and the stripe data.
+
+    Parameters
+    ----------
+    frag : xarray.Dataset
+        From :func:`pipeline.fragility.fragility`.
+    stem : str
+        Output path without suffix (``.png`` and ``.pdf`` are written).
+    column : str, optional
+        Column label (default: the first).
+    states : list of str, optional
+        Damage states to draw (default: all).
+    models : list of str, optional
+        Models to draw (default: all in ``frag``).
+    """
+    column = str(frag["column"].values[0]) if column is None else column
+    states = [str(s) for s in frag["state"].values] if states is None else states
+    models = [str(m) for m in frag["model"].values] if models is None else models
+    im = frag.attrs.get("intensity_measure", "pga")
+    factor, xlabel, secondary = im_axis(im, frag["median"].attrs.get("units", ""))
+    grid = frag["im_level"].values * factor
+    fig, ax = plt.subplots(figsize=(8.5, 5.5), constrained_layout=True)
+    level = frag.attrs.get("confidence_level")
+    order = list(enumerate(states))[::-1]  # overturning drawn last, thin and black on top
+    keys = []
+    for i, state in order:
+        color = _STATE_COLORS[i % len(_STATE_COLORS)]
+        width = 1.4 if state == "overturning" else 2.4
+        for m in models:
+            cell = frag.sel(state=state, column=column, model=m)
+            ls = _MODEL_STYLE.get(m, {}).get("ls", "-")
+            med = float(cell["median"])
+            bet = float(cell["beta"])
+            pretty = "overturning" if state == "overturning" else \
+                f"θ/θ_crit ≥ {float(cell['state_threshold']):g}"
+            if np.isfinite(med) and np.isfinite(bet):
+                fit_text = f"median {med * factor:.3g}, β = {bet:.2f}"
+            else:
+                fit_text = str(cell["fit_status"].attrs.get("flag_meanings", "").split()[int(cell["fit_status"])]) \
+                    if "flag_meanings" in cell["fit_status"].attrs else "no fit"
+            label = f"{pretty}, {m.upper()}: {fit_text}"
+            ax.plot(grid, cell["probability"].values, color=color, ls=ls, lw=width, label=label, zorder=3 if i == 0 else 2)
+            keys.append((i, models.index(m)))
+            if "probability_lower" in frag:
+                ax.fill_between(grid, cell["probability_lower"].values, cell["probability_upper"].values,
+                                color=color, alpha=0.12 if m == "3d" else 0.07, lw=0)
+            frac = cell["stripe_fraction"].values
+            ok = np.isfinite(frac)
+            ax.plot(frag["stripe_im"].values[ok] * factor, frac[ok], ls="none",
+                    marker="o" if m == "3d" else "s", mfc=color if m == "3d" else "none", mec=color, ms=5)
+    ax.set_xscale("log")
+    _plain_log(ax.xaxis)
+    ax.set_xlabel(xlabel)
+    _secondary(ax, secondary)
+    ax.set_ylabel("probability of reaching the damage state [1]")
+    ax.set_ylim(-0.02, 1.02)
+    ax.grid(True, which="both", alpha=0.3)
+    band = f"; shaded: {100 * level:g} % bootstrap band over records" if level and "probability_lower" in frag else ""
+    ax.plot([], [], "o", color="0.3", label="markers: observed fraction per scale stripe (3D filled, 2D open)")
+    handles, labels = ax.get_legend_handles_labels()
+    order = sorted(range(len(keys)), key=lambda j: keys[j]) + [len(handles) - 1]
+    ax.legend([handles[j] for j in order], [labels[j] for j in order], fontsize="small", loc="upper left",
+              title=f"lines: lognormal fit (median in {xlabel.split('[')[-1][:-1]})", title_fontsize="small")
+    fig.suptitle((title or f"Fragility of column '{column}'") + band, fontsize="medium")
+    return _save(fig, stem)
+
+
+def plot_ida(view, stem, title=None, units="m s-2", im="pga"):
+    """IDA view: peak theta/theta_crit against the IM, one line per record.
+
+    Parameters
+    ----------
+    view : xarray.Dataset
+        From :func:`pipeline.fragility.ida` (dims record, scale).
+    """
+    factor, ylabel, _ = im_axis(im, units)
+    fig, ax = plt.subplots(figsize=(7.5, 5.5), constrained_layout=True)
+    cap = 1.6
+    for rec in view["record"].values:
+        one = view.sel(record=rec)
+        order = np.argsort(one[im].values)
+        r = one["peak_theta_ratio"].values[order]
+        y = one[im].values[order] * factor
+        shown = np.where(np.isinf(r), cap, r)
+        ax.plot(shown, y, lw=0.8, alpha=0.7, marker=".", ms=3)
+        ov = np.isinf(r)
+        if ov.any():
+            ax.plot(np.full(ov.sum(), cap), y[ov], "x", color="C3", ms=5)
+    ax.axvline(1.0, color="k", ls="--", lw=1)
+    ax.text(1.0, 1.0, " θ = θ_crit", transform=ax.get_xaxis_transform(), va="top", fontsize="small")
+    ax.plot([], [], "x", color="C3", label=f"overturned (drawn at {cap})")
+    ax.set_xlim(0, cap + 0.1)
+    ax.set_xlabel("peak inclination over critical inclination θ_max/θ_crit [1]")
+    ax.set_ylabel(ylabel)
+    ax.set_yscale("log")
+    _plain_log(ax.yaxis)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(loc="lower right", fontsize="small")
+    ax.set_title(title or "Incremental dynamic analysis: one line per record", fontsize="medium")
+    return _save(fig, stem)
+
+
+def plot_geometry_map(frag, stem, im_value, model="3d", state="overturning", title=None):
+    """Probability of a damage state at one IM level over slenderness h/R and conicity r/R.
+
+    Each column is a point coloured by the fitted probability at ``im_value``
+    (units of the IM); where the columns span a grid (3 or more distinct
+    values on both axes) the probability is also contoured.
+
+    Parameters
+    ----------
+    im_value : float
+        IM at which to evaluate the curves, in the dataset's units (m/s^2 for PGA).
+    """
+    from pipeline.fragility import probability
+
+    sub = frag.sel(model=model, state=state)
+    slender = frag["slenderness"].values
+    conicity = frag["column_beta"].values if "column_beta" in frag.coords else np.full(slender.size, np.nan)
+    p = probability(im_value, sub["median"].values, sub["beta"].values)
+    # keep degenerate fits: status 1 -> 0, 2 -> 1
+    status = sub["fit_status"].values
+    p = np.where(status == 1, 0.0, np.where(status == 2, 1.0, p))
+    factor, label, _ = im_axis(frag.attrs.get("intensity_measure", "pga"), frag["median"].attrs.get("units", ""))
+    fig, ax = plt.subplots(figsize=(7.5, 5.5), constrained_layout=True)
+    levels = np.linspace(0, 1, 11)
+    ok = np.isfinite(p)
+    if len(np.unique(slender[ok])) >= 3 and len(np.unique(conicity[ok])) >= 3:
+        cs = ax.tricontourf(slender[ok], conicity[ok], p[ok], levels=levels, cmap="viridis", alpha=0.8)
+    else:
+        cs = None
+    sc = ax.scatter(slender, conicity, c=p, cmap="viridis", vmin=0, vmax=1, s=120, edgecolor="k", zorder=3)
+    for x, y, v, name in zip(slender, conicity, p, frag["column"].values):
+        ax.annotate(f"{name}\nP = {v:.2f}" if np.isfinite(v) else f"{name}\nno fit", (x, y),
+                    textcoords="offset points", xytext=(8, 6), fontsize="small")
+    fig.colorbar(cs if cs is not None else sc, ax=ax, label=f"probability of {state.replace('_', ' ')} [1]")
+    ax.set_xlabel("slenderness h/R [1]")
+    ax.set_ylabel("conicity r/R [1]")
+    ax.margins(0.25)
+    ax.set_title(title or f"{_MODEL_NAME.get(model, model)}: probability of {state.replace('_', ' ')} "
+                 f"at {label.split(' [')[0]} = {im_value * factor:.3g} {label.split('[')[-1][:-1]}",
+                 fontsize="medium")
+    return _save(fig, stem)
+
+
+def plot_angle_polar(results, stem, column, model="2d", scales=None, title=None):
+    """Fraction of records that overturn the column at each incidence angle (polar).
+
+    The 2D model sees the record turned by the angle; angle and angle + 180
+    deg are the same planar excitation mirrored, so the data are drawn on both.
+
+    Parameters
+    ----------
+    results : xarray.Dataset
+        Study results (dims column, record, angle, scale, model).
+    scales : list of float, optional
+        Scale stripes to draw (default: all where some run overturned).
+    """
+    one = results.sel(column=column, model=model)
+    valid = one["status"] == 0 if "status" in one else True
+    frac = (one["overturned"].where(valid) > 0).where(valid).mean("record")  # (angle, scale)
+    angles = one["angle"].values
+    if scales is None:
+        scales = [s for s in one["scale"].values if np.nanmax(frac.sel(scale=s).values) > 0]
+    fig = plt.figure(figsize=(7.5, 6.5), constrained_layout=True)
+    ax = fig.add_subplot(projection="polar")
+    cmap = plt.get_cmap("viridis")
+    for i, s in enumerate(scales):
+        f = frac.sel(scale=s).values
+        a = np.concatenate([angles, angles + 180.0])
+        v = np.concatenate([f, f])
+        order = np.argsort(a % 360)
+        a, v = a[order] % 360, v[order]
+        a, v = np.append(a, a[0] + 360), np.append(v, v[0])
+        ax.plot(np.radians(a), v, marker="o", ms=3, color=cmap(i / max(len(scales) - 1, 1)),
+                label=f"scale {s:g}")
+    ax.set_rlim(0, 1)
+    ax.set_rlabel_position(100)
+    ax.set_xlabel("incidence angle [deg] (radius: fraction of records that overturn the column [1])")
+    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="small", title="record scale factor")
+    ax.set_title(title or f"{_MODEL_NAME.get(model, model)}, column '{column}': overturning by incidence angle",
+                 fontsize="medium")
+    return _save(fig, stem)
+
+
+def plot_trajectories(runs, stem, title=None):
+    """Contact-point and base-centre paths on the ground of chosen runs.
+
+    Parameters
+    ----------
+    runs : list of (label, xarray.Dataset)
+        Histories from ``simulate(..., histories=True)``.
+    """
+    n = len(runs)
+    fig, axes = plt.subplots(1, n, figsize=(5.0 * n, 5.2), constrained_layout=True, squeeze=False)
+    for ax, (label, ds) in zip(axes[0], runs):
+        R = ds.attrs["column_R_m"] * 100
+        ax.plot(ds["x_p"].values * 100, ds["y_p"].values * 100, lw=0.5, color="C0", label="contact point P")
+        if "x_b" in ds:
+            ax.plot(ds["x_b"].values * 100, ds["y_b"].values * 100, lw=1.4, color="C1", label="base centre B")
+        circle = np.linspace(0, 2 * np.pi, 200)
+        ax.plot(R * np.cos(circle), R * np.sin(circle), color="0.5", ls="--", lw=0.8, label="base at start")
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.set_xlabel("X [cm]")
+        ax.set_ylabel("Y [cm]")
+        ax.grid(True, alpha=0.3)
+        ax.set_title(label, fontsize="small")
+        ax.legend(loc="upper right", fontsize="x-small")
+    if title:
+        fig.suptitle(title)
+    return _save(fig, stem)
+
+
+def plot_model_comparison(frag, stem, state="overturning", title=None):
+    """Median IM of a damage state, 3D against 2D, per column, with bootstrap bounds.
+
+    Points above the diagonal: 2D needs a stronger motion than 3D to overturn
+    the column, i.e. the 2D analysis is unconservative there.
+    """
+    factor, label, _ = im_axis(frag.attrs.get("intensity_measure", "pga"), frag["median"].attrs.get("units", ""))
+    sub = frag.sel(state=state)
+    m3 = sub["median"].sel(model="3d").values * factor
+    m2 = sub["median"].sel(model="2d").values * factor
+    fig, ax = plt.subplots(figsize=(6.5, 6.0), constrained_layout=True)
+    if "median_lower" in frag:
+        xerr = [m3 - sub["median_lower"].sel(model="3d").values * factor,
+                sub["median_upper"].sel(model="3d").values * factor - m3]
+        yerr = [m2 - sub["median_lower"].sel(model="2d").values * factor,
+                sub["median_upper"].sel(model="2d").values * factor - m2]
+        ax.errorbar(m3, m2, xerr=np.nan_to_num(xerr), yerr=np.nan_to_num(yerr), fmt="o", capsize=3,
+                    label=f"median with {100 * frag.attrs.get('confidence_level', 0.9):g} % bootstrap bounds")
+    else:
+        ax.plot(m3, m2, "o", label="median")
+    for x, y, name in zip(m3, m2, frag["column"].values):
+        if np.isfinite(x) and np.isfinite(y):
+            ax.annotate(str(name), (x, y), textcoords="offset points", xytext=(6, -12), fontsize="small")
+    finite = np.concatenate([m3, m2])
+    if "median_lower" in frag:
+        finite = np.concatenate([finite] + [sub[v].values.ravel() * factor for v in ("median_lower", "median_upper")])
+    finite = finite[np.isfinite(finite) & (finite > 0)]
+    if finite.size:
+        lo, hi = finite.min() / 1.5, finite.max() * 1.5
+        ax.plot([lo, hi], [lo, hi], "k--", lw=1, label="2D = 3D")
+        ax.fill_between([lo, hi], [lo, hi], [hi, hi], color="C3", alpha=0.08, label="2D unconservative (above)")
+        ax.set_xlim(lo, hi)
+        ax.set_ylim(lo, hi)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    _plain_log(ax.xaxis)
+    _plain_log(ax.yaxis)
+    unit = label.split("[")[-1][:-1]
+    ax.set_xlabel(f"median {label.split(' [')[0]} of {state}, 3D model [{unit}]")
+    ax.set_ylabel(f"median {label.split(' [')[0]} of {state}, 2D model [{unit}]")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(loc="upper left", fontsize="small")
+    ax.set_title(title or "Median intensity of overturning: 2D against 3D", fontsize="medium")
+    return _save(fig, stem)
+
+
+__all__ = [
+    "im_axis",
+    "plot_fragility",
+    "plot_ida",
+    "plot_geometry_map",
+    "plot_angle_polar",
+    "plot_trajectories",
+    "plot_model_comparison",
+]

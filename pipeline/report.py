@@ -1,0 +1,463 @@
+"""A short report of a study for people who do not program: Markdown, CSV, GeoJSON, figures.
+
+:func:`write_report` turns a study results Dataset into a folder::
+
+    DIR/report.md            what was simulated, the model's assumptions, the probability of
+                             overturning at stated PGA levels, 2D against 3D, the figures
+    DIR/summary.csv          one row per column and model (opens in a spreadsheet)
+    DIR/columns.geojson      the columns that carry latitude/longitude (opens in a GIS)
+    DIR/fragility.nc         the fitted curves (pipeline.fragility)
+    DIR/figures/*.png|pdf
+
+Every number in the report and the CSV is read from the results Dataset or
+from the fragility Dataset fitted to it here; nothing is typed in.
+"""
+
+import csv
+import json
+import math
+import os
+
+import numpy as np
+
+from pipeline import fragility as F
+from pipeline import plotting_fragility as P
+from pipeline.errors import InputError
+from pipeline.units import G
+
+#: PGA levels [g] at which the report states the probability of overturning.
+DEFAULT_PGA_LEVELS_G = (0.1, 0.2, 0.3, 0.5, 0.8)
+
+ASSUMPTIONS = """\
+- Each column is one rigid, homogeneous block shaped as a conical frustum (a cone with its tip cut off):
+  bottom radius R, top radius r, height h. It does not bend, crack or break; flutes are ignored.
+- It stands free on a rigid, horizontal ground that moves with the recorded earthquake (both horizontal
+  components{vertical}).
+- **3D model** (Stefanou, Psycharis & Georgopoulos 2011): when the shaking is strong enough the column tips
+  onto the rim of its base and *rolls on the rim without slipping*: it rocks and wobbles (the contact point
+  travels around the rim) and spins about its axis. Friction is assumed large enough that the base never
+  slides; the report counts the runs in which the friction needed would have exceeded the friction
+  coefficient (`sliding_onset`), but their motion is still computed without sliding.
+- **2D model** (classical planar rocking, Housner 1963): the same column can only rock in one vertical plane,
+  driven by the component of the record along the incidence angle.
+- When the base lands back flat the impact takes away energy (angular momentum about the new contact point is
+  kept); that and an optional viscous contact couple (`damping` = {damping}) are the only energy losses.
+- The column *overturns* when it reaches the inclination at which its side touches the ground; the
+  *critical inclination* theta_crit is the static tipping angle (centre of mass above the rim).
+- Damage states other than overturning are the peak inclination reaching a fraction of theta_crit.
+"""
+
+
+def _fmt(value, digits=3):
+    """Numbers as they appear in the report (and are compared in tests)."""
+    if value is None or (isinstance(value, float) and not math.isfinite(value)):
+        return "n/a"
+    return f"{value:.{digits}g}"
+
+
+def _pct(p):
+    return "n/a" if not np.isfinite(p) else f"{100 * p:.1f} %"
+
+
+def _g_and_ms2(x):
+    return f"{_fmt(x / G)} g ({_fmt(x)} m/s²)"
+
+
+def overturning_probabilities(frag, pga_levels_g=DEFAULT_PGA_LEVELS_G):
+    """Probability of overturning at the stated PGA levels, per column and model.
+
+    Parameters
+    ----------
+    frag : xarray.Dataset
+        Fragility against PGA.
+    pga_levels_g : sequence of float
+        PGA levels [g].
+
+    Returns
+    -------
+    dict
+        ``{(column, model): numpy.ndarray of probabilities [1]}``, from the
+        fitted lognormal curve (degenerate fits as documented in
+        :func:`pipeline.fragility.probability`).
+    """
+    out = {}
+    levels = np.asarray(pga_levels_g, float) * G
+    for c in frag["column"].values:
+        for m in frag["model"].values:
+            cell = frag.sel(state="overturning", column=c, model=m)
+            median, beta = float(cell["median"]), float(cell["beta"])
+            status = int(cell["fit_status"])
+            if status == F.FIT_NO_EXCEEDANCE:
+                median = math.inf
+            elif status == F.FIT_ALL_EXCEED:
+                median = 0.0
+            out[(str(c), str(m))] = F.probability(levels, median, beta)
+    return out
+
+
+def model_comparison(results, frag, pga_levels_g=DEFAULT_PGA_LEVELS_G):
+    """Where and by how much the 2D analysis is unconservative, per column.
+
+    Returns
+    -------
+    list of dict
+        Per column: medians [m/s^2] of both models and their ratio 2D/3D,
+        probabilities of overturning at ``pga_levels_g`` for both, and from the
+        runs themselves (no fit) the fraction that overturned per scale stripe
+        for both models and the largest shortfall of 2D (3D fraction minus 2D
+        fraction) with its stripe.
+    """
+    models = [str(m) for m in frag["model"].values]
+    if not ("3d" in models and "2d" in models):
+        return []
+    probs = overturning_probabilities(frag, pga_levels_g)
+    rows = []
+    for c in frag["column"].values:
+        c = str(c)
+        cell = frag.sel(state="overturning", column=c)
+        m3, m2 = float(cell["median"].sel(model="3d")), float(cell["median"].sel(model="2d"))
+        f3 = cell["stripe_fraction"].sel(model="3d").values
+        f2 = cell["stripe_fraction"].sel(model="2d").values
+        gap = f3 - f2
+        worst = int(np.nanargmax(gap)) if np.any(np.isfinite(gap)) else 0
+        rows.append({
+            "column": c,
+            "median_3d": m3,
+            "median_2d": m2,
+            "ratio": m2 / m3 if (np.isfinite(m2) and np.isfinite(m3) and m3 > 0) else math.nan,
+            "p3d": probs[(c, "3d")],
+            "p2d": probs[(c, "2d")],
+            "stripe_scale": frag["scale"].values,
+            "stripe_im": frag["stripe_im"].values,
+            "fraction_3d": f3,
+            "fraction_2d": f2,
+            "worst_stripe": worst,
+            "worst_gap": float(gap[worst]) if np.isfinite(gap[worst]) else math.nan,
+            "stripes_2d_lower": int(np.sum(gap > 0)),
+            "stripes_2d_higher": int(np.sum(gap < 0)),
+        })
+    return rows
+
+
+def summary_rows(results, frag, pga_levels_g=DEFAULT_PGA_LEVELS_G):
+    """Rows of ``summary.csv``: one per column and model, SI units and g, with fitted values."""
+    probs = overturning_probabilities(frag, pga_levels_g)
+    rows = []
+    valid = F._valid(results)
+    for c in frag["column"].values:
+        for m in frag["model"].values:
+            c, m = str(c), str(m)
+            over = frag.sel(state="overturning", column=c, model=m)
+            row = {
+                "column": c,
+                "model": m,
+                "R_m": float(frag["column_R"].sel(column=c)) if "column_R" in frag.coords else "",
+                "r_m": float(frag["column_r"].sel(column=c)) if "column_r" in frag.coords else "",
+                "h_m": float(frag["column_h"].sel(column=c)) if "column_h" in frag.coords else "",
+                "slenderness_h_over_R": float(frag["slenderness"].sel(column=c)) if "slenderness" in frag.coords else "",
+                "conicity_r_over_R": float(frag["column_beta"].sel(column=c)) if "column_beta" in frag.coords else "",
+                "theta_crit_deg": math.degrees(float(frag["theta_crit"].sel(column=c))) if "theta_crit" in frag.coords else "",
+                "latitude": float(frag["latitude"].sel(column=c)) if "latitude" in frag.coords else "",
+                "longitude": float(frag["longitude"].sel(column=c)) if "longitude" in frag.coords else "",
+                "runs": int(over["n_runs"]),
+                "runs_overturned": int(over["n_exceed"]),
+                "fraction_overturned": int(over["n_exceed"]) / int(over["n_runs"]) if int(over["n_runs"]) else "",
+                "failed_runs_excluded": int((~valid.sel(column=c, model=m)).sum()),
+                "fit_status": F.FIT_STATUS[int(over["fit_status"])],
+                "median_pga_overturning_m_s2": float(over["median"]),
+                "median_pga_overturning_g": float(over["median"]) / G,
+                "beta_overturning": float(over["beta"]),
+            }
+            if "median_lower" in frag:
+                row.update({
+                    "median_pga_overturning_lower_m_s2": float(over["median_lower"]),
+                    "median_pga_overturning_upper_m_s2": float(over["median_upper"]),
+                    "beta_overturning_lower": float(over["beta_lower"]),
+                    "beta_overturning_upper": float(over["beta_upper"]),
+                })
+            for level, p in zip(pga_levels_g, probs[(c, m)]):
+                row[f"p_overturning_at_{level:g}g"] = float(p)
+            for state in frag["state"].values[1:]:
+                cell = frag.sel(state=state, column=c, model=m)
+                row[f"median_pga_{state}_m_s2"] = float(cell["median"])
+                row[f"beta_{state}"] = float(cell["beta"])
+            rows.append(row)
+    return rows
+
+
+def _write_csv(rows, path):
+    tmp = f"{path}.partial"
+    with open(tmp, "w", newline="", encoding="utf-8") as fh:
+        writer = csv.DictWriter(fh, fieldnames=list(rows[0].keys()))
+        writer.writeheader()
+        for row in rows:
+            writer.writerow({k: ("" if isinstance(v, float) and not math.isfinite(v) else
+                                 (repr(v) if isinstance(v, float) else v)) for k, v in row.items()})
+    os.replace(tmp, path)
+
+
+def _write_geojson(rows, path):
+    features = []
+    for row in rows:
+        if row["latitude"] == "" or not np.isfinite(row["latitude"]):
+            continue
+        props = {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in row.items()
+                 if k not in ("latitude", "longitude")}
+        features.append({"type": "Feature",
+                         "geometry": {"type": "Point", "coordinates": [row["longitude"], row["latitude"]]},
+                         "properties": props})
+    if not features:
+        return None
+    tmp = f"{path}.partial"
+    with open(tmp, "w", encoding="utf-8") as fh:
+        json.dump({"type": "FeatureCollection", "features": features}, fh, indent=1)
+    os.replace(tmp, path)
+    return path
+
+
+def _values(results, name):
+    return [str(v) for v in np.asarray(results[name].values).ravel()] if name in results.variables else []
+
+
+def write_report(results, out_dir, pga_levels_g=DEFAULT_PGA_LEVELS_G, states=F.DEFAULT_STATES, bootstrap=200,
+                 seed=0, confidence=F.DEFAULT_CONFIDENCE, title=None, trajectories=None, notes=None):
+    """Write the report folder of a study.
+
+    Parameters
+    ----------
+    results : xarray.Dataset
+        Study results (see :func:`pipeline.fragility.open_results`); must
+        carry ``pga``.
+    out_dir : str or os.PathLike
+        Folder to write (created).
+    pga_levels_g : sequence of float
+        PGA levels [g] at which the probability of overturning is stated.
+    states, bootstrap, seed, confidence
+        Passed to :func:`pipeline.fragility.fragility`.
+    title : str, optional
+        Report title (default: the study's title).
+    trajectories : list of (label, xarray.Dataset), optional
+        Histories of chosen runs to draw as contact-point paths.
+    notes : str, optional
+        Extra Markdown inserted after the summary (e.g. what the study asks).
+
+    Returns
+    -------
+    dict
+        Paths written (``report``, ``csv``, ``geojson`` or None,
+        ``fragility``, ``figures``) and the fragility Dataset (``frag``).
+    """
+    out_dir = os.fspath(out_dir)
+    results = F._normalise(results, F._where(results))
+    if "pga" not in results.variables:
+        raise InputError(f"{F._where(results)}: the report states probabilities at PGA levels but the dataset "
+                         "has no 'pga'; re-run the study with a runner that writes it")
+    os.makedirs(os.path.join(out_dir, "figures"), exist_ok=True)
+    frag = F.fragility(results, im="pga", states=states, bootstrap=bootstrap, seed=seed, confidence=confidence)
+    frag_path = F.write(frag, os.path.join(out_dir, "fragility.nc"))
+    figs = []
+    fig_dir = os.path.join(out_dir, "figures")
+    columns = [str(c) for c in frag["column"].values]
+    models = [str(m) for m in frag["model"].values]
+
+    # figures
+    figs += P.plot_fragility(frag, os.path.join(fig_dir, "fragility_overturning"), column=columns[0],
+                             states=["overturning"],
+                             title=f"Probability of overturning, column '{columns[0]}'"
+                             + (": 3D (solid) and 2D (dashed)" if len(models) > 1 else ""))[:1]
+    for c in columns:
+        figs += P.plot_fragility(frag, os.path.join(fig_dir, f"fragility_states_{c}"), column=c,
+                                 models=[models[0]],
+                                 title=f"Damage states of column '{c}', {models[0].upper()} model")[:1]
+    if len(columns) > 1:
+        figs += _overturning_all_columns(frag, os.path.join(fig_dir, "fragility_all_columns"))[:1]
+        if "slenderness" in frag.coords and len(np.unique(frag["slenderness"].values)) > 1:
+            level = pga_levels_g[len(pga_levels_g) // 2] * G
+            for m in models:
+                figs += P.plot_geometry_map(frag, os.path.join(fig_dir, f"geometry_map_{m}"), level, model=m)[:1]
+    for m in models:
+        view = F.ida(results, im="pga", model=m, column=columns[0])
+        figs += P.plot_ida(view, os.path.join(fig_dir, f"ida_{columns[0]}_{m}"),
+                           title=f"IDA, column '{columns[0]}', {m.upper()} model"
+                           + (" (largest over incidence angles)" if m == "2d" else ""))[:1]
+    if "2d" in models and results.sizes["angle"] > 1:
+        figs += P.plot_angle_polar(results, os.path.join(fig_dir, f"angle_polar_{columns[0]}"), columns[0])[:1]
+    comparison = model_comparison(results, frag, pga_levels_g)
+    if comparison:
+        figs += P.plot_model_comparison(frag, os.path.join(fig_dir, "median_2d_vs_3d"))[:1]
+    if trajectories:
+        figs += P.plot_trajectories(trajectories, os.path.join(fig_dir, "trajectories"),
+                                    title="Paths on the ground of chosen runs")[:1]
+
+    rows = summary_rows(results, frag, pga_levels_g)
+    csv_path = os.path.join(out_dir, "summary.csv")
+    _write_csv(rows, csv_path)
+    geo_path = _write_geojson(rows, os.path.join(out_dir, "columns.geojson"))
+    text = _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, title, notes, geo_path)
+    md_path = os.path.join(out_dir, "report.md")
+    with open(md_path + ".partial", "w", encoding="utf-8") as fh:
+        fh.write(text)
+    os.replace(md_path + ".partial", md_path)
+    return {"report": md_path, "csv": csv_path, "geojson": geo_path, "fragility": frag_path, "figures": figs,
+            "frag": frag}
+
+
+def _overturning_all_columns(frag, stem):
+    import matplotlib.pyplot as plt
+
+    factor, xlabel, secondary = P.im_axis("pga", frag["median"].attrs.get("units", "m s-2"))
+    grid = frag["im_level"].values * factor
+    fig, ax = plt.subplots(figsize=(8.5, 5.5), constrained_layout=True)
+    for i, c in enumerate(frag["column"].values):
+        for m in frag["model"].values:
+            cell = frag.sel(state="overturning", column=c, model=m)
+            ax.plot(grid, cell["probability"].values, color=f"C{i}", ls="-" if m == "3d" else "--", lw=1.5,
+                    label=f"{c}, {str(m).upper()} (h/R = {float(frag['slenderness'].sel(column=c)):.3g})"
+                    if "slenderness" in frag.coords else f"{c}, {m}")
+    ax.set_xscale("log")
+    P._plain_log(ax.xaxis)
+    ax.set_xlabel(xlabel)
+    P._secondary(ax, secondary)
+    ax.set_ylabel("probability of overturning [1]")
+    ax.set_ylim(-0.02, 1.02)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize="small", loc="upper left")
+    ax.set_title("Probability of overturning of every column (lognormal fits; solid 3D, dashed 2D)",
+                 fontsize="medium")
+    return P._save(fig, stem)
+
+
+def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, title, notes, geo_path):
+    n = results.sizes
+    models = [str(m) for m in frag["model"].values]
+    records = _values(results, "record")
+    quakes = sorted(set(_values(results, "earthquake"))) if "earthquake" in results.variables else []
+    valid = F._valid(results)
+    n_total = int(valid.size)
+    n_failed = int((~valid).sum())
+    lines = [f"# {title or results.attrs.get('title', 'Study report')}", ""]
+    if results.attrs.get("summary"):
+        lines += [str(results.attrs["summary"]), ""]
+    if notes:
+        lines += [notes, ""]
+    lines += ["## What was simulated", ""]
+    lines += [f"- **{n['column']} column(s)**:", "",
+              "| column | R [m] | r [m] | h [m] | h/R | r/R | theta_crit [deg] |", "|---|---|---|---|---|---|---|"]
+    for c in frag["column"].values:
+        get = lambda name: float(frag[name].sel(column=c)) if name in frag.coords else math.nan  # noqa: E731
+        lines.append(f"| {c} | {_fmt(get('column_R'))} | {_fmt(get('column_r'))} | {_fmt(get('column_h'))} | "
+                     f"{_fmt(get('slenderness'))} | {_fmt(get('column_beta'))} | "
+                     f"{_fmt(math.degrees(get('theta_crit')))} |")
+    lines.append("")
+    lines.append(f"- **{n['record']} earthquake record(s)**" +
+                 (f" from {len(quakes)} earthquake(s): {', '.join(quakes)}" if quakes else "") +
+                 (f" (ids {records[0]} ... {records[-1]})" if len(records) > 1 else f" ({records[0]})") + ".")
+    angles = results["angle"].values
+    lines.append(f"- **{n['angle']} incidence angle(s)**: {', '.join(_fmt(a) for a in angles)} deg "
+                 "(the direction in which the record hits the column; the 3D results do not depend on it).")
+    scale_units = results["scale"].attrs.get("units", "1")
+    scale_text = ", ".join(_fmt(s) for s in results["scale"].values)
+    lines.append(f"- **{n['scale']} intensity stripe(s)**: "
+                 + (f"records scaled by {scale_text}" if scale_units in ("1", "") else
+                    f"records scaled to {scale_text} {scale_units}") + ".")
+    pga = results["pga"]
+    lines.append(f"- PGA (peak ground acceleration of the scaled record) ranges from {_g_and_ms2(float(pga.min()))} "
+                 f"to {_g_and_ms2(float(pga.max()))}.")
+    lines.append(f"- **Model(s)**: {', '.join(P._MODEL_NAME.get(m, m) for m in models)}.")
+    lines.append(f"- {n_total} simulations in the dataset, {n_failed} failed and left out.")
+    lines += ["", "## Assumptions of the model", ""]
+    damping = results.attrs.get("damping", 0)
+    try:  # the study runner records the model options as JSON
+        damping = json.loads(results.attrs.get("model_options", "{}")).get("damping", damping)
+    except (TypeError, ValueError):
+        pass
+    lines.append(ASSUMPTIONS.format(vertical=" and the vertical one where recorded", damping=damping))
+
+    lines += ["## Probability of overturning", ""]
+    lines.append("Fitted lognormal fragility curves (maximum likelihood, Baker 2015) give the probability that "
+                 "the column overturns when the ground shakes with a given PGA. "
+                 f"Bounds are {100 * frag.attrs['confidence_level']:g} % bootstrap intervals over the records "
+                 f"({frag.attrs['bootstrap_replicates']} replicates).")
+    lines.append("")
+    head = "| column | model | " + " | ".join(f"P at {lv:g} g ({_fmt(lv * G)} m/s²)" for lv in pga_levels_g) + \
+        " | median PGA [g] | median PGA [m/s²] | dispersion beta | overturned / runs |"
+    lines += [head, "|" + "---|" * (head.count("|") - 1)]
+    for row in rows:
+        probs = [row[f"p_overturning_at_{lv:g}g"] for lv in pga_levels_g]
+        bounds = ""
+        if "median_pga_overturning_lower_m_s2" in row:
+            bounds = f" ({_fmt(row['median_pga_overturning_lower_m_s2'] / G)} to " \
+                     f"{_fmt(row['median_pga_overturning_upper_m_s2'] / G)})"
+        status = row["fit_status"]
+        med_g = _fmt(row["median_pga_overturning_g"]) + bounds if status in ("ok", "perfectly_separated") \
+            else status.replace("_", " ")
+        lines.append(f"| {row['column']} | {row['model'].upper()} | " + " | ".join(_pct(p) for p in probs) +
+                     f" | {med_g} | {_fmt(row['median_pga_overturning_m_s2'])} | {_fmt(row['beta_overturning'])} | "
+                     f"{row['runs_overturned']} / {row['runs']} |")
+    lines.append("")
+    lines.append("*n/a*: no fit (see `fit_status` in `summary.csv`: e.g. no run overturned, so the median PGA lies "
+                 "above the strongest shaking simulated). A dispersion of 0 means the runs were perfectly separated "
+                 "by PGA (all stood below, all overturned above): the step is placed between the two.")
+    lines.append("")
+
+    if comparison:
+        lines += ["## 2D against 3D", ""]
+        lines.append("A 2D (planar rocking) analysis is *unconservative* where it predicts a lower probability of "
+                     "overturning than the 3D model, i.e. a higher median PGA. The numbers below are read from the "
+                     "dataset: first from the fitted curves, then directly as fractions of runs that overturned.")
+        lines.append("")
+        lines.append("| column | median PGA 3D [g] | median PGA 2D [g] | 2D / 3D | " +
+                     " | ".join(f"P 3D / 2D at {lv:g} g" for lv in pga_levels_g) + " |")
+        lines.append("|" + "---|" * (4 + len(pga_levels_g)))
+        for r in comparison:
+            lines.append(f"| {r['column']} | {_fmt(r['median_3d'] / G)} | {_fmt(r['median_2d'] / G)} | "
+                         f"{_fmt(r['ratio'])} | " +
+                         " | ".join(f"{_pct(a)} / {_pct(b)}" for a, b in zip(r["p3d"], r["p2d"])) + " |")
+        lines.append("")
+        for r in comparison:
+            if np.isfinite(r["ratio"]):
+                verdict = ("2D is **unconservative**: it needs a {:.0f} % stronger PGA to overturn the column half "
+                           "of the time".format(100 * (r["ratio"] - 1)) if r["ratio"] > 1 else
+                           "2D is conservative here: its median PGA is {:.0f} % lower".format(100 * (1 - r["ratio"])))
+            else:
+                verdict = "no median for one of the models (see the table above)"
+            k = r["worst_stripe"]
+            lines.append(f"- Column '{r['column']}': {verdict}. In {r['stripes_2d_lower']} of "
+                         f"{len(r['fraction_3d'])} intensity stripes fewer runs overturn in 2D than in 3D; the "
+                         f"largest shortfall is {_pct(r['worst_gap'])} of the runs (3D {_pct(r['fraction_3d'][k])}, "
+                         f"2D {_pct(r['fraction_2d'][k])}) at stripe {_fmt(r['stripe_scale'][k])} "
+                         f"(mean PGA {_g_and_ms2(r['stripe_im'][k])}).")
+        lines.append("")
+        lines.append("Fraction of runs that overturned per stripe (records and, for 2D, angles pooled):")
+        lines.append("")
+        for r in comparison:
+            lines.append(f"| '{r['column']}' stripe | mean PGA [g] | 3D | 2D |")
+            lines.append("|---|---|---|---|")
+            for k in range(len(r["fraction_3d"])):
+                lines.append(f"| {_fmt(r['stripe_scale'][k])} | {_fmt(r['stripe_im'][k] / G)} | "
+                             f"{_pct(r['fraction_3d'][k])} | {_pct(r['fraction_2d'][k])} |")
+            lines.append("")
+
+    lines += ["## Figures", ""]
+    for path in figs:
+        rel = os.path.relpath(path, out_dir)
+        name = os.path.splitext(os.path.basename(path))[0].replace("_", " ")
+        lines += [f"![{name}]({rel})", ""]
+    lines += ["## Files", "",
+              "- `summary.csv`: one row per column and model (dimensions, runs, medians and dispersions of every "
+              "damage state, probabilities at the PGA levels above); opens in a spreadsheet.",
+              "- `fragility.nc`: the fitted curves (netCDF, CF-1.10).",
+              "- `figures/`: every figure as PNG and PDF."]
+    if geo_path:
+        lines.append("- `columns.geojson`: the columns with their coordinates and results; opens in a GIS.")
+    lines.append("")
+    source = results.attrs.get("source_file") or results.attrs.get("study_file")
+    if source:
+        lines.append(f"Results file: `{os.path.basename(str(source))}`"
+                     + (f", study digest `{results.attrs['study_digest']}`" if "study_digest" in results.attrs else "")
+                     + ".")
+    lines.append("")
+    return "\n".join(lines)
+
+
+__all__ = ["write_report", "overturning_probabilities", "model_comparison", "summary_rows", "DEFAULT_PGA_LEVELS_G"]
