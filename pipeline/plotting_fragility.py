@@ -326,6 +326,83 @@ def plot_model_comparison(frag, stem, state="overturning", title=None):
     return _save(fig, stem)
 
 
+def plot_column_grid(frag, values, stem, label, title, cmap="viridis", vmin=None, vmax=None, fmt="{:.2f}",
+                     missing_text="n/a"):
+    """A value per column drawn over slenderness h/R and conicity r/R (cells of the study grid).
+
+    Parameters
+    ----------
+    frag : xarray.Dataset
+        Fragility dataset (for the columns' ``slenderness`` and ``column_beta``).
+    values : array_like
+        One value per column (NaN: drawn grey with ``missing_text``).
+    label : str
+        Colour-bar label, with units.
+    """
+    slender = np.asarray(frag["slenderness"].values, float)
+    conicity = np.asarray(frag["column_beta"].values, float)
+    values = np.asarray(values, float)
+    xs, ys = np.unique(np.round(slender, 9)), np.unique(np.round(conicity, 9))
+    table = np.full((ys.size, xs.size), np.nan)
+    for x, y, v in zip(slender, conicity, values):
+        table[np.searchsorted(ys, round(y, 9)), np.searchsorted(xs, round(x, 9))] = v
+    fig, ax = plt.subplots(figsize=(1.3 * xs.size + 3.5, 1.0 * ys.size + 2.5), constrained_layout=True)
+    mesh = ax.pcolormesh(np.arange(xs.size + 1) - 0.5, np.arange(ys.size + 1) - 0.5,
+                         np.ma.masked_invalid(table), cmap=cmap, vmin=vmin, vmax=vmax, shading="flat")
+    ax.set_facecolor("0.85")
+    for i in range(ys.size):
+        for j in range(xs.size):
+            v = table[i, j]
+            ax.text(j, i, fmt.format(v) if np.isfinite(v) else missing_text, ha="center", va="center",
+                    fontsize="medium", color="k" if not np.isfinite(v) else "w" if
+                    (mesh.norm(v) < 0.6) else "k")
+    ax.set_xticks(range(xs.size), [f"{x:g}" for x in xs])
+    ax.set_yticks(range(ys.size), [f"{y:g}" for y in ys])
+    ax.set_xlabel("slenderness h/R [1]")
+    ax.set_ylabel("conicity r/R [1]")
+    fig.colorbar(mesh, ax=ax, label=label)
+    ax.set_title(title, fontsize="medium")
+    return _save(fig, stem)
+
+
+def plot_curve_comparison(frags, stem, column, state="overturning", model="3d", title=None):
+    """Fitted curves of one column and state from several fragility datasets (e.g. options).
+
+    Parameters
+    ----------
+    frags : dict
+        Legend label -> fragility Dataset (same IM).
+    """
+    first = next(iter(frags.values()))
+    factor, xlabel, secondary = im_axis(first.attrs.get("intensity_measure", "pga"),
+                                        first["median"].attrs.get("units", ""))
+    fig, ax = plt.subplots(figsize=(8.5, 5.5), constrained_layout=True)
+    for i, (label, frag) in enumerate(frags.items()):
+        cell = frag.sel(state=state, column=column, model=model)
+        grid = frag["im_level"].values * factor
+        med, bet = float(cell["median"]), float(cell["beta"])
+        fit = f"median {med * factor:.3g}, β = {bet:.2f}" if np.isfinite(med) else "no fit"
+        ax.plot(grid, cell["probability"].values, color=f"C{i}", lw=1.8, label=f"{label}: {fit}")
+        if "probability_lower" in frag:
+            ax.fill_between(grid, cell["probability_lower"].values, cell["probability_upper"].values,
+                            color=f"C{i}", alpha=0.12, lw=0)
+        frac = cell["stripe_fraction"].values
+        ok = np.isfinite(frac)
+        ax.plot(frag["stripe_im"].values[ok] * factor, frac[ok], "o", color=f"C{i}", ms=4)
+    ax.set_xscale("log")
+    _plain_log(ax.xaxis)
+    ax.set_xlabel(xlabel)
+    _secondary(ax, secondary)
+    ax.set_ylabel(f"probability of {state.replace('_', ' ')} [1]")
+    ax.set_ylim(-0.02, 1.02)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.plot([], [], "o", color="0.3", ms=4, label="observed fraction per stripe")
+    ax.legend(fontsize="small", loc="upper left", title=f"lognormal fit (median in {xlabel.split('[')[-1][:-1]})",
+              title_fontsize="small")
+    fig.suptitle(title or f"Column '{column}', {model.upper()} model", fontsize="medium")
+    return _save(fig, stem)
+
+
 __all__ = [
     "im_axis",
     "plot_fragility",
@@ -334,4 +411,6 @@ __all__ = [
     "plot_angle_polar",
     "plot_trajectories",
     "plot_model_comparison",
+    "plot_column_grid",
+    "plot_curve_comparison",
 ]

@@ -220,7 +220,8 @@ def _values(results, name):
 
 
 def write_report(results, out_dir, pga_levels_g=DEFAULT_PGA_LEVELS_G, states=F.DEFAULT_STATES, bootstrap=200,
-                 seed=0, confidence=F.DEFAULT_CONFIDENCE, title=None, trajectories=None, notes=None):
+                 seed=0, confidence=F.DEFAULT_CONFIDENCE, title=None, trajectories=None, notes=None, focus=None,
+                 stripe_tables_max=4):
     """Write the report folder of a study.
 
     Parameters
@@ -240,6 +241,11 @@ def write_report(results, out_dir, pga_levels_g=DEFAULT_PGA_LEVELS_G, states=F.D
         Histories of chosen runs to draw as contact-point paths.
     notes : str, optional
         Extra Markdown inserted after the summary (e.g. what the study asks).
+    focus : str, optional
+        Column drawn in the single-column figures (default: the first).
+    stripe_tables_max : int
+        Per-stripe 2D/3D tables are written for at most this many columns
+        (the bullet list covers every column).
 
     Returns
     -------
@@ -259,22 +265,47 @@ def write_report(results, out_dir, pga_levels_g=DEFAULT_PGA_LEVELS_G, states=F.D
     fig_dir = os.path.join(out_dir, "figures")
     columns = [str(c) for c in frag["column"].values]
     models = [str(m) for m in frag["model"].values]
+    if focus is not None:
+        if focus not in columns:
+            raise InputError(f"focus column {focus!r} is not in the results; columns: {', '.join(columns)}")
+        columns = [focus] + [c for c in columns if c != focus]
+    grid_like = "slenderness" in frag.coords and "column_beta" in frag.coords and len(columns) >= 4
 
     # figures
     figs += P.plot_fragility(frag, os.path.join(fig_dir, "fragility_overturning"), column=columns[0],
                              states=["overturning"],
                              title=f"Probability of overturning, column '{columns[0]}'"
                              + (": 3D (solid) and 2D (dashed)" if len(models) > 1 else ""))[:1]
-    for c in columns:
+    for c in columns[:1] if grid_like else columns:
         figs += P.plot_fragility(frag, os.path.join(fig_dir, f"fragility_states_{c}"), column=c,
                                  models=[models[0]],
                                  title=f"Damage states of column '{c}', {models[0].upper()} model")[:1]
-    if len(columns) > 1:
+    if len(columns) > 1 and not grid_like:
         figs += _overturning_all_columns(frag, os.path.join(fig_dir, "fragility_all_columns"))[:1]
-        if "slenderness" in frag.coords and len(np.unique(frag["slenderness"].values)) > 1:
-            level = pga_levels_g[len(pga_levels_g) // 2] * G
-            for m in models:
-                figs += P.plot_geometry_map(frag, os.path.join(fig_dir, f"geometry_map_{m}"), level, model=m)[:1]
+    if grid_like:
+        for m in models:
+            med = frag["median"].sel(state="overturning", model=m).values / G
+            figs += P.plot_column_grid(
+                frag, med, os.path.join(fig_dir, f"median_pga_grid_{m}"), "median PGA of overturning [g]",
+                f"{P._MODEL_NAME.get(m, m)}: median PGA of overturning [g] (n/a: none overturned up to "
+                f"{_fmt(float(results['pga'].max()) / G)} g)", cmap="viridis_r")[:1]
+            level = pga_levels_g[len(pga_levels_g) // 2]
+            p = overturning_probabilities(frag, (level,))
+            figs += P.plot_column_grid(
+                frag, [p[(c, m)][0] for c in frag["column"].values],
+                os.path.join(fig_dir, f"probability_grid_{m}"), "probability of overturning [1]",
+                f"{P._MODEL_NAME.get(m, m)}: probability of overturning at PGA = {level:g} g "
+                f"({_fmt(level * G)} m/s²)", vmin=0, vmax=1)[:1]
+        if "3d" in models and "2d" in models:
+            ratio = (frag["median"].sel(state="overturning", model="2d")
+                     / frag["median"].sel(state="overturning", model="3d")).values
+            figs += P.plot_column_grid(
+                frag, ratio, os.path.join(fig_dir, "median_ratio_2d_3d_grid"), "median PGA 2D / median PGA 3D [1]",
+                "Median PGA of overturning, 2D over 3D (> 1: 2D unconservative)", cmap="magma_r", fmt="{:.2f}")[:1]
+    elif len(columns) > 1 and "slenderness" in frag.coords and len(np.unique(frag["slenderness"].values)) > 1:
+        level = pga_levels_g[len(pga_levels_g) // 2] * G
+        for m in models:
+            figs += P.plot_geometry_map(frag, os.path.join(fig_dir, f"geometry_map_{m}"), level, model=m)[:1]
     for m in models:
         view = F.ida(results, im="pga", model=m, column=columns[0])
         figs += P.plot_ida(view, os.path.join(fig_dir, f"ida_{columns[0]}_{m}"),
@@ -293,7 +324,8 @@ def write_report(results, out_dir, pga_levels_g=DEFAULT_PGA_LEVELS_G, states=F.D
     csv_path = os.path.join(out_dir, "summary.csv")
     _write_csv(rows, csv_path)
     geo_path = _write_geojson(rows, os.path.join(out_dir, "columns.geojson"))
-    text = _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, title, notes, geo_path)
+    text = _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, title, notes, geo_path,
+                     stripe_tables_max)
     md_path = os.path.join(out_dir, "report.md")
     with open(md_path + ".partial", "w", encoding="utf-8") as fh:
         fh.write(text)
@@ -327,7 +359,8 @@ def _overturning_all_columns(frag, stem):
     return P._save(fig, stem)
 
 
-def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, title, notes, geo_path):
+def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, title, notes, geo_path,
+              stripe_tables_max=4):
     n = results.sizes
     models = [str(m) for m in frag["model"].values]
     records = _values(results, "record")
@@ -357,9 +390,14 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
                  "(the direction in which the record hits the column; the 3D results do not depend on it).")
     scale_units = results["scale"].attrs.get("units", "1")
     scale_text = ", ".join(_fmt(s) for s in results["scale"].values)
-    lines.append(f"- **{n['scale']} intensity stripe(s)**: "
-                 + (f"records scaled by {scale_text}" if scale_units in ("1", "") else
-                    f"records scaled to {scale_text} {scale_units}") + ".")
+    if scale_units in ("1", ""):
+        stripes = f"records scaled by {scale_text}"
+    elif scale_units == "m s-2":
+        stripes = ("every record scaled to the same PGA, " +
+                   ", ".join(_fmt(v / G) for v in results["scale"].values) + " g (" + scale_text + " m/s²)")
+    else:
+        stripes = f"records scaled to {scale_text} {scale_units}"
+    lines.append(f"- **{n['scale']} intensity stripe(s)**: {stripes}.")
     pga = results["pga"]
     lines.append(f"- PGA (peak ground acceleration of the scaled record) ranges from {_g_and_ms2(float(pga.min()))} "
                  f"to {_g_and_ms2(float(pga.max()))}.")
@@ -428,9 +466,10 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
                          f"2D {_pct(r['fraction_2d'][k])}) at stripe {_fmt(r['stripe_scale'][k])} "
                          f"(mean PGA {_g_and_ms2(r['stripe_im'][k])}).")
         lines.append("")
-        lines.append("Fraction of runs that overturned per stripe (records and, for 2D, angles pooled):")
-        lines.append("")
-        for r in comparison:
+        if len(comparison) <= stripe_tables_max:
+            lines.append("Fraction of runs that overturned per stripe (records and, for 2D, angles pooled):")
+            lines.append("")
+        for r in comparison[:stripe_tables_max] if len(comparison) <= stripe_tables_max else []:
             lines.append(f"| '{r['column']}' stripe | mean PGA [g] | 3D | 2D |")
             lines.append("|---|---|---|---|")
             for k in range(len(r["fraction_3d"])):

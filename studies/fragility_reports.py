@@ -1,0 +1,203 @@
+"""Reports of the issue-6 studies from the results of ``frustum study run``.
+
+Run the studies first (each from its study file alone), then this script::
+
+    frustum study run studies/fema_slenderness/fema_slenderness.toml
+    frustum study run studies/model_2d_vs_3d/model_2d_vs_3d.toml
+    frustum study run studies/damping/damping_nu0.toml      # and damping_nu002, damping_nu01
+    frustum study run studies/real_column/real_column.toml
+    python studies/fragility_reports.py                     # all four, or: --only model_2d_vs_3d
+
+Each study folder receives ``report.md``, ``summary.csv`` (``columns.geojson`` where
+columns carry coordinates) and ``figures/`` (PNG and PDF). The fragility netCDF files
+and the study results stay in ``out/`` (not in git). ``frustum report FILE.nc --out DIR``
+writes the same report for any one study; this script adds what spans studies (the
+damping comparison) and the contact-point paths of chosen runs, which need new
+simulations with time histories.
+"""
+
+import argparse
+import math
+import os
+import sys
+import time
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+sys.path.insert(0, ROOT)
+
+from pipeline import fragility as F  # noqa: E402
+from pipeline import plotting_fragility as P  # noqa: E402
+from pipeline.report import _fmt, _pct, write_report  # noqa: E402
+from pipeline.units import G  # noqa: E402
+
+OUT = os.path.join(ROOT, "out")
+BOOTSTRAP = 200
+SEED = 2015
+PAPER = "R0.5-s8-b0.8"  # the paper's column (R = 0.5 m, r = 0.4 m, h = 4 m) in the study grids
+
+
+def _column(results, label):
+    from pipeline.geometry import Column
+
+    c = results.sel(column=label)
+    return Column(float(c["column_R"]), float(c["column_r"]), float(c["column_h"]), name=label)
+
+
+def chosen_runs(results, label, model="3d"):
+    """Three runs of a column worth looking at: the largest rocking that stands, a moderate one, an overturning."""
+    one = results.sel(column=label, model=model).isel(angle=0)
+    ratio = one["peak_theta_ratio"].where(one["status"] == 0)
+    over = one["overturned"] == 1
+    picks = []
+    standing = ratio.where(~over & (ratio < 0.9))
+    if np.isfinite(standing.max()):
+        idx = np.unravel_index(int(np.nanargmax(standing.values)), standing.shape)
+        picks.append(("largest rocking that stands", idx))
+    moderate = np.abs(ratio.where(~over) - 0.3)
+    if np.isfinite(moderate.min()):
+        picks.append(("moderate", np.unravel_index(int(np.nanargmin(moderate.values)), moderate.shape)))
+    if bool(over.any()):
+        pga = one["pga"].where(over)
+        picks.append(("overturns", np.unravel_index(int(np.nanargmin(pga.values)), pga.shape)))
+    out = []
+    for why, (r, k) in picks:
+        rec = str(one["record"].values[r])
+        out.append((why, rec, float(one["scale_factor"].values[r, k]), float(one["pga"].values[r, k])))
+    return out
+
+
+def trajectories(results, label, model="3d"):
+    """Simulate the chosen runs again with time histories (same record, factor, settings)."""
+    import json
+
+    from pipeline.groundmotion import load
+    from pipeline.simulate import Excitation, ModelSettings, simulate
+
+    options = json.loads(results.attrs.get("model_options", "{}"))
+    settings = ModelSettings(model=model, **{k: v for k, v in options.items()
+                                             if k in ("friction", "tail", "damping", "restitution", "contact_tilt")})
+    column = _column(results, label)
+    runs = []
+    for why, rec, factor, pga in chosen_runs(results, label, model):
+        resp = simulate(column, load(rec), Excitation(angle=0.0, scale=factor), settings, histories=True)
+        s = resp.summary
+        state = "overturned" if s["overturned"] else f"peak θ/θ_crit = {s['peak_theta_ratio']:.2f}"
+        runs.append((f"{why}: {rec} × {factor:.2f}\nPGA {pga / G:.2f} g ({pga:.2f} m/s²), {state}", resp.histories))
+    return runs
+
+
+NOTES = {
+    "fema_slenderness": (
+        "**Question.** How does the probability of overturning of a free-standing column under the FEMA P695 "
+        "far-field records depend on its slenderness h/R and conicity r/R? The paper's column is "
+        f"`{PAPER}` (R = 0.5 m, r = 0.4 m, h = 4 m). Every record is scaled to the same PGA at each stripe, "
+        "so each stripe is one intensity level (multiple-stripe analysis)."),
+    "model_2d_vs_3d": (
+        "**Question.** The paper (Section 5) argues that a free-standing column wobbles rather than rocks, so "
+        "two-dimensional rocking analyses should miss its response. Where, and by how much, does the 2D "
+        "planar-rocking analysis give a lower probability of overturning than the 3D rolling frustum for the "
+        "same columns, records and intensity? (2D is driven by the component of the record along the incidence "
+        "angle; 3D by both horizontal components.)"),
+    "real_column": (
+        "**Question.** How likely are two real monolithic shafts to overturn under far-field earthquakes? "
+        "Dimensions: Pompey's Pillar, Alexandria, monolithic shaft 20.46 m high, 2.71 m diameter at the base and "
+        "2.30 m at the top (Wikipedia, 'Pompey's Pillar (column)'); a monolithic Doric column of the Temple of "
+        "Apollo at Corinth, about 7.2 m high with a lower diameter of about 1.72 m (Wikipedia, 'Temple of Apollo "
+        "(Corinth)'; the Edinburgh Encyclopaedia gives 23 ft 8.5 in = 7.23 m including the capital and 5 ft 7 in "
+        "= 1.70 m), top radius 0.65 m assumed. Base mouldings, capitals and pedestals are not modelled."),
+}
+
+FOCUS = {"fema_slenderness": PAPER, "model_2d_vs_3d": PAPER, "real_column": "corinth-apollo"}
+
+
+def report_study(name):
+    path = os.path.join(OUT, f"{name}.nc")
+    results = F.open_results(path)
+    t0 = time.time()
+    runs = trajectories(results, FOCUS[name]) if name != "model_2d_vs_3d" else None
+    out = write_report(results, os.path.join(HERE, name), bootstrap=BOOTSTRAP, seed=SEED, notes=NOTES[name],
+                       focus=FOCUS[name], trajectories=runs)
+    os.replace(out["fragility"], os.path.join(OUT, f"{name}_fragility.nc"))  # netCDF stays out of git
+    print(f"{name}: {out['report']} ({len(out['figures'])} figures, {time.time() - t0:.0f} s)")
+    return out
+
+
+def report_damping():
+    """Study (c): the same 3D study with nu = 0, 0.02, 0.1; one page comparing the fits."""
+    labels = {"0": "damping_nu0", "0.02": "damping_nu002", "0.1": "damping_nu01"}
+    frags, results = {}, {}
+    for nu, stem in labels.items():
+        results[nu] = F.open_results(os.path.join(OUT, f"{stem}.nc"))
+        frags[nu] = F.fragility(results[nu], bootstrap=BOOTSTRAP, seed=SEED)
+        F.write(frags[nu], os.path.join(OUT, f"{stem}_fragility.nc"))
+    here = os.path.join(HERE, "damping")
+    figs = []
+    columns = [str(c) for c in frags["0"]["column"].values]
+    for c in columns:
+        figs += P.plot_curve_comparison({f"ν = {nu}": f for nu, f in frags.items()},
+                                        os.path.join(here, "figures", f"overturning_{c}"), c,
+                                        title=f"Column '{c}' (h/R = {float(frags['0']['slenderness'].sel(column=c)):g}), "
+                                        "3D: probability of overturning for three contact dampings ν")[:1]
+    lines = ["# Sensitivity of the 3D fragility to the contact damping ν", "",
+             "The 3D model's only dissipation besides the landings is an optional viscous contact couple "
+             "(`ModelSettings.damping` = ν, per m g R sqrt(R/g)). Three runs of one study differ only in ν "
+             "(`damping_nu0.toml`, `damping_nu002.toml`, `damping_nu01.toml`): four columns (R = 0.5 m, r/R = 0.8, "
+             f"h/R = 6, 8, 10, 12; `{PAPER}` is the paper's column) under the 22 FEMA P695 far-field pairs at "
+             "11 PGA stripes (0.1 g to 3 g). All numbers below are read from the three results files.", "",
+             f"Median PGA of overturning [g] with the {100 * frags['0'].attrs['confidence_level']:g} % bootstrap "
+             f"interval over records ({BOOTSTRAP} replicates), dispersion β, and the overturned runs:", "",
+             "| column | " + " | ".join(f"ν = {nu}: median [g] | β | overturned" for nu in labels) + " | median ν=0.1 / ν=0 |",
+             "|---|" + "---|---|---|" * len(labels) + "---|"]
+    for c in columns:
+        cells = []
+        meds = {}
+        for nu, f in frags.items():
+            cell = f.sel(state="overturning", column=c, model="3d")
+            med = float(cell["median"])
+            meds[nu] = med
+            cells.append(f"{_fmt(med / G)} ({_fmt(float(cell['median_lower']) / G)} to "
+                         f"{_fmt(float(cell['median_upper']) / G)}) | {_fmt(float(cell['beta']))} | "
+                         f"{int(cell['n_exceed'])} / {int(cell['n_runs'])}")
+        ratio = meds["0.1"] / meds["0"] if meds["0"] > 0 else math.nan
+        lines.append(f"| {c} | " + " | ".join(cells) + f" | {_fmt(ratio)} |")
+    lines += ["", "Probability of overturning at stated PGA levels (fitted curves):", "",
+              "| column | PGA | " + " | ".join(f"ν = {nu}" for nu in labels) + " |", "|---|---|" + "---|" * len(labels)]
+    for c in columns:
+        for level in (0.3, 0.5, 0.8):
+            ps = [F.probability(level * G, float(f["median"].sel(state="overturning", column=c, model="3d")),
+                                float(f["beta"].sel(state="overturning", column=c, model="3d"))) for f in frags.values()]
+            lines.append(f"| {c} | {level:g} g ({_fmt(level * G)} m/s²) | " + " | ".join(_pct(float(p)) for p in ps) + " |")
+    lines += ["", "Fraction of runs that overturned at each stripe (from the runs, no fit):", "",
+              "| column | PGA [g] | " + " | ".join(f"ν = {nu}" for nu in labels) + " |", "|---|---|" + "---|" * len(labels)]
+    for c in columns:
+        for k, s in enumerate(frags["0"]["scale"].values):
+            fr = [float(f["stripe_fraction"].sel(state="overturning", column=c, model="3d").values[k])
+                  for f in frags.values()]
+            if any(v > 0 for v in fr):
+                lines.append(f"| {c} | {_fmt(float(frags['0']['stripe_im'].values[k]) / G)} | "
+                             + " | ".join(_pct(v) for v in fr) + " |")
+    lines += ["", "## Figures", ""] + [f"![{os.path.basename(p)}]({os.path.relpath(p, here)})\n" for p in figs]
+    with open(os.path.join(here, "report.md"), "w", encoding="utf-8") as fh:
+        fh.write("\n".join(lines) + "\n")
+    print(f"damping: {os.path.join(here, 'report.md')}")
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--only", choices=("fema_slenderness", "model_2d_vs_3d", "damping", "real_column"))
+    args = parser.parse_args(argv)
+    for name in ("fema_slenderness", "model_2d_vs_3d", "real_column", "damping"):
+        if args.only and args.only != name:
+            continue
+        if not all(os.path.exists(os.path.join(OUT, f)) for f in (
+                [f"{name}.nc"] if name != "damping" else ["damping_nu0.nc", "damping_nu002.nc", "damping_nu01.nc"])):
+            print(f"{name}: results missing in {OUT}; run its study file(s) first (see the docstring)")
+            continue
+        report_damping() if name == "damping" else report_study(name)
+
+
+if __name__ == "__main__":
+    main()
