@@ -139,6 +139,30 @@ def _log_impact(impacts, summary, t, rate_before, rate_after, energy_jump):
 
 
 @njit(cache=True)
+def _book_phase(res, phase_out, out_i, summary, y):
+    """Record a rolling phase's outputs and cost; copy its final state into y."""
+    phase_out[out_i:res.out_next] = PHASE_ROLLING
+    summary[S_NFEV] += res.nfev
+    summary[S_STEPS] += res.n_accepted
+    if res.status < 0:
+        summary[S_STATUS] = res.status
+    y[:] = res.y
+    return res.out_next
+
+
+@njit(cache=True)
+def _lie_down(summary, t, theta, y, y_out, phase_out, out_i):
+    """The column lies on its side: record it and freeze the remaining outputs."""
+    summary[S_PEAK_THETA] = theta
+    summary[S_PEAK_TIME] = t
+    summary[S_OVERTURN_TIME] = t
+    for i in range(out_i, y_out.shape[0]):
+        y_out[i, :] = y
+        phase_out[i] = PHASE_OVERTURNED
+    return y_out.shape[0]
+
+
+@njit(cache=True)
 def _turning_point(summary, t, theta, mu, normal):
     """Update the peaks at a turning point of theta."""
     if theta > summary[S_PEAK_THETA]:
@@ -187,7 +211,6 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
     zc = c[fk.C_ZC]
     theta_c = opts[fk.OPT_THETA_C]
     _init_summary(summary)
-    n_out = t_out.shape[0]
     y = y0.copy()  # at rest: XP, YP hold the base centre
     y_new = y0.copy()
     rotation = y0[fk.PHI] + y0[fk.PSI]  # body rotation about the vertical while at rest
@@ -227,17 +250,9 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
             n_transitions += 1
             continue
         res = _roll_frustum(params, t, y, t_end, t_out, y_out, out_i, t_breaks, rtol, atol, h)
-        phase_out[out_i:res.out_next] = PHASE_ROLLING
-        out_i = res.out_next
-        summary[S_NFEV] += res.nfev
-        summary[S_STEPS] += res.n_accepted
-        t = res.t
-        y[:] = res.y
-        h = res.h_next
-        if res.status < 0:
-            summary[S_STATUS] = res.status
-            break
-        if res.status == 0:
+        out_i = _book_phase(res, phase_out, out_i, summary, y)
+        t, h = res.t, res.h_next
+        if res.status <= 0:  # reached the end, or failed (status kept in the summary)
             break
         ev = res.event_index
         if ev == EV_TURN:
@@ -246,13 +261,7 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
             _turning_point(summary, t, y[fk.THETA], diag[4], diag[2])
             continue
         if ev == EV_LIE:
-            summary[S_PEAK_THETA] = y[fk.THETA]
-            summary[S_PEAK_TIME] = t
-            summary[S_OVERTURN_TIME] = t
-            for i in range(out_i, n_out):
-                y_out[i, :] = y
-                phase_out[i] = PHASE_OVERTURNED
-            out_i = n_out
+            out_i = _lie_down(summary, t, y[fk.THETA], y, y_out, phase_out, out_i)
             break
         # landing
         e_before = fk.energy(y[fk.THETA], y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA], c)
@@ -316,7 +325,6 @@ def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
     theta_c = opts[fk.OPT_THETA_C]
     e = restitution if restitution >= 0.0 else max(0.0, 1.0 - 2.0 / c[fk.C_IY])
     _init_summary(summary)
-    n_out = t_out.shape[0]
     y = y0.copy()
     rest_energy = zc
     lift_energy = rk.energy(theta_c, 0.0, c)
@@ -347,17 +355,9 @@ def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
             n_transitions += 1
             continue
         res = _roll_rocking(params, t, y, t_end, t_out, y_out, out_i, t_breaks, rtol, atol, h)
-        phase_out[out_i:res.out_next] = PHASE_ROLLING
-        out_i = res.out_next
-        summary[S_NFEV] += res.nfev
-        summary[S_STEPS] += res.n_accepted
-        t = res.t
-        y[:] = res.y
-        h = res.h_next
-        if res.status < 0:
-            summary[S_STATUS] = res.status
-            break
-        if res.status == 0:
+        out_i = _book_phase(res, phase_out, out_i, summary, y)
+        t, h = res.t, res.h_next
+        if res.status <= 0:  # reached the end, or failed (status kept in the summary)
             break
         ev = res.event_index
         theta = abs(y[rk.THETA2])
@@ -367,13 +367,7 @@ def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
             _turning_point(summary, t, theta, mu, normal)
             continue
         if ev == EV_LIE:
-            summary[S_PEAK_THETA] = theta
-            summary[S_PEAK_TIME] = t
-            summary[S_OVERTURN_TIME] = t
-            for i in range(out_i, n_out):
-                y_out[i, :] = y
-                phase_out[i] = PHASE_OVERTURNED
-            out_i = n_out
+            out_i = _lie_down(summary, t, theta, y, y_out, phase_out, out_i)
             break
         # landing: pivot to the other rim point, theta' scaled by e
         e_before = rk.energy(theta_c, y[rk.DTHETA2], c)
