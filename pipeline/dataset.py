@@ -206,7 +206,8 @@ def write_results(ds, path):
             values = np.asarray(out[dim].values).astype(str)
             attrs = dict(out[dim].attrs)
             out = out.drop_vars(dim).assign_coords({label: (dim, values, attrs)})
-    annotate(out, STUDY_VARIABLES)
+    # attributes set by the caller (e.g. a target-level ``scale``) win over the catalog
+    annotate(out, {k: v for k, v in STUDY_VARIABLES.items() if k not in out.variables or "long_name" not in out[k].attrs})
     encoding = {name: {"dtype": "S1"} for name, var in out.variables.items() if var.dtype.kind in "UO"}
     return write_netcdf(out, path, encoding=encoding)
 

@@ -450,7 +450,7 @@ def _records(section, ck, path):
     from pipeline.groundmotion import list_records, list_sets
 
     out = []
-    known_sets = list_sets()
+    known_sets = [s["id"] for s in list_sets()]
     for i, set_id in enumerate(ck.strings(section.get("sets", []), "records.sets")):
         if set_id not in known_sets:
             ck.fail(f"records.sets[{i}]", f"{set_id!r} is not a record set; known: {', '.join(known_sets)}")

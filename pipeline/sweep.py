@@ -514,7 +514,7 @@ def _run_dask(pending, motions, finish, scheduler, workers, window, models):
     else:
         n = workers or os.cpu_count() or 1
         cluster = distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                           dashboard_address=None, silence_logs=logging.ERROR)
+                                           dashboard_address=":0", silence_logs=logging.ERROR)
         client = distributed.Client(cluster)
     try:
         n_workers = max(1, len(client.scheduler_info().get("workers", {})))

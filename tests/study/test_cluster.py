@@ -1,0 +1,117 @@
+"""Studies on Dask: a real `dask scheduler` + two `dask worker` processes on loopback, and the local cluster.
+
+Both give the serial run's numbers exactly.
+"""
+
+import json
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from pipeline.cli import main
+from pipeline.dataset import open_results
+from pipeline.study import load_study
+from pipeline.sweep import run_study
+
+DASK = Path(sys.executable).parent / "dask"
+START_TIMEOUT = 60.0  # [s] scheduler file and two workers
+
+
+def _free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def _stop(proc):
+    """Stop one process group we started (its id), politely then for good."""
+    if proc.poll() is None:
+        try:
+            os.killpg(proc.pid, signal.SIGTERM)
+            proc.wait(timeout=15)
+        except (ProcessLookupError, subprocess.TimeoutExpired):
+            try:
+                os.killpg(proc.pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+            proc.wait(timeout=15)
+
+
+@pytest.fixture(scope="module")
+def dask_cluster(tmp_path_factory):
+    """A scheduler and two single-threaded workers, subprocesses of the `dask` CLI; always cleaned up."""
+    folder = tmp_path_factory.mktemp("dask")
+    scheduler_file = folder / "scheduler.json"
+    port = _free_port()
+    procs = []
+    logs = []
+
+    def start(args, name):
+        log = open(folder / f"{name}.log", "w")  # noqa: SIM115 - closed below
+        logs.append(log)
+        procs.append(subprocess.Popen([str(DASK), *args], stdout=log, stderr=subprocess.STDOUT,
+                                      start_new_session=True, cwd=folder))
+
+    try:
+        start(["scheduler", "--host", "127.0.0.1", "--port", str(port), "--no-dashboard",
+               "--scheduler-file", str(scheduler_file)], "scheduler")
+        deadline = time.monotonic() + START_TIMEOUT
+        while not scheduler_file.exists():
+            assert procs[0].poll() is None, (folder / "scheduler.log").read_text()
+            assert time.monotonic() < deadline, "the dask scheduler did not start"
+            time.sleep(0.1)
+        address = json.loads(scheduler_file.read_text())["address"]
+        for i in range(2):
+            start(["worker", address, "--nworkers", "1", "--nthreads", "1", "--no-dashboard",
+                   "--host", "127.0.0.1", "--name", f"test-worker-{i}", "--local-directory", str(folder)],
+                  f"worker-{i}")
+        import distributed
+
+        with distributed.Client(address, timeout="30s") as client:
+            client.wait_for_workers(2, timeout=START_TIMEOUT)
+        yield address
+    finally:
+        for proc in reversed(procs):
+            _stop(proc)
+        for log in logs:
+            log.close()
+
+
+def test_external_cluster_equals_serial(dask_cluster, write_study, small_reference, same_results, capsys):
+    """`frustum study run --scheduler ADDRESS` through two worker processes: identical numbers."""
+    path = write_study()
+    assert main(["study", "run", str(path), "--scheduler", dask_cluster, "--quiet"]) == 0
+    assert "4 task(s) computed, 0 from the checkpoint" in capsys.readouterr().out
+    same_results(open_results(path.parent / "small.nc"), small_reference[1])
+
+
+def test_both_workers_took_tasks(dask_cluster, write_study):
+    """The tasks really spread over the two workers (each records what it ran)."""
+    import distributed
+
+    report = run_study(load_study(write_study()), scheduler=dask_cluster, progress=False)
+    assert len(report.computed) == 4
+    with distributed.Client(dask_cluster, timeout="30s") as client:
+        # every worker has imported and run pipeline.sweep tasks
+        ran = client.run(lambda: "pipeline.sweep" in sys.modules)
+    assert len(ran) == 2 and all(ran.values())
+
+
+def test_local_cluster_equals_serial(write_study, small_reference, same_results, capsys):
+    """The default: a LocalCluster of two processes started by the command."""
+    path = write_study()
+    assert main(["study", "run", str(path), "--workers", "2", "--quiet"]) == 0
+    same_results(open_results(path.parent / "small.nc"), small_reference[1])
+    assert not (path.parent / "small.nc.checkpoint").exists()
+
+
+def test_unreachable_scheduler_is_an_input_error(write_study, capsys):
+    port = _free_port()
+    assert main(["study", "run", str(write_study()), "--scheduler", f"tcp://127.0.0.1:{port}", "--quiet"]) == 2
+    assert "cannot connect" in capsys.readouterr().err

@@ -1,0 +1,125 @@
+"""Study files: what parses, and what fails before computing with the field named."""
+
+import math
+import re
+
+import pytest
+
+from pipeline.cli import main
+from pipeline.errors import InputError
+from pipeline.study import load_study, named_columns
+
+from conftest import SMALL_STUDY  # noqa: E402  (tests/study is on sys.path under pytest)
+
+
+def test_small_study_parses(write_study):
+    study = load_study(write_study())
+    assert [c.label for c in study.columns] == ["paper", "squat", "R0.4-s7-b0.9", "R0.4-s9-b0.9"]
+    assert study.shape == (4, 2, 3, 3, 2)
+    grid = study.columns[3].column
+    assert math.isclose(grid.h, 3.6) and math.isclose(grid.r, 0.36)
+    paper = named_columns()["paper"]
+    assert (study.columns[0].column.R, study.columns[0].column.r, study.columns[0].column.h) == \
+        (paper["R"], paper["r"], paper["h"])
+    assert study.settings("2d").tail == 2.0 and study.settings("2d").model == "2d"
+    assert len(study.digest) == 64 and study.output.endswith("small.nc")
+
+
+def test_named_columns_cite_a_source():
+    for key, entry in named_columns().items():
+        assert entry["source"], key
+        assert entry["R"] > 0 and entry["r"] > 0 and entry["h"] > 0
+
+
+def _broken(old, new):
+    assert old in SMALL_STUDY, old
+    return SMALL_STUDY.replace(old, new)
+
+
+BAD = {
+    "unknown top-level field": (_broken('title = "small test study"', 'title = "x"\nfriction = 0.5'), "friction"),
+    "unknown option": (_broken("tail = 2.0", "tail = 2.0\nfrction = 0.5"), "options.frction"),
+    "unknown column field": (_broken("R = 0.6", "R = 0.6\nradius = 1"), "columns[1].radius"),
+    "wrong type: string for a number": (_broken("R = 0.6", 'R = "0.6"'), "columns[1].R"),
+    "wrong type: angles not a list": (_broken("angles = [0.0, 30.0, 90.0]", "angles = 30"), "excitation.angles"),
+    "wrong type: vertical": (_broken("scales = [0.5, 1.0, 2.0]", 'scales = [0.5, 1.0, 2.0]\nvertical = "yes"'),
+                             "excitation.vertical"),
+    "empty grid: no angles": (_broken("angles = [0.0, 30.0, 90.0]", "angles = []"), "excitation.angles"),
+    "empty grid: no scales": (_broken("scales = [0.5, 1.0, 2.0]", "scales = []"), "excitation.scales"),
+    "empty grid: no models": (_broken('models = ["3d", "2d"]', "models = []"), "models"),
+    "unknown model": (_broken('models = ["3d", "2d"]', 'models = ["3d", "4d"]'), "models[1]"),
+    "negative scale": (_broken("scales = [0.5, 1.0, 2.0]", "scales = [-1.0]"), "excitation.scales[0]"),
+    "unknown named column": (_broken('named = "paper"', 'named = "parthenon-42"'), "columns[0].named"),
+    "column out of range": (_broken("h = 3.0", "h = 3000.0"), "columns[1]"),
+    "unknown generator": (_broken('generator = "ricker_wavelet"', 'generator = "ricker"'),
+                          "records.synthetic[0].generator"),
+    "unknown generator parameter": (_broken("ap = 4.0", "ap = 4.0, amplitude = 2"),
+                                    "records.synthetic[0].amplitude"),
+    "unknown record set": (_broken("[records]", '[records]\nsets = ["FEMA-XX"]'), "records.sets[0]"),
+    "block_columns": (_broken("block_columns = 2", "block_columns = 0"), "execution.block_columns"),
+    "scales and intensity": (_broken("scales = [0.5, 1.0, 2.0]",
+                                     'scales = [1.0]\nintensity = {measure = "pga", values = [1.0]}'),
+                             "excitation.intensity"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD))
+def test_invalid_fields_are_named(write_study, case):
+    text, field = BAD[case]
+    path = write_study(text)
+    with pytest.raises(InputError) as info:
+        load_study(path)
+    message = str(info.value)
+    assert str(path) in message
+    assert re.search(rf"field {re.escape(field)}(?![\w.\[])", message), message
+
+
+def test_empty_columns(write_study):
+    text = SMALL_STUDY.split("[[columns]]")[0] + "[records]" + SMALL_STUDY.split("[records]")[1]
+    with pytest.raises(InputError, match=r"field columns: no columns"):
+        load_study(write_study(text))
+
+
+def test_empty_records(write_study):
+    start = SMALL_STUDY.index("synthetic = [")
+    end = SMALL_STUDY.index("[excitation]")
+    with pytest.raises(InputError, match=r"field records: no records"):
+        load_study(write_study(SMALL_STUDY[:start] + "ids = []\n\n" + SMALL_STUDY[end:]))
+
+
+@pytest.mark.parametrize("records, field", [
+    ('ids = ["FEMA-FF-99"]', "records.ids[0]"),
+    ('files = [{path = "missing.mseed", units = "g"}]', "records.files[0]"),
+    ('synthetic = [{generator = "ricker_wavelet", id = "bad", ap = 4.0, fp = -2.0}]', "records.synthetic[0]"),
+])
+def test_record_that_cannot_be_loaded_fails_before_computing(write_study, tmp_path, capsys, records, field):
+    start = SMALL_STUDY.index("synthetic = [")
+    end = SMALL_STUDY.index("[excitation]")
+    path = write_study(SMALL_STUDY[:start] + records + "\n\n" + SMALL_STUDY[end:])
+    with pytest.raises(InputError, match=rf"field {re.escape(field)}: record .* cannot be loaded"):
+        load_study(path)
+    # the command line: exit 2, field named, nothing computed or written
+    assert main(["study", "run", str(path), "--serial", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert f"field {field}" in err
+    assert not (tmp_path / "small.nc").exists() and not (tmp_path / "small.nc.checkpoint").exists()
+
+
+def test_cli_bad_file_exits_2(tmp_path, capsys):
+    assert main(["study", "check", str(tmp_path / "nope.toml")]) == 2
+    assert "cannot read the study file" in capsys.readouterr().err
+
+
+def test_cli_check_describes(write_study, capsys):
+    assert main(["study", "check", str(write_study())]) == 0
+    out = capsys.readouterr().out
+    assert "4 column(s) x 2 record(s) x 3 angle(s) x 3 scales x 2 model(s) = 144 results" in out
+
+
+def test_quickstart_study_is_valid():
+    from pathlib import Path
+
+    study = load_study(Path(__file__).parents[2] / "studies" / "quickstart.toml", load_records=False)
+    assert study.columns[0].column.R == 0.5 and study.columns[0].column.r == 0.4 and study.columns[0].column.h == 4
+    assert all(r.id.startswith("FEMA-FF-") for r in study.records)
+    assert len(study.angles) > 1 and len(study.scales) > 1
