@@ -137,7 +137,7 @@ def select_components(stream, where, components=None, missing_y="error", ordered
         if missing_y != "zero":
             raise InputError(
                 f"{where}: only one horizontal component ({roles['x'].id}); load its pair too "
-                "(a list of files) or pass missing_y='zero' to set y = 0"
+                "(a list of files) or set y = 0 with missing_y='zero' (--missing-y zero on the command line)"
             )
         roles["y"] = _zero_like(roles["x"], where)
     return Stream([roles[k] for k in ("x", "y", "z") if k in roles])
