@@ -1,0 +1,105 @@
+"""Nothing lost: a study killed midway resumes without recomputing finished tasks."""
+
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+
+import numpy as np
+
+from pipeline.dataset import open_results
+from pipeline.study import load_study
+from pipeline.sweep import Checkpoint, run_study
+
+# The child runs the small study serially with every task slowed down by 0.4 s, so
+# that the parent can kill it after a few checkpointed tasks, whatever the machine.
+CHILD = textwrap.dedent("""\
+    import sys, time
+    from pipeline import sweep
+    from pipeline.study import load_study
+    real = sweep.run_task
+    def slow(task, motion):
+        time.sleep(0.4)
+        return real(task, motion)
+    sweep.run_task = slow
+    sweep.run_study(load_study(sys.argv[1]), serial=True, progress=False)
+""")
+
+MANY_TASKS = 'block_columns = 1'  # 4 columns x 2 records = 8 tasks
+
+
+def _kill_after(path, checkpoint, n_done, timeout=120.0):
+    proc = subprocess.Popen([sys.executable, "-c", CHILD, str(path)], start_new_session=True,
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+    try:
+        deadline = time.monotonic() + timeout
+        while True:
+            done = sorted(p for p in os.listdir(checkpoint) if p.startswith("task-")) \
+                if os.path.isdir(checkpoint) else []
+            if len(done) >= n_done:
+                break
+            assert proc.poll() is None, proc.stdout.read().decode()
+            assert time.monotonic() < deadline, "the study did not checkpoint in time"
+            time.sleep(0.02)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)  # the process group we started
+        proc.wait(timeout=30)
+    return proc.returncode
+
+
+def test_killed_study_resumes_without_recomputing(write_study, small_reference, same_results):
+    from conftest import SMALL_STUDY
+
+    path = write_study(SMALL_STUDY.replace("block_columns = 2", MANY_TASKS))
+    out = path.parent / "small.nc"
+    checkpoint = str(out) + ".checkpoint"
+    assert _kill_after(path, checkpoint, 3) == -signal.SIGKILL
+    assert not out.exists()  # killed: no results file, not even a partial one
+    assert not [p for p in os.listdir(path.parent) if p.startswith(".partial-")]
+    finished = sorted(int(p[5:11]) for p in os.listdir(checkpoint) if p.startswith("task-"))
+    assert 3 <= len(finished) < 8
+    stamps = {i: os.stat(os.path.join(checkpoint, f"task-{i:06d}.npz")).st_mtime_ns for i in finished}
+
+    report = run_study(load_study(path), serial=True, progress=False, keep_checkpoint=True)
+    assert report.skipped == finished  # loaded, not recomputed
+    assert sorted(report.computed) == sorted(set(range(8)) - set(finished))
+    assert report.simulations == sum(12 for _ in report.computed)  # 1 column x 3 scales x (1 + 3 angles)
+    for i, stamp in stamps.items():  # the finished tasks' files were not rewritten
+        assert os.stat(os.path.join(checkpoint, f"task-{i:06d}.npz")).st_mtime_ns == stamp
+    ds = open_results(out)
+    assert (ds.status == 0).all() and ds.peak_theta.notnull().all()  # complete
+    same_results(ds, small_reference[1])
+
+    # a third run finds everything in the checkpoint and computes nothing
+    again = run_study(load_study(path), serial=True, progress=False)
+    assert again.computed == [] and again.simulations == 0 and len(again.skipped) == 8
+    assert not os.path.exists(checkpoint)  # removed once the results are written
+
+
+def test_changed_study_discards_the_old_checkpoint(write_study):
+    from conftest import SMALL_STUDY
+
+    path = write_study(SMALL_STUDY.replace("block_columns = 2", MANY_TASKS))
+    out = path.parent / "small.nc"
+    run_study(load_study(path), serial=True, progress=False, keep_checkpoint=True)
+    assert len(Checkpoint(str(out) + ".checkpoint", "irrelevant").done()) == 0  # other key: emptied
+    run_study(load_study(path), serial=True, progress=False, keep_checkpoint=True)
+    path.write_text(path.read_text().replace("tail = 2.0", "tail = 1.0"))
+    report = run_study(load_study(path), serial=True, progress=False)
+    assert report.skipped == [] and len(report.computed) == 8
+
+
+def test_checkpoint_roundtrip(tmp_path):
+    result = {"index": 3, "record": 1, "start": 0, "stop": 2, "runs": 5, "seconds": 0.1, "errors": [],
+              "arrays": {name: np.arange(4, dtype=dt).reshape(2, 1, 2, 1)
+                         for name, dt in __import__("pipeline.sweep", fromlist=["_DTYPES"])._DTYPES.items()}}
+    ck = Checkpoint(str(tmp_path / "c"), "key")
+    ck.save(result)
+    assert ck.done() == {3}
+    back = ck.load(3)
+    for name, arr in result["arrays"].items():
+        assert back["arrays"][name].dtype == arr.dtype and np.array_equal(back["arrays"][name], arr)
+    assert [p for p in os.listdir(tmp_path / "c") if p.startswith(".partial-")] == []

@@ -1,0 +1,88 @@
+"""`frustum workflow run`: ordered studies, idempotent, logged, non-zero exit on failure."""
+
+import os
+import textwrap
+
+from pipeline.cli import main
+
+from conftest import SMALL_STUDY  # noqa: E402
+
+
+def _workflow(tmp_path, study_name="small.toml", extra=""):
+    (tmp_path / "small.toml").write_text(SMALL_STUDY, encoding="utf-8")
+    wf = tmp_path / "wf.toml"
+    wf.write_text(textwrap.dedent(f"""\
+        title = "test workflow"
+        log = "logs/wf.log"
+        [[steps]]
+        study = "{study_name}"
+        output = "out/small.nc"
+        plot = "out/small.png"
+        {extra}
+    """), encoding="utf-8")
+    return wf
+
+
+def test_second_run_recomputes_nothing(tmp_path, monkeypatch):
+    from pipeline import sweep
+
+    calls = []
+    real = sweep.run_task
+    monkeypatch.setattr(sweep, "run_task", lambda task, motion: calls.append(task.index) or real(task, motion))
+    # the test runs the studies in-process (serial) to count tasks; the workflow's own default is a local cluster
+    real_run = sweep.run_study
+    monkeypatch.setattr(sweep, "run_study", lambda *a, **k: real_run(*a, **dict(k, serial=True)))
+
+    wf = _workflow(tmp_path)
+    assert main(["workflow", "run", str(wf)]) == 0
+    out, png = tmp_path / "out" / "small.nc", tmp_path / "out" / "small.png"
+    assert out.is_file() and png.is_file() and len(calls) == 4
+    stamp = os.stat(out).st_mtime_ns, os.stat(png).st_mtime_ns
+
+    assert main(["workflow", "run", str(wf)]) == 0
+    assert len(calls) == 4  # nothing recomputed
+    assert (os.stat(out).st_mtime_ns, os.stat(png).st_mtime_ns) == stamp  # nothing rewritten
+    log = (tmp_path / "logs" / "wf.log").read_text()
+    assert "4 task(s) computed" in log and "up to date" in log and log.count("done") == 2
+
+    # a changed study is recomputed
+    (tmp_path / "small.toml").write_text(SMALL_STUDY.replace("tail = 2.0", "tail = 1.5"), encoding="utf-8")
+    assert main(["workflow", "run", str(wf)]) == 0
+    assert len(calls) == 8
+
+    # a deleted plot is redrawn from the file, without recomputing
+    png.unlink()
+    assert main(["workflow", "run", str(wf)]) == 0
+    assert png.is_file() and len(calls) == 8
+
+
+def test_failing_step_exits_non_zero_and_logs(tmp_path):
+    (tmp_path / "bad.toml").write_text(SMALL_STUDY.replace("tail = 2.0", "tail = -1.0"), encoding="utf-8")
+    wf = _workflow(tmp_path, "bad.toml")
+    assert main(["workflow", "run", str(wf)]) == 1
+    log = (tmp_path / "logs" / "wf.log").read_text()
+    assert "FAILED" in log and "options" in log and "failed at step 1" in log
+    assert not (tmp_path / "out" / "small.nc").exists()
+
+
+def test_bad_workflow_file_names_the_field(tmp_path, capsys):
+    wf = _workflow(tmp_path, extra='colour = "blue"')
+    assert main(["workflow", "run", str(wf)]) == 2
+    assert "field steps[0].colour" in capsys.readouterr().err
+
+
+def test_shipped_workflow_and_units_only_call_frustum_workflow_run():
+    from pathlib import Path
+
+    from pipeline.cli.workflow import load_workflow
+
+    root = Path(__file__).parents[2]
+    wf = load_workflow(root / "workflows" / "nightly.toml")
+    assert wf["steps"][0]["study"].endswith("studies/quickstart.toml")
+    commands = [line for line in (root / "workflows" / "cron" / "frustum.cron").read_text().splitlines()
+                if line.strip() and not line.startswith("#")]
+    assert len(commands) == 1 and "frustum workflow run workflows/nightly.toml" in commands[0]
+    service = (root / "workflows" / "systemd" / "frustum-workflow.service").read_text()
+    execs = [line for line in service.splitlines() if line.startswith("Exec")]
+    assert execs == ["ExecStart=/work/main/.venv/bin/frustum workflow run workflows/nightly.toml"]
+    assert "OnCalendar=" in (root / "workflows" / "systemd" / "frustum-workflow.timer").read_text()
