@@ -113,6 +113,15 @@ class RunReport:
         Cells of the results grid.
     seconds : float
         Wall time of the computing phase [s] (cluster start-up included).
+    failed : int
+        Cells with status 1.
+    startup_seconds : float
+        Of which starting or connecting to the cluster and loading the
+        kernels on the workers [s].
+    task_seconds : float
+        Sum of the tasks' own compute times [s]; ``task_seconds /
+        (n_workers * (seconds - startup_seconds))`` is the busy fraction.
+    n_workers : int
     """
 
     path: str
@@ -124,6 +133,9 @@ class RunReport:
     grid_size: int = 0
     seconds: float = 0.0
     failed: int = 0
+    startup_seconds: float = 0.0
+    task_seconds: float = 0.0
+    n_workers: int = 1
 
 
 # -- intensity measures --------------------------------------------------------------------------
@@ -473,6 +485,7 @@ def run_study(study, *, out=None, motions=None, scheduler=None, workers=None, se
         _place(arrays, result)
         report.computed.append(result["index"])
         report.simulations += result["runs"]
+        report.task_seconds += result["seconds"]
         for line in result["errors"]:
             print(f"frustum: simulation failed (status 1): record {study.records[result['record']].id}: {line}",
                   file=sys.stderr)
@@ -481,10 +494,15 @@ def run_study(study, *, out=None, motions=None, scheduler=None, workers=None, se
     if pending:
         warm_up(study.models)
         if serial:
+            report.startup_seconds = time.monotonic() - t0
             for task in pending:
                 finish(run_task(task, motions[task.record]))
         else:
-            _run_dask(pending, motions, finish, scheduler, workers, window, study.models)
+            def started(n_workers):
+                report.startup_seconds = time.monotonic() - t0
+                report.n_workers = n_workers
+
+            _run_dask(pending, motions, finish, scheduler, workers, window, study.models, started)
     report.seconds = time.monotonic() - t0
     bar.show(final=True)
     ds = assemble(study, motions, measures, factors, arrays)
@@ -498,7 +516,7 @@ def run_study(study, *, out=None, motions=None, scheduler=None, workers=None, se
     return report
 
 
-def _run_dask(pending, motions, finish, scheduler, workers, window, models):
+def _run_dask(pending, motions, finish, scheduler, workers, window, models, started=None):
     import logging
 
     import distributed
@@ -519,6 +537,8 @@ def _run_dask(pending, motions, finish, scheduler, workers, window, models):
     try:
         n_workers = max(1, len(client.scheduler_info().get("workers", {})))
         client.run(warm_up, models)
+        if started is not None:
+            started(n_workers)
         limit = window or 2 * n_workers + 2
         needed = sorted({t.record for t in pending})
         scattered = {ri: client.scatter(motions[ri], hash=False) for ri in needed}
