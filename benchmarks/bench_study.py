@@ -8,8 +8,11 @@ second and the parallel efficiency
     E = T(1 worker) / (2 T(2 workers))
 
 for the compute phase (cluster already up, kernels loaded) and end to end
-(cluster start included). Also the busy fraction: the tasks' own compute time
-over workers x wall time, i.e. 1 - (scheduling overhead + load imbalance).
+(cluster start included). Also the busy fraction: the tasks' own wall time over
+workers x compute-phase wall time, i.e. 1 - (scheduling overhead + load
+imbalance); and the CPU share of the tasks: their CPU time over their wall time
+(below 1 when other processes compete for the cores, which caps the efficiency
+whatever Dask does).
 
 Run by hand (not a test): ``.venv/bin/python benchmarks/bench_study.py``.
 The numbers depend on what else the machine runs: quote ratios from one run.
@@ -30,8 +33,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def one(study, motions, out, **kwargs):
     report = run_study(study, out=out, motions=motions, progress=False, **kwargs)
-    compute = report.seconds - report.startup_seconds
-    return report, compute
+    return report, report.compute_seconds
 
 
 def main():
@@ -59,10 +61,12 @@ def main():
                     best = (report, compute, total)
             report, compute, total = best
             busy = report.task_seconds / (report.n_workers * compute)
+            cpu_share = report.task_cpu_seconds / report.task_seconds
             rows[label] = (compute, total)
             print(f"{label:>9}: {report.simulations} simulations, {len(report.computed)} tasks; compute "
                   f"{compute:6.2f} s = {report.simulations / compute:6.1f} sim/s; end to end {total:6.2f} s "
-                  f"(start-up {report.startup_seconds:5.2f} s); busy fraction {busy:.3f}")
+                  f"(start-up {report.startup_seconds:5.2f} s); busy fraction {busy:.3f}; "
+                  f"CPU share of the tasks {cpu_share:.2f}")
     c1, t1 = rows["1 worker"]
     c2, t2 = rows["2 workers"]
     print(f"parallel efficiency, compute phase: T1/(2 T2) = {c1:.2f}/(2 x {c2:.2f}) = {c1 / (2 * c2):.2f}")

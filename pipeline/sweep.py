@@ -118,9 +118,14 @@ class RunReport:
     startup_seconds : float
         Of which starting or connecting to the cluster and loading the
         kernels on the workers [s].
+    compute_seconds : float
+        From the cluster being ready to the last task's result [s].
     task_seconds : float
         Sum of the tasks' own compute times [s]; ``task_seconds /
-        (n_workers * (seconds - startup_seconds))`` is the busy fraction.
+        (n_workers * compute_seconds)`` is the busy fraction.
+    task_cpu_seconds : float
+        CPU time the tasks got [s]; below ``task_seconds`` when other
+        processes compete for the cores.
     n_workers : int
     """
 
@@ -134,7 +139,9 @@ class RunReport:
     seconds: float = 0.0
     failed: int = 0
     startup_seconds: float = 0.0
+    compute_seconds: float = 0.0
     task_seconds: float = 0.0
+    task_cpu_seconds: float = 0.0
     n_workers: int = 1
 
 
@@ -240,10 +247,11 @@ def run_task(task, motion):
     -------
     dict
         ``index``, ``record``, ``start``, ``stop``, ``runs`` (simulations run),
-        ``seconds`` (compute time [s]), ``errors`` (first messages) and
+        ``seconds`` (wall time [s]), ``cpu_seconds`` (CPU time of the
+        process [s]), ``errors`` (first messages) and
         ``arrays``: name -> array (n_block_columns, n_angles, n_scales, n_models).
     """
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     shape = (len(task.columns), len(task.angles), len(task.factors), len(task.settings))
     arrays = {name: np.zeros(shape, dtype=_DTYPES[name]) for name in RESULT_VARIABLES}
     for name in FLOAT_VARIABLES:
@@ -274,7 +282,8 @@ def run_task(task, motion):
                     for name in FLAG_VARIABLES[:-1]:
                         arrays[name][index] = 1 if summary[name] else 0
     return {"index": task.index, "record": task.record, "start": task.start, "stop": task.stop, "runs": runs,
-            "seconds": time.perf_counter() - t0, "errors": errors, "arrays": arrays}
+            "seconds": time.perf_counter() - t0, "cpu_seconds": time.process_time() - c0, "errors": errors,
+            "arrays": arrays}
 
 
 def warm_up(models=("3d", "2d")):
@@ -351,7 +360,8 @@ class Checkpoint:
         import io
 
         buf = io.BytesIO()
-        meta = {k: result[k] for k in ("index", "record", "start", "stop", "runs", "seconds", "errors")}
+        meta = {k: result.get(k) for k in ("index", "record", "start", "stop", "runs", "seconds", "cpu_seconds",
+                                           "errors")}
         np.savez(buf, meta=np.array(json.dumps(meta)), **result["arrays"])
         self._atomic(self._path(result["index"]), buf.getvalue())
 
@@ -486,6 +496,8 @@ def run_study(study, *, out=None, motions=None, scheduler=None, workers=None, se
         report.computed.append(result["index"])
         report.simulations += result["runs"]
         report.task_seconds += result["seconds"]
+        report.task_cpu_seconds += result.get("cpu_seconds") or 0.0
+        report.compute_seconds = time.monotonic() - t0 - report.startup_seconds
         for line in result["errors"]:
             print(f"frustum: simulation failed (status 1): record {study.records[result['record']].id}: {line}",
                   file=sys.stderr)
@@ -516,6 +528,22 @@ def run_study(study, *, out=None, motions=None, scheduler=None, workers=None, se
     return report
 
 
+def _probe(address, timeout=5.0):
+    """Fail fast, naming the address, when nothing listens at a tcp:// scheduler address."""
+    import socket
+    from urllib.parse import urlsplit
+
+    parts = urlsplit(address if "://" in address else f"tcp://{address}")
+    if parts.scheme != "tcp" or not parts.hostname or not parts.port:
+        return
+    try:
+        with socket.create_connection((parts.hostname, parts.port), timeout=timeout):
+            pass
+    except OSError as exc:
+        raise InputError(f"--scheduler {address}: cannot connect ({exc.strerror or exc}); start it with "
+                         "`dask scheduler` or drop --scheduler for a local cluster") from None
+
+
 def _run_dask(pending, motions, finish, scheduler, workers, window, models, started=None):
     import logging
 
@@ -523,6 +551,7 @@ def _run_dask(pending, motions, finish, scheduler, workers, window, models, star
 
     cluster = None
     if scheduler:
+        _probe(scheduler)
         try:
             client = distributed.Client(scheduler, timeout="30s")
         except OSError as exc:
