@@ -569,15 +569,16 @@ def _run_dask(pending, motions, finish, scheduler, workers, window, models, star
         if started is not None:
             started(n_workers)
         limit = window or 2 * n_workers + 2
-        needed = sorted({t.record for t in pending})
-        scattered = {ri: client.scatter(motions[ri], hash=False) for ri in needed}
+        # Each task carries its record (tens of kB) rather than a scattered copy: scattered
+        # data lives on one worker and is lost with it, while a task's own arguments are
+        # kept by the scheduler, so a dead worker costs only a retry elsewhere.
         queue = iter(pending)
         running = distributed.as_completed()
 
         def submit_next():
             task = next(queue, None)
             if task is not None:
-                running.add(client.submit(run_task, task, scattered[task.record], pure=False, retries=2,
+                running.add(client.submit(run_task, task, motions[task.record], pure=False, retries=2,
                                           key=f"frustum-task-{task.index}-{os.getpid()}-{time.monotonic_ns()}"))
 
         for _ in range(limit):

@@ -3,6 +3,7 @@
 Both give the serial run's numbers exactly.
 """
 
+import contextlib
 import json
 import os
 import signal
@@ -43,10 +44,12 @@ def _stop(proc):
             proc.wait(timeout=15)
 
 
-@pytest.fixture(scope="module")
-def dask_cluster(tmp_path_factory):
-    """A scheduler and two single-threaded workers, subprocesses of the `dask` CLI; always cleaned up."""
-    folder = tmp_path_factory.mktemp("dask")
+@contextlib.contextmanager
+def running_cluster(folder, n_workers=2):
+    """A scheduler and single-threaded workers, subprocesses of the `dask` CLI; always cleaned up.
+
+    Yields (address, worker processes). Each process is its own process group, stopped by its id.
+    """
     scheduler_file = folder / "scheduler.json"
     port = _free_port()
     procs = []
@@ -57,6 +60,7 @@ def dask_cluster(tmp_path_factory):
         logs.append(log)
         procs.append(subprocess.Popen([str(DASK), *args], stdout=log, stderr=subprocess.STDOUT,
                                       start_new_session=True, cwd=folder))
+        return procs[-1]
 
     try:
         start(["scheduler", "--host", "127.0.0.1", "--port", str(port), "--no-dashboard",
@@ -67,20 +71,26 @@ def dask_cluster(tmp_path_factory):
             assert time.monotonic() < deadline, "the dask scheduler did not start"
             time.sleep(0.1)
         address = json.loads(scheduler_file.read_text())["address"]
-        for i in range(2):
-            start(["worker", address, "--nworkers", "1", "--nthreads", "1", "--no-dashboard",
-                   "--host", "127.0.0.1", "--name", f"test-worker-{i}", "--local-directory", str(folder)],
-                  f"worker-{i}")
+        workers = [start(["worker", address, "--nworkers", "1", "--nthreads", "1", "--no-dashboard",
+                          "--host", "127.0.0.1", "--name", f"test-worker-{i}", "--local-directory", str(folder)],
+                         f"worker-{i}") for i in range(n_workers)]
         import distributed
 
         with distributed.Client(address, timeout="30s") as client:
-            client.wait_for_workers(2, timeout=START_TIMEOUT)
-        yield address
+            client.wait_for_workers(n_workers, timeout=START_TIMEOUT)
+        yield address, workers
     finally:
         for proc in reversed(procs):
             _stop(proc)
         for log in logs:
             log.close()
+
+
+@pytest.fixture(scope="module")
+def dask_cluster(tmp_path_factory):
+    """Address of a scheduler with two workers on loopback, shared by the module's tests."""
+    with running_cluster(tmp_path_factory.mktemp("dask")) as (address, _):
+        yield address
 
 
 def test_external_cluster_equals_serial(dask_cluster, write_study, small_reference, same_results, capsys):
@@ -115,3 +125,37 @@ def test_unreachable_scheduler_is_an_input_error(write_study, capsys):
     port = _free_port()
     assert main(["study", "run", str(write_study()), "--scheduler", f"tcp://127.0.0.1:{port}", "--quiet"]) == 2
     assert "cannot connect" in capsys.readouterr().err
+
+
+def test_a_worker_that_dies_costs_only_a_retry(tmp_path, write_study, same_results):
+    """Kill one of two workers (its whole process group) mid-study: the study completes, same numbers."""
+    import threading
+
+    from conftest import SMALL_STUDY
+
+    text = SMALL_STUDY.replace("block_columns = 2", "block_columns = 1").replace(
+        "duration = 6.0", "duration = 20.0")
+    path = write_study(text)
+    reference = run_study(load_study(path), out=str(tmp_path / "serial.nc"), serial=True, progress=False)
+    checkpoint = tmp_path / "small.nc.checkpoint"
+    (tmp_path / "cluster").mkdir()
+    with running_cluster(tmp_path / "cluster", 2) as (address, workers):
+        killed = []
+
+        def killer():
+            deadline = time.monotonic() + 60
+            while time.monotonic() < deadline:
+                if checkpoint.is_dir() and len(list(checkpoint.glob("task-*"))) >= 1:
+                    os.killpg(workers[1].pid, signal.SIGKILL)
+                    killed.append(len(list(checkpoint.glob("task-*"))))
+                    return
+                time.sleep(0.005)
+
+        thread = threading.Thread(target=killer)
+        thread.start()
+        report = run_study(load_study(path), scheduler=address, progress=False)
+        thread.join()
+    assert killed and killed[0] < report.n_tasks, "the worker was not killed mid-study"
+    assert workers[1].poll() is not None
+    assert sorted(report.computed) == list(range(report.n_tasks))
+    same_results(report.dataset, reference.dataset)
