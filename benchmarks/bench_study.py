@@ -14,12 +14,21 @@ imbalance); and the CPU share of the tasks: their CPU time over their wall time
 (below 1 when other processes compete for the cores, which caps the efficiency
 whatever Dask does).
 
-Run by hand (not a test): ``.venv/bin/python benchmarks/bench_study.py``.
+``--memory`` instead runs ``studies/bench_100k.toml`` (100,000 simulations,
+short synthetic records) on a local cluster of two workers and prints the peak
+resident memory of the driving process (which also hosts the scheduler) and of
+the workers, against the same study cut to its first 3 records (12,000 simulations): bounded memory
+means the peaks do not grow with the study.
+
+Run by hand (not a test): ``.venv/bin/python benchmarks/bench_study.py [--memory]``.
 The numbers depend on what else the machine runs: quote ratios from one run.
 """
 
 import argparse
 import os
+import resource
+import subprocess
+import sys
 import platform
 import tempfile
 import time
@@ -36,11 +45,46 @@ def one(study, motions, out, **kwargs):
     return report, report.compute_seconds
 
 
+MEMORY_CHILD = """\
+import resource, sys, time
+from pipeline.study import load_study
+from pipeline.sweep import run_study
+if __name__ == "__main__":
+    study = load_study(sys.argv[1])
+    if sys.argv[3] != "all":  # keep the first N records only
+        import dataclasses
+        study = dataclasses.replace(study, records=study.records[: int(sys.argv[3])])
+    report = run_study(study, out=sys.argv[2], workers=2, progress=False)
+    own = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    kids = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
+    print(f"{report.simulations} {report.compute_seconds:.2f} {report.seconds:.2f} {own:.0f} {kids:.0f}")
+"""
+
+
+def memory(study_path):
+    """Peak memory of driver(+scheduler) and workers: 12,000 vs 100,000 simulations."""
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "bench.nc")
+        for n_records in ("3", "all"):
+            line = subprocess.run([sys.executable, "-c", MEMORY_CHILD, study_path, out, n_records],
+                                  capture_output=True, text=True, check=True).stdout.split()
+            sims, compute, total, own, kids = line
+            print(f"{int(sims):>7} simulations: compute {float(compute):6.1f} s = "
+                  f"{int(sims) / float(compute):6.0f} sim/s, total {float(total):6.1f} s; peak RSS driver+scheduler "
+                  f"{own} MiB, largest worker {kids} MiB")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--study", default=str(ROOT / "studies" / "bench_500.toml"))
+    parser.add_argument("--study", default=None)
     parser.add_argument("--repeat", type=int, default=2)
+    parser.add_argument("--memory", action="store_true", help="memory at 12,000 and 100,000 simulations")
     args = parser.parse_args()
+    if args.memory:
+        print(f"machine: {platform.machine()}, {os.cpu_count()} cores, load average {os.getloadavg()[0]:.2f}")
+        memory(args.study or str(ROOT / "studies" / "bench_100k.toml"))
+        return
+    args.study = args.study or str(ROOT / "studies" / "bench_500.toml")
     study = load_study(args.study, load_records=False)
     motions = load_motions(study)
     warm_up(study.models)

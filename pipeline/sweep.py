@@ -390,7 +390,7 @@ def checkpoint_key(study, motions, tasks):
 # -- progress ------------------------------------------------------------------------------------
 
 class Progress:
-    """A text progress bar on stderr: tasks, simulations, elapsed time and ETA."""
+    """A text progress bar on stderr: finished tasks, elapsed time and ETA (a line every 5 s when not a terminal)."""
 
     def __init__(self, total, done=0, stream=None, enabled=True, width=30):
         self.total, self.done, self.width = total, done, width
