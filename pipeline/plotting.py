@@ -108,6 +108,8 @@ def plot_study(ds, path):
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.5), constrained_layout=True)
     first = ds.isel(column=0)
     markers = "os^vD"
+    standing = first.peak_theta_ratio.where((first.status == 0) & (first.overturned == 0))
+    top = float(standing.max()) if standing.notnull().any() else 1.0
     for mi, model in enumerate(ds.model.values):
         sub = first.sel(model=model)
         pga = np.broadcast_to(sub.pga.transpose("record", "scale").values[:, None, :],
@@ -118,12 +120,12 @@ def plot_study(ds, path):
         ax1.scatter((pga / G)[good & ~over], ratio[good & ~over], s=14, marker=markers[mi % 5], alpha=0.7,
                     label=f"{model}: stands")
         if (good & over).any():
-            ax1.scatter((pga / G)[good & over], np.full((good & over).sum(), 1.05), s=22,
+            ax1.scatter((pga / G)[good & over], np.full((good & over).sum(), max(1.05, 1.05 * top)), s=22,
                         marker=markers[mi % 5], facecolors="none", edgecolors="k", label=f"{model}: overturned")
     ax1.axhline(1.0, color="0.5", lw=0.8, ls="--")
     ax1.set_xlabel("PGA of the scaled record (horizontal vector) [g]")
-    ax1.set_ylabel(r"peak $\theta$ / $\theta_{crit}$ [1] (overturned at 1.05)")
-    ax1.set_ylim(0, 1.12)
+    ax1.set_ylabel(r"peak $\theta$ / $\theta_{crit}$ [1] (overturned: drawn at the top)")
+    ax1.set_ylim(0, max(1.12, 1.12 * top))
     ax1.set_title(f"column {first.column.values.item()}", fontsize=10)
     ax1.legend(fontsize=8)
     frac = (ds.overturned.where(ok)).mean(dim=("record", "angle"))
