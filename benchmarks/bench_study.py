@@ -26,10 +26,9 @@ The numbers depend on what else the machine runs: quote ratios from one run.
 
 import argparse
 import os
-import resource
+import platform
 import subprocess
 import sys
-import platform
 import tempfile
 import time
 from pathlib import Path
