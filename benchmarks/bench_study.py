@@ -3,12 +3,9 @@
 Runs ``studies/bench_500.toml`` (exactly 500 simulations, 25 tasks) serially in
 this process, then on a local cluster of one and of two worker processes
 (fresh clusters each time; best of ``--repeat``), and prints simulations per
-second and the parallel efficiency
-
-    E = T(1 worker) / (2 T(2 workers))
-
-for the compute phase (cluster already up, kernels loaded) and end to end
-(cluster start included). Also the busy fraction: the tasks' own wall time over
+second, the speed-up S = T(1 worker) / T(2 workers) (the issue's target: 1.8
+or more) and the parallel efficiency E = S / 2, for the compute phase
+(cluster already up, kernels loaded) and end to end (cluster start included). Also the busy fraction: the tasks' own wall time over
 workers x compute-phase wall time, i.e. 1 - (scheduling overhead + load
 imbalance); and the CPU share of the tasks: their CPU time over their wall time
 (below 1 when other processes compete for the cores, which caps the efficiency
@@ -17,8 +14,8 @@ whatever Dask does).
 ``--memory`` instead runs ``studies/bench_100k.toml`` (100,000 simulations,
 short synthetic records) on a local cluster of two workers and prints the peak
 resident memory of the driving process (which also hosts the scheduler) and of
-the workers, against the same study cut to its first 3 records (12,000 simulations): bounded memory
-means the peaks do not grow with the study.
+the workers, against the same study cut to its first 3 records (12,000
+simulations): bounded memory means the peaks do not grow with the study.
 
 Run by hand (not a test): ``.venv/bin/python benchmarks/bench_study.py [--memory]``.
 The numbers depend on what else the machine runs: quote ratios from one run.
@@ -112,8 +109,10 @@ def main():
                   f"CPU share of the tasks {cpu_share:.2f}")
     c1, t1 = rows["1 worker"]
     c2, t2 = rows["2 workers"]
-    print(f"parallel efficiency, compute phase: T1/(2 T2) = {c1:.2f}/(2 x {c2:.2f}) = {c1 / (2 * c2):.2f}")
-    print(f"parallel efficiency, end to end:    T1/(2 T2) = {t1:.2f}/(2 x {t2:.2f}) = {t1 / (2 * t2):.2f}")
+    print(f"compute phase: speed-up T1/T2 = {c1:.2f}/{c2:.2f} = {c1 / c2:.2f}, "
+          f"parallel efficiency T1/(2 T2) = {c1 / (2 * c2):.2f}")
+    print(f"end to end:    speed-up T1/T2 = {t1:.2f}/{t2:.2f} = {t1 / t2:.2f}, "
+          f"parallel efficiency T1/(2 T2) = {t1 / (2 * t2):.2f}")
     print(f"dask overhead (1 worker vs serial, compute phase): {rows['1 worker'][0] / rows['serial'][0] - 1:+.1%}")
     print(f"load average at end {os.getloadavg()[0]:.2f}")
 
