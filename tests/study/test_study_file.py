@@ -123,3 +123,20 @@ def test_quickstart_study_is_valid():
     assert study.columns[0].column.R == 0.5 and study.columns[0].column.r == 0.4 and study.columns[0].column.h == 4
     assert all(r.id.startswith("FEMA-FF-") for r in study.records)
     assert len(study.angles) > 1 and len(study.scales) > 1
+
+
+def test_record_file_with_units_loads_as_the_catalog_record(write_study):
+    """A record given as a file (MiniSEED, m/s^2) is the same samples as its catalog entry."""
+    from pathlib import Path
+
+    from pipeline.groundmotion import load
+    from pipeline.study import load_motions
+
+    mseed = Path(__file__).parents[2] / "records" / "synthetic" / "SYN-RICKER.mseed"
+    start = SMALL_STUDY.index("synthetic = [")
+    end = SMALL_STUDY.index("[excitation]")
+    text = SMALL_STUDY[:start] + f'files = [{{path = "{mseed}", units = "m/s2", id = "ricker-file"}}]\n\n' \
+        + SMALL_STUDY[end:]
+    study = load_study(write_study(text))
+    assert [r.id for r in study.records] == ["ricker-file"] and study.records[0].kind == "file"
+    assert load_motions(study)[0].sha256() == load("SYN-RICKER").sha256()
