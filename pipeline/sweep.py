@@ -318,9 +318,19 @@ class Checkpoint:
     """
 
     def __init__(self, folder, key):
+        import fcntl
+
         self.folder = folder
         self.key = key
         os.makedirs(folder, exist_ok=True)
+        # one run per checkpoint at a time; the kernel releases the lock if the run dies
+        self._lock = open(os.path.join(folder, ".lock"), "w")  # noqa: SIM115 - closed in release()
+        try:
+            fcntl.flock(self._lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            self._lock.close()
+            raise InputError(f"{folder}: another run of this study is writing here; wait for it to finish "
+                             "(or give another --out)") from None
         manifest = os.path.join(folder, "manifest.json")
         old = None
         if os.path.exists(manifest):
@@ -372,8 +382,14 @@ class Checkpoint:
             meta["arrays"] = {name: f[name] for name in RESULT_VARIABLES}
         return meta
 
+    def release(self):
+        """Let another run use the folder."""
+        if not self._lock.closed:
+            self._lock.close()
+
     def remove(self):
-        """Delete the folder (after the results file is written)."""
+        """Delete the folder (after the results file is written) and release it."""
+        self.release()
         shutil.rmtree(self.folder, ignore_errors=True)
 
 
@@ -481,6 +497,15 @@ def run_study(study, *, out=None, motions=None, scheduler=None, workers=None, se
     factors = scale_factors(study, measures)
     tasks = plan(study, factors)
     ckpt = Checkpoint(out + ".checkpoint", checkpoint_key(study, motions, tasks))
+    try:
+        return _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, scheduler, workers, serial,
+                                 progress, keep_checkpoint, window)
+    finally:
+        ckpt.release()
+
+
+def _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, scheduler, workers, serial, progress,
+                      keep_checkpoint, window):
     arrays = _allocate(study.shape)
     done = ckpt.done() & {t.index for t in tasks}
     for index in sorted(done):

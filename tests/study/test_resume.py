@@ -85,7 +85,9 @@ def test_changed_study_discards_the_old_checkpoint(write_study):
     path = write_study(SMALL_STUDY.replace("block_columns = 2", MANY_TASKS))
     out = path.parent / "small.nc"
     run_study(load_study(path), serial=True, progress=False, keep_checkpoint=True)
-    assert len(Checkpoint(str(out) + ".checkpoint", "irrelevant").done()) == 0  # other key: emptied
+    other = Checkpoint(str(out) + ".checkpoint", "irrelevant")
+    assert len(other.done()) == 0  # another key: emptied
+    other.release()
     run_study(load_study(path), serial=True, progress=False, keep_checkpoint=True)
     path.write_text(path.read_text().replace("tail = 2.0", "tail = 1.0"))
     report = run_study(load_study(path), serial=True, progress=False)
@@ -103,3 +105,18 @@ def test_checkpoint_roundtrip(tmp_path):
     for name, arr in result["arrays"].items():
         assert back["arrays"][name].dtype == arr.dtype and np.array_equal(back["arrays"][name], arr)
     assert [p for p in os.listdir(tmp_path / "c") if p.startswith(".partial-")] == []
+
+
+def test_two_runs_of_one_study_do_not_share_a_checkpoint(write_study):
+    import pytest
+
+    from pipeline.errors import InputError
+
+    path = write_study()
+    held = Checkpoint(str(path.parent / "small.nc") + ".checkpoint", "running")
+    try:
+        with pytest.raises(InputError, match="another run of this study is writing here"):
+            run_study(load_study(path), serial=True, progress=False)
+    finally:
+        held.release()
+    assert run_study(load_study(path), serial=True, progress=False).failed == 0
