@@ -231,24 +231,38 @@ def plot_angle_polar(results, stem, column, model="2d", scales=None, title=None)
     angles = one["angle"].values
     if scales is None:
         scales = [s for s in one["scale"].values if np.nanmax(frac.sel(scale=s).values) > 0]
-    fig = plt.figure(figsize=(7.5, 6.5), constrained_layout=True)
-    ax = fig.add_subplot(projection="polar")
+    fig = plt.figure(figsize=(7.5, 9.0))
+    ax = fig.add_axes([0.12, 0.22, 0.76, 0.64], projection="polar")  # room for title and legend
     cmap = plt.get_cmap("viridis")
+    units = results["scale"].attrs.get("units", "1")
+    reference = None
+    if model != "3d" and "3d" in [str(m) for m in results["model"].values]:
+        ref = results.sel(column=column, model="3d").isel(angle=0)
+        ok = ref["status"] == 0 if "status" in ref else True
+        reference = (ref["overturned"].where(ok) > 0).where(ok).mean("record")  # (scale,)
+    ring = np.linspace(0, 2 * np.pi, 181)
     for i, s in enumerate(scales):
+        color = cmap(i / max(len(scales) - 1, 1))
         f = frac.sel(scale=s).values
         a = np.concatenate([angles, angles + 180.0])
         v = np.concatenate([f, f])
         order = np.argsort(a % 360)
         a, v = a[order] % 360, v[order]
         a, v = np.append(a, a[0] + 360), np.append(v, v[0])
-        ax.plot(np.radians(a), v, marker="o", ms=3, color=cmap(i / max(len(scales) - 1, 1)),
-                label=f"scale {s:g}")
+        label = f"PGA {s / G:.2g} g" if units == "m s-2" else f"scale {s:g}"
+        ax.plot(np.radians(a), v, marker="o", ms=3, color=color, label=f"{label}, 2D")
+        if reference is not None:
+            ax.plot(ring, np.full(ring.size, float(reference.sel(scale=s))), color=color, ls=":", lw=1.2)
+    if reference is not None:
+        ax.plot([], [], color="0.3", ls=":", label="3D: dotted ring, same colour")
     ax.set_rlim(0, 1)
     ax.set_rlabel_position(100)
-    ax.set_xlabel("incidence angle [deg] (radius: fraction of records that overturn the column [1])")
-    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="small", title="record scale factor")
-    ax.set_title(title or f"{_MODEL_NAME.get(model, model)}, column '{column}': overturning by incidence angle",
-                 fontsize="medium")
+
+    fig.legend(*ax.get_legend_handles_labels(), loc="lower center", bbox_to_anchor=(0.5, 0.01), ncol=3,
+               fontsize="small", title="target PGA of the records" if units == "m s-2" else "record scale factor")
+    fig.suptitle((title or f"{_MODEL_NAME.get(model, model)}, column '{column}': overturning by incidence angle")
+                 + "\nangle: incidence angle [deg]; radius: fraction of records that overturn the column [1]",
+                 fontsize="medium", y=0.985)
     return _save(fig, stem)
 
 
@@ -353,9 +367,13 @@ def plot_column_grid(frag, values, stem, label, title, cmap="viridis", vmin=None
     for i in range(ys.size):
         for j in range(xs.size):
             v = table[i, j]
+            if np.isfinite(v):
+                r, g, b, _ = mesh.cmap(mesh.norm(v))
+                color = "w" if 0.299 * r + 0.587 * g + 0.114 * b < 0.5 else "k"  # text readable on the cell
+            else:
+                color = "k"
             ax.text(j, i, fmt.format(v) if np.isfinite(v) else missing_text, ha="center", va="center",
-                    fontsize="medium", color="k" if not np.isfinite(v) else "w" if
-                    (mesh.norm(v) < 0.6) else "k")
+                    fontsize="medium", color=color)
     ax.set_xticks(range(xs.size), [f"{x:g}" for x in xs])
     ax.set_yticks(range(ys.size), [f"{y:g}" for y in ys])
     ax.set_xlabel("slenderness h/R [1]")

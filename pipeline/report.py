@@ -378,7 +378,7 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
               "| column | R [m] | r [m] | h [m] | h/R | r/R | theta_crit [deg] |", "|---|---|---|---|---|---|---|"]
     for c in frag["column"].values:
         get = lambda name: float(frag[name].sel(column=c)) if name in frag.coords else math.nan  # noqa: E731
-        lines.append(f"| {c} | {_fmt(get('column_R'))} | {_fmt(get('column_r'))} | {_fmt(get('column_h'))} | "
+        lines.append(f"| {c} | {_fmt(get('column_R'), 4)} | {_fmt(get('column_r'), 4)} | {_fmt(get('column_h'), 4)} | "
                      f"{_fmt(get('slenderness'))} | {_fmt(get('column_beta'))} | "
                      f"{_fmt(math.degrees(get('theta_crit')))} |")
     lines.append("")
@@ -438,11 +438,26 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
                  "by PGA (all stood below, all overturned above): the step is placed between the two.")
     lines.append("")
 
+    targets = results["scale"].attrs.get("units", "1") == "m s-2"  # every record scaled to the stripe's PGA
     if comparison:
         lines += ["## 2D against 3D", ""]
         lines.append("A 2D (planar rocking) analysis is *unconservative* where it predicts a lower probability of "
                      "overturning than the 3D model, i.e. a higher median PGA. The numbers below are read from the "
                      "dataset: first from the fitted curves, then directly as fractions of runs that overturned.")
+        lines.append("")
+        ratios = np.array([r["ratio"] for r in comparison])
+        finite = np.isfinite(ratios)
+        if finite.any():
+            lo, hi = int(np.nanargmin(ratios)), int(np.nanargmax(ratios))
+            lines.append(f"**In short:** 2D is unconservative for {int(np.sum(ratios[finite] > 1))} of "
+                         f"{len(comparison)} column(s): its median PGA of overturning is {_fmt(ratios[lo])} "
+                         f"('{comparison[lo]['column']}') to {_fmt(ratios[hi])} ('{comparison[hi]['column']}') times "
+                         "the 3D one.")
+            lines.append("")
+        lines.append("Note: PGA here is the peak of the horizontal acceleration vector of the record. The 2D model "
+                     "feels only the component along the incidence angle, whose peak is at most that PGA, as in "
+                     "the usual 2D analysis of one component; part of the difference comes from that, the rest "
+                     "from the 3D rolling (wobbling) motion.")
         lines.append("")
         lines.append("| column | median PGA 3D [g] | median PGA 2D [g] | 2D / 3D | " +
                      " | ".join(f"P 3D / 2D at {lv:g} g" for lv in pga_levels_g) + " |")
@@ -460,21 +475,27 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
             else:
                 verdict = "no median for one of the models (see the table above)"
             k = r["worst_stripe"]
+            where = (f"at PGA {_g_and_ms2(r['stripe_im'][k])}" if targets else
+                     f"at scale factor {_fmt(r['stripe_scale'][k])} (geometric-mean PGA {_g_and_ms2(r['stripe_im'][k])})")
             lines.append(f"- Column '{r['column']}': {verdict}. In {r['stripes_2d_lower']} of "
-                         f"{len(r['fraction_3d'])} intensity stripes fewer runs overturn in 2D than in 3D; the "
+                         f"{len(r['fraction_3d'])} intensity stripes fewer runs overturn in 2D than in 3D"
+                         f" (more in {r['stripes_2d_higher']}); the "
                          f"largest shortfall is {_pct(r['worst_gap'])} of the runs (3D {_pct(r['fraction_3d'][k])}, "
-                         f"2D {_pct(r['fraction_2d'][k])}) at stripe {_fmt(r['stripe_scale'][k])} "
-                         f"(mean PGA {_g_and_ms2(r['stripe_im'][k])}).")
+                         f"2D {_pct(r['fraction_2d'][k])}) {where}.")
         lines.append("")
         if len(comparison) <= stripe_tables_max:
             lines.append("Fraction of runs that overturned per stripe (records and, for 2D, angles pooled):")
             lines.append("")
         for r in comparison[:stripe_tables_max] if len(comparison) <= stripe_tables_max else []:
-            lines.append(f"| '{r['column']}' stripe | mean PGA [g] | 3D | 2D |")
+            if targets:
+                lines.append(f"| '{r['column']}': PGA [g] | PGA [m/s²] | 3D | 2D |")
+            else:
+                lines.append(f"| '{r['column']}': scale factor | geometric-mean PGA [g] | 3D | 2D |")
             lines.append("|---|---|---|---|")
             for k in range(len(r["fraction_3d"])):
-                lines.append(f"| {_fmt(r['stripe_scale'][k])} | {_fmt(r['stripe_im'][k] / G)} | "
-                             f"{_pct(r['fraction_3d'][k])} | {_pct(r['fraction_2d'][k])} |")
+                first = _fmt(r['stripe_im'][k] / G) if targets else _fmt(r['stripe_scale'][k])
+                second = _fmt(r['stripe_im'][k]) if targets else _fmt(r['stripe_im'][k] / G)
+                lines.append(f"| {first} | {second} | {_pct(r['fraction_3d'][k])} | {_pct(r['fraction_2d'][k])} |")
             lines.append("")
 
     lines += ["## Figures", ""]
