@@ -157,6 +157,7 @@ def plot_ida(view, stem, title=None, units="m s-2", im="pga"):
             ax.plot(np.full(ov.sum(), cap), y[ov], "x", color="C3", ms=5)
     ax.axvline(1.0, color="k", ls="--", lw=1)
     ax.text(1.0, 1.0, " θ = θ_crit", transform=ax.get_xaxis_transform(), va="top", fontsize="small")
+    ax.plot([], [], color="0.5", lw=0.8, marker=".", label=f"one line per record ({view.sizes['record']})")
     ax.plot([], [], "x", color="C3", label=f"overturned (drawn at {cap})")
     ax.set_xlim(0, cap + 0.1)
     ax.set_xlabel("peak inclination over critical inclination θ_max/θ_crit [1]")
@@ -304,19 +305,31 @@ def plot_model_comparison(frag, stem, state="overturning", title=None):
     sub = frag.sel(state=state)
     m3 = sub["median"].sel(model="3d").values * factor
     m2 = sub["median"].sel(model="2d").values * factor
-    fig, ax = plt.subplots(figsize=(6.5, 6.0), constrained_layout=True)
+    fig, ax = plt.subplots(figsize=(7.0, 6.0), constrained_layout=True)
+    many = m3.size > 5 and "slenderness" in frag.coords and "column_beta" in frag.coords
     if "median_lower" in frag:
-        xerr = [m3 - sub["median_lower"].sel(model="3d").values * factor,
-                sub["median_upper"].sel(model="3d").values * factor - m3]
-        yerr = [m2 - sub["median_lower"].sel(model="2d").values * factor,
-                sub["median_upper"].sel(model="2d").values * factor - m2]
-        ax.errorbar(m3, m2, xerr=np.nan_to_num(xerr), yerr=np.nan_to_num(yerr), fmt="o", capsize=3,
-                    label=f"median with {100 * frag.attrs.get('confidence_level', 0.9):g} % bootstrap bounds")
+        xerr = np.nan_to_num([m3 - sub["median_lower"].sel(model="3d").values * factor,
+                              sub["median_upper"].sel(model="3d").values * factor - m3])
+        yerr = np.nan_to_num([m2 - sub["median_lower"].sel(model="2d").values * factor,
+                              sub["median_upper"].sel(model="2d").values * factor - m2])
+        ax.errorbar(m3, m2, xerr=xerr, yerr=yerr, fmt="none", ecolor="0.6", capsize=2, lw=0.8,
+                    label=f"{100 * frag.attrs.get('confidence_level', 0.9):g} % bootstrap bounds")
+    if many:
+        # many columns: colour = slenderness, marker = conicity (labels would overlap)
+        slender = frag["slenderness"].values
+        conicity = np.round(frag["column_beta"].values, 6)
+        markers = "osD^v<>p*h"
+        norm = plt.Normalize(slender.min(), slender.max())
+        for i, b in enumerate(np.unique(conicity)):
+            sel = conicity == b
+            sc = ax.scatter(m3[sel], m2[sel], c=slender[sel], cmap="viridis", norm=norm, s=45,
+                            marker=markers[i % len(markers)], edgecolor="k", zorder=3, label=f"r/R = {b:g}")
+        fig.colorbar(sc, ax=ax, label="slenderness h/R [1]")
     else:
-        ax.plot(m3, m2, "o", label="median")
-    for x, y, name in zip(m3, m2, frag["column"].values):
-        if np.isfinite(x) and np.isfinite(y):
-            ax.annotate(str(name), (x, y), textcoords="offset points", xytext=(6, -12), fontsize="small")
+        ax.plot(m3, m2, "o", zorder=3, label="median")
+        for x, y, name in zip(m3, m2, frag["column"].values):
+            if np.isfinite(x) and np.isfinite(y):
+                ax.annotate(str(name), (x, y), textcoords="offset points", xytext=(6, -12), fontsize="small")
     finite = np.concatenate([m3, m2])
     if "median_lower" in frag:
         finite = np.concatenate([finite] + [sub[v].values.ravel() * factor for v in ("median_lower", "median_upper")])

@@ -289,7 +289,7 @@ def write_report(results, out_dir, pga_levels_g=DEFAULT_PGA_LEVELS_G, states=F.D
                 frag, med, os.path.join(fig_dir, f"median_pga_grid_{m}"), "median PGA of overturning [g]",
                 f"{P._MODEL_NAME.get(m, m)}: median PGA of overturning [g] (n/a: none overturned up to "
                 f"{_fmt(float(results['pga'].max()) / G)} g)", cmap="viridis_r")[:1]
-            level = pga_levels_g[len(pga_levels_g) // 2]
+            level = _informative_level(frag, pga_levels_g)
             p = overturning_probabilities(frag, (level,))
             figs += P.plot_column_grid(
                 frag, [p[(c, m)][0] for c in frag["column"].values],
@@ -302,8 +302,8 @@ def write_report(results, out_dir, pga_levels_g=DEFAULT_PGA_LEVELS_G, states=F.D
             figs += P.plot_column_grid(
                 frag, ratio, os.path.join(fig_dir, "median_ratio_2d_3d_grid"), "median PGA 2D / median PGA 3D [1]",
                 "Median PGA of overturning, 2D over 3D (> 1: 2D unconservative)", cmap="magma_r", fmt="{:.2f}")[:1]
-    elif len(columns) > 1 and "slenderness" in frag.coords and len(np.unique(frag["slenderness"].values)) > 1:
-        level = pga_levels_g[len(pga_levels_g) // 2] * G
+    elif len(columns) > 2 and "slenderness" in frag.coords and len(np.unique(frag["slenderness"].values)) > 2:
+        level = _informative_level(frag, pga_levels_g) * G
         for m in models:
             figs += P.plot_geometry_map(frag, os.path.join(fig_dir, f"geometry_map_{m}"), level, model=m)[:1]
     for m in models:
@@ -332,6 +332,16 @@ def write_report(results, out_dir, pga_levels_g=DEFAULT_PGA_LEVELS_G, states=F.D
     os.replace(md_path + ".partial", md_path)
     return {"report": md_path, "csv": csv_path, "geojson": geo_path, "fragility": frag_path, "figures": figs,
             "frag": frag}
+
+
+def _informative_level(frag, pga_levels_g):
+    """The stated PGA level [g] nearest (in log) the geometric mean of the fitted medians of overturning."""
+    med = frag["median"].sel(state="overturning").values.ravel() / G
+    med = med[np.isfinite(med) & (med > 0)]
+    if med.size == 0:
+        return pga_levels_g[len(pga_levels_g) // 2]
+    target = math.exp(np.mean(np.log(med)))
+    return min(pga_levels_g, key=lambda lv: abs(math.log(lv / target)))
 
 
 def _overturning_all_columns(frag, stem):

@@ -135,7 +135,10 @@ def report_study(name):
     path = os.path.join(OUT, f"{name}.nc")
     results = F.open_results(path)
     t0 = time.time()
-    notes = NOTES[name]
+    notes = NOTES[name] + (f"\n\n*Reproduce:* `frustum study run studies/{name}/{name}.toml` (results in `out/{name}.nc`), "
+                           f"then `python studies/fragility_reports.py --only {name}`; or, for this report without "
+                           f"the contact paths, `frustum report out/{name}.nc --out DIR --bootstrap {BOOTSTRAP} "
+                           f"--seed {SEED}`.")
     if "2d" in [str(m) for m in results["model"].values]:
         med, lo, hi = component_share(results)
         notes += (f" The peak of the component that drives the 2D model is, over these records and angles, "
@@ -172,6 +175,9 @@ def report_damping():
              "(`damping_nu0.toml`, `damping_nu002.toml`, `damping_nu01.toml`): four columns (R = 0.5 m, r/R = 0.8, "
              f"h/R = 6, 8, 10, 12; `{PAPER}` is the paper's column) under the 22 FEMA P695 far-field pairs at "
              "11 PGA stripes (0.1 g to 3 g). All numbers below are read from the three results files.", "",
+             "*Reproduce:* `frustum study run studies/damping/damping_nu0.toml` (and `damping_nu002.toml`, "
+             "`damping_nu01.toml`), then `python studies/fragility_reports.py --only damping`. The bootstrap uses "
+             f"the same seed ({SEED}) for the three, so the intervals come from the same record resamples.", "",
              f"Median PGA of overturning [g] with the {100 * frags['0'].attrs['confidence_level']:g} % bootstrap "
              f"interval over records ({BOOTSTRAP} replicates), dispersion β, and the overturned runs:", "",
              "| column | " + " | ".join(f"ν = {nu}: median [g] | β | overturned" for nu in labels) + " | median ν=0.1 / ν=0 |",
