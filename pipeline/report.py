@@ -215,6 +215,29 @@ def _write_geojson(rows, path):
     return path
 
 
+CAPTIONS = (
+    ("fragility_overturning", "Probability of overturning against PGA. Lines: fitted curves; markers: the fraction "
+     "of runs that overturned at each intensity; shading: the uncertainty that comes from the choice of records."),
+    ("fragility_states", "Probability of reaching each damage state: the peak tilt reaching a quarter, half or all "
+     "of the tipping angle theta_crit, and overturning."),
+    ("fragility_all_columns", "The overturning curves of all columns side by side."),
+    ("median_pga_grid", "Median PGA of overturning (50 % chance) for each column shape; higher means the column "
+     "needs stronger shaking to fall."),
+    ("probability_grid", "Probability of overturning at one stated PGA for each column shape."),
+    ("median_ratio_2d_3d_grid", "How many times stronger the shaking must be in the 2D analysis than in the 3D one "
+     "for the same 50 % chance of overturning; above 1 the 2D analysis is unconservative."),
+    ("geometry_map", "Probability of overturning at one stated PGA, by slenderness and conicity of the columns."),
+    ("ida", "Each line follows one record as it is scaled up: the peak tilt as a fraction of the tipping angle; "
+     "crosses mark runs in which the column fell."),
+    ("angle_polar", "2D analysis: the share of records that topple the column for each direction of shaking "
+     "(solid); dotted rings: the 3D model, which does not depend on the direction."),
+    ("median_2d_vs_3d", "Each point is a column: above the dashed line the 2D analysis needs stronger shaking than "
+     "the 3D one to topple it (unconservative)."),
+    ("trajectories", "Paths on the ground of chosen runs: the contact point on the rim (blue) and the centre of the "
+     "base (orange). Planar rocking would draw a straight line; the rolling (wobbling) column circles."),
+)
+
+
 def _values(results, name):
     return [str(v) for v in np.asarray(results[name].values).ravel()] if name in results.variables else []
 
@@ -413,6 +436,17 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
                  f"to {_g_and_ms2(float(pga.max()))}.")
     lines.append(f"- **Model(s)**: {', '.join(P._MODEL_NAME.get(m, m) for m in models)}.")
     lines.append(f"- {n_total} simulations in the dataset, {n_failed} failed and left out.")
+    for flag, what in (("sliding_onset", "the friction needed exceeded the friction coefficient (the base would "
+                        "have started to slide; the model does not follow sliding)"),
+                       ("lift_off", "the contact force fell below zero (the column would have jumped)")):
+        if flag in results.variables:
+            for m in models:
+                one = results.sel(model=m)
+                ok = F._valid(one)
+                if m == "3d":
+                    one, ok = one.isel(angle=[0]), ok.isel(angle=[0])
+                count = int(((one[flag] > 0) & ok).sum())
+                lines.append(f"- {m.upper()}: in {count} of {int(ok.sum())} runs {what}.")
     lines += ["", "## Assumptions of the model", ""]
     damping = results.attrs.get("damping", 0)
     try:  # the study runner records the model options as JSON
@@ -511,8 +545,12 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
     lines += ["## Figures", ""]
     for path in figs:
         rel = os.path.relpath(path, out_dir)
-        name = os.path.splitext(os.path.basename(path))[0].replace("_", " ")
+        stem = os.path.splitext(os.path.basename(path))[0]
+        name = stem.replace("_", " ")
         lines += [f"![{name}]({rel})", ""]
+        caption = next((text for prefix, text in CAPTIONS if stem.startswith(prefix)), None)
+        if caption:
+            lines += [f"*{caption}*", ""]
     lines += ["## Files", "",
               "- `summary.csv`: one row per column and model (dimensions, runs, medians and dispersions of every "
               "damage state, probabilities at the PGA levels above); opens in a spreadsheet.",
