@@ -327,9 +327,10 @@ def plot_model_comparison(frag, stem, state="overturning", title=None):
         fig.colorbar(sc, ax=ax, label="slenderness h/R [1]")
     else:
         ax.plot(m3, m2, "o", zorder=3, label="median")
-        for x, y, name in zip(m3, m2, frag["column"].values):
-            if np.isfinite(x) and np.isfinite(y):
-                ax.annotate(str(name), (x, y), textcoords="offset points", xytext=(6, -12), fontsize="small")
+        for i, (x, y, name) in enumerate(zip(m3, m2, frag["column"].values)):
+            if np.isfinite(x) and np.isfinite(y):  # alternate below/above so neighbours' labels do not collide
+                ax.annotate(str(name), (x, y), textcoords="offset points", xytext=(6, -14 if i % 2 == 0 else 8),
+                            fontsize="small")
     finite = np.concatenate([m3, m2])
     if "median_lower" in frag:
         finite = np.concatenate([finite] + [sub[v].values.ravel() * factor for v in ("median_lower", "median_upper")])
