@@ -584,9 +584,15 @@ def _run_dask(pending, motions, finish, scheduler, workers, window, models, star
                              "or drop --scheduler for a local cluster") from None
         client.wait_for_workers(1, timeout=60)
     else:
+        import dask
+
         n = workers or os.cpu_count() or 1
-        cluster = distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                           dashboard_address=":0", silence_logs=logging.ERROR)
+        # distributed starts workers with MALLOC_TRIM_THRESHOLD_=65536 (return memory to the
+        # OS early); the many small arrays of each simulation then cost ~25 % more time
+        # (measured, docs/studies.md). The workers' memory is small: keep glibc's default.
+        with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
+            cluster = distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                               dashboard_address=":0", silence_logs=logging.ERROR)
         client = distributed.Client(cluster)
     try:
         n_workers = max(1, len(client.scheduler_info().get("workers", {})))
