@@ -187,3 +187,18 @@ def test_bad_input_is_rejected_with_a_message(fema1):
         bad = fema1.acc_x.copy()
         bad[100] = np.nan
         simulate(PAPER, GroundMotion.from_arrays(bad, fema1.acc_y, fema1.dt, record_id="bad"))
+
+
+def test_regression_turning_point_just_before_a_record_sample_does_not_hang():
+    """A turning point 3e-9 s before a sample once made the run loop for ever (r/R = 1)."""
+    r = simulate(Column(0.5, 0.5, 4.0), load("FEMA-FF-12"), Excitation(0.0, 3.5309436681931916),
+                 ModelSettings(model="3d"), histories=False)
+    assert r.summary["rhs_evaluations"] < 1_000_000 and not r.summary["overturned"]
+
+
+def test_regression_uplift_on_the_verge_does_not_cycle_without_time_advancing():
+    """2D: an excitation hovering just above the uplift threshold once cycled a million times."""
+    r = simulate(Column(0.5, 0.4, 6.0), load("FEMA-FF-03"), Excitation(math.radians(90), 1.0964),
+                 ModelSettings(model="2d"), histories=False)
+    assert 0 < r.summary["n_impacts"] < 10_000
+    assert abs(r.summary["energy_balance_error"]) < 1e-6 * abs(r.summary["work_ground"])

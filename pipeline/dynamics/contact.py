@@ -134,7 +134,10 @@ def uplift_azimuth(ax, ay):
 
 @njit(cache=True)
 def landing_impact(y, theta_c, c, y_out):
-    """Apply the landing impact at theta = theta_c; write the new state to ``y_out``.
+    """Apply the landing impact at tilt ``theta_c``; write the new state to ``y_out``.
+
+    ``theta_c`` is the tilt at which the landing was detected (the state's
+    theta); the new pivot's state has the same tilt, mirrored.
 
     The pivot moves to the rim point opposite the landing pivot. The impulse
     acts at the new pivot only, so the angular momentum about it is
