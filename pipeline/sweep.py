@@ -286,6 +286,18 @@ def run_task(task, motion):
             "arrays": arrays}
 
 
+def failed_result(task, message):
+    """What a task that could not run yields: every cell status 1 (NaN, flags 0)."""
+    shape = (len(task.columns), len(task.angles), len(task.factors), len(task.settings))
+    arrays = {name: np.zeros(shape, dtype=_DTYPES[name]) for name in RESULT_VARIABLES}
+    for name in FLOAT_VARIABLES:
+        arrays[name][...] = np.nan
+    arrays["status"][...] = 1
+    return {"index": task.index, "record": task.record, "start": task.start, "stop": task.stop, "runs": 0,
+            "seconds": 0.0, "cpu_seconds": 0.0, "errors": [f"columns {task.start}-{task.stop - 1}: {message}"],
+            "arrays": arrays}
+
+
 def warm_up(models=("3d", "2d")):
     """Run a tiny simulation per model so the compiled kernels are loaded (or compiled once).
 
@@ -515,8 +527,9 @@ def _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, sched
     bar = Progress(len(tasks), len(done), enabled=progress)
     t0 = time.monotonic()
 
-    def finish(result):
-        ckpt.save(result)
+    def finish(result, save=True):
+        if save:  # a failed task is not checkpointed: the next run tries it again
+            ckpt.save(result)
         _place(arrays, result)
         report.computed.append(result["index"])
         report.simulations += result["runs"]
@@ -605,19 +618,27 @@ def _run_dask(pending, motions, finish, scheduler, workers, window, models, star
         # kept by the scheduler, so a dead worker costs only a retry elsewhere.
         queue = iter(pending)
         running = distributed.as_completed()
+        in_flight = {}
 
         def submit_next():
             task = next(queue, None)
             if task is not None:
-                running.add(client.submit(run_task, task, motions[task.record], pure=False, retries=2,
-                                          key=f"frustum-task-{task.index}-{os.getpid()}-{time.monotonic_ns()}"))
+                future = client.submit(run_task, task, motions[task.record], pure=False, retries=2,
+                                       key=f"frustum-task-{task.index}-{os.getpid()}-{time.monotonic_ns()}")
+                in_flight[future.key] = task
+                running.add(future)
 
         for _ in range(limit):
             submit_next()
         for future in running:
-            result = future.result()
+            task = in_flight.pop(future.key)
+            try:
+                result = future.result()
+            except Exception as exc:  # noqa: BLE001 - after its retries a task's cells fail, the study goes on
+                finish(failed_result(task, f"task failed after retries: {type(exc).__name__}: {exc}"), save=False)
+            else:
+                finish(result)
             future.release()  # results are not kept on the cluster
-            finish(result)
             submit_next()
     finally:
         client.close()

@@ -13,6 +13,7 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from pipeline.cli import main
@@ -159,3 +160,27 @@ def test_a_worker_that_dies_costs_only_a_retry(tmp_path, write_study, same_resul
     assert workers[1].poll() is not None
     assert sorted(report.computed) == list(range(report.n_tasks))
     same_results(report.dataset, reference.dataset)
+
+
+def test_a_task_that_keeps_failing_marks_its_cells_failed(write_study, small_reference, monkeypatch):
+    """A task that raises on every try (after Dask's retries) gives status 1 for its cells, not a dead study."""
+    from pipeline import sweep
+
+    real = sweep.run_task
+
+    def broken(task, motion):  # a local function: cloudpickle ships it by value to the worker
+        if task.index == 1:
+            raise MemoryError("injected task failure")
+        return real(task, motion)
+
+    monkeypatch.setattr(sweep, "run_task", broken)
+    report = run_study(load_study(write_study()), workers=1, progress=False, keep_checkpoint=True)
+    ds = report.dataset
+    bad = ds.isel(record=0, column=slice(2, 4))  # task 1: record 0, columns 2-3
+    assert (bad.status == 1).all() and bad.peak_theta.isnull().all()
+    assert report.failed == bad.status.size
+    good = ds.isel(record=1)
+    assert (good.status == 0).all()
+    np.testing.assert_array_equal(good.peak_theta.values, small_reference[1].isel(record=1).peak_theta.values)
+    # the failed task was not checkpointed: a rerun tries it again
+    assert Path(report.path + ".checkpoint", "task-000001.npz").exists() is False
