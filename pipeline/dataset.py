@@ -231,3 +231,29 @@ def open_results(path):
             values = np.asarray(ds[label].values).astype(str)
             ds = ds.drop_vars(label).assign_coords({dim: (dim, values, attrs)})
     return ds
+
+
+def catalog_markdown():
+    """The output-variable reference (``docs/variables.md``) as Markdown, from the catalogs."""
+    lines = [
+        "# Output variables",
+        "",
+        "Every variable the pipeline writes, with the units and long name its netCDF files",
+        "carry (generated from `pipeline/dataset.py` by `python -m pipeline.dataset`; a test",
+        "keeps this page equal to the catalog). Study results: `docs/studies.md`; fragility",
+        "datasets: `docs/fragility.md`.",
+        "",
+        "| name | units | long name | CF standard name |",
+        "|---|---|---|---|",
+    ]
+    for name, (units, long_name, standard) in STUDY_VARIABLES.items():
+        lines.append(f"| `{name}` | {units} | {long_name} | {standard or ''} |")
+    lines += ["", "Flags (integer, with `flag_values` and `flag_meanings`):", "",
+              "| name | values | meanings | long name |", "|---|---|---|---|"]
+    for name, (values, meanings, long_name) in FLAGS.items():
+        lines.append(f"| `{name}` | {', '.join(map(str, values))} | {meanings} | {long_name} |")
+    return "\n".join(lines) + "\n"
+
+
+if __name__ == "__main__":
+    print(catalog_markdown(), end="")
