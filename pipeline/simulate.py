@@ -362,8 +362,11 @@ def _summary(column, settings, raw, motion, excitation):
     s = raw.summary
     ts = raw.t_scale
     diag = _diagnostics(raw, settings)
-    rolling = raw.phase != hy.PHASE_REST
-    peak_mu = max(float(np.nanmax(diag[:, 4])) if len(diag) else 0.0, s[hy.S_PEAK_MU])
+    # Rows after overturning hold the fallen state frozen under a still-moving
+    # ground: their forces mean nothing, so the peaks are taken before it.
+    moving = raw.phase != hy.PHASE_OVERTURNED
+    rolling = raw.phase == hy.PHASE_ROLLING
+    peak_mu = max(float(np.nanmax(diag[moving, 4])) if moving.any() else 0.0, s[hy.S_PEAK_MU])
     min_normal = np.nanmin([np.nanmin(diag[rolling, 2]) if rolling.any() else np.inf, s[hy.S_MIN_NORMAL]])
     weight_energy = column.R  # energies per m g: multiply dimensionless by R -> per (m g) [m]
     last = raw.states[raw.n_filled - 1]

@@ -202,3 +202,19 @@ def test_regression_uplift_on_the_verge_does_not_cycle_without_time_advancing():
                  ModelSettings(model="2d"), histories=False)
     assert 0 < r.summary["n_impacts"] < 10_000
     assert abs(r.summary["energy_balance_error"]) < 1e-6 * abs(r.summary["work_ground"])
+
+
+def test_forces_after_overturning_do_not_count(fema1):
+    """The frozen rows after a fall must not raise lift-off or sliding flags.
+
+    FEMA-FF-01 x3 overturns the paper's column: before the fall the normal
+    force stays positive (min 0.115 m g); the frozen rows after it, under a
+    still-moving ground, would show N < 0 and an infinite mu_mob.
+    """
+    r = simulate(PAPER, fema1, Excitation(scale=3.0))
+    h = r.histories
+    standing = h.phase.values != 2
+    assert r.summary["overturned"] and (~standing).any()
+    assert np.nanmin(h.normal_force_hat.values[~standing]) < 0  # the frozen rows would trip it
+    assert not r.summary["lift_off"]
+    assert r.summary["peak_mu_mob"] == pytest.approx(np.nanmax(h.mu_mob.values[standing]), rel=1e-12)
