@@ -96,8 +96,10 @@ FLAGS = {
     "overturned": ([0, 1], "stands overturned", "the column overturned"),
     "uplifted": ([0, 1], "never_uplifted uplifted", "the base left full contact with the ground"),
     "sliding_onset": ([0, 1], "no_sliding sliding_onset",
-                      "the peak mobilized friction exceeded the study's friction coefficient"),
-    "lift_off": ([0, 1], "no_lift_off lift_off", "the normal contact force fell below zero (free flight)"),
+                      "the peak mobilized friction exceeded the study's friction coefficient "
+                      "(before any final fall past theta_crit)"),
+    "lift_off": ([0, 1], "no_lift_off lift_off",
+                 "the normal contact force fell below zero, free flight (before any final fall past theta_crit)"),
     "status": ([0, 1], "ok failed", "status of the simulation (failed: values are NaN or 0)"),
 }
 

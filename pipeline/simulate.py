@@ -362,10 +362,15 @@ def _summary(column, settings, raw, motion, excitation):
     s = raw.summary
     ts = raw.t_scale
     diag = _diagnostics(raw, settings)
-    # Rows after overturning hold the fallen state frozen under a still-moving
-    # ground: their forces mean nothing, so the peaks are taken before it.
+    # Peaks, sliding and lift-off are taken before the final fall: once the
+    # column passes theta_crit for the last time it is going over (and the
+    # rows after it lies down hold a frozen state under a moving ground).
     moving = raw.phase != hy.PHASE_OVERTURNED
-    rolling = raw.phase == hy.PHASE_ROLLING
+    if not math.isnan(s[hy.S_OVERTURN_TIME]):
+        tilt = np.abs(raw.states[:, fk.THETA if settings.model == "3d" else rk.THETA2])
+        upright = np.flatnonzero(moving & ~(tilt > column.critical_tilt))
+        moving = np.arange(len(moving)) <= (upright[-1] if len(upright) else -1)
+    rolling = moving & (raw.phase == hy.PHASE_ROLLING)
     peak_mu = max(float(np.nanmax(diag[moving, 4])) if moving.any() else 0.0, s[hy.S_PEAK_MU])
     min_normal = np.nanmin([np.nanmin(diag[rolling, 2]) if rolling.any() else np.inf, s[hy.S_MIN_NORMAL]])
     weight_energy = column.R  # energies per m g: multiply dimensionless by R -> per (m g) [m]
