@@ -106,14 +106,21 @@ def _roll_rocking(params, t0, y0, t_end, t_out, y_out, out_start, t_breaks, rtol
 
 
 @njit(cache=True)
-def _fill_rest(t_out, y_out, phase_out, out_i, t_stop, inclusive, y_rest):
-    """Write the rest state into the output rows before ``t_stop``; return the next row."""
+def _rest_until_uplift(record, dt, zc, t, t_end, t_out, y_out, phase_out, out_i, y_rest):
+    """Stay at rest from ``t`` until the next uplift (or ``t_end``), filling the outputs.
+
+    Returns the uplift time (``inf`` if none before the record ends) and the
+    next output row.
+    """
+    t_up = contact.first_uplift(record, dt, zc, t)
+    stop = min(t_up, t_end)
+    inclusive = t_up >= t_end
     n = t_out.shape[0]
-    while out_i < n and (t_out[out_i] < t_stop or (inclusive and t_out[out_i] <= t_stop)):
+    while out_i < n and (t_out[out_i] < stop or (inclusive and t_out[out_i] <= stop)):
         y_out[out_i, :] = y_rest
         phase_out[out_i] = PHASE_REST
         out_i += 1
-    return out_i
+    return t_up, out_i
 
 
 @njit(cache=True)
@@ -234,9 +241,7 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
     stalls = 0
     while n_transitions < MAX_TRANSITIONS:
         if phase == PHASE_REST:
-            t_up = contact.first_uplift(record, dt, zc, t)
-            stop = min(t_up, t_end)
-            out_i = _fill_rest(t_out, y_out, phase_out, out_i, stop, t_up >= t_end, y)
+            t_up, out_i = _rest_until_uplift(record, dt, zc, t, t_end, t_out, y_out, phase_out, out_i, y)
             if t_up >= t_end:
                 t = t_end
                 break
@@ -357,9 +362,7 @@ def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
     stalls = 0
     while n_transitions < MAX_TRANSITIONS:
         if phase == PHASE_REST:
-            t_up = contact.first_uplift(record, dt, zc, t)
-            stop = min(t_up, t_end)
-            out_i = _fill_rest(t_out, y_out, phase_out, out_i, stop, t_up >= t_end, y)
+            t_up, out_i = _rest_until_uplift(record, dt, zc, t, t_end, t_out, y_out, phase_out, out_i, y)
             if t_up >= t_end:
                 t = t_end
                 break
