@@ -156,15 +156,22 @@ def _log_impact(impacts, summary, t, rate_before, rate_after, energy_jump):
 
 
 @njit(cache=True)
-def _book_phase(res, phase_out, out_i, summary, y):
-    """Record a rolling phase's outputs and cost; copy its final state into y."""
+def _book_phase(res, phase_out, out_i, summary, y, t_start, stalls):
+    """Record a rolling phase's outputs and cost; copy its final state into y.
+
+    Returns the next output row and the count of consecutive calls that
+    stopped without advancing time (``STATUS_STALLED`` past ``MAX_STALLS``).
+    """
     phase_out[out_i:res.out_next] = PHASE_ROLLING
     summary[S_NFEV] += res.nfev
     summary[S_STEPS] += res.n_accepted
     if res.status < 0:
         summary[S_STATUS] = res.status
     y[:] = res.y
-    return res.out_next
+    stalls = stalls + 1 if res.t == t_start else 0
+    if stalls > MAX_STALLS:
+        summary[S_STATUS] = STATUS_STALLED
+    return res.out_next, stalls
 
 
 @njit(cache=True)
@@ -265,17 +272,12 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
             phase = PHASE_ROLLING
             n_transitions += 1
             continue
-        t_start = t
         res = _roll_frustum(params, t, y, t_end, t_out, y_out, out_i, t_breaks, rtol, atol, h)
-        out_i = _book_phase(res, phase_out, out_i, summary, y)
+        out_i, stalls = _book_phase(res, phase_out, out_i, summary, y, t, stalls)
         t, h = res.t, res.h_next
-        if res.status <= 0:  # reached the end, or failed (status kept in the summary)
+        if res.status <= 0 or stalls > MAX_STALLS:  # end, failure or stall (status in the summary)
             break
         ev = res.event_index
-        stalls = stalls + 1 if t == t_start else 0
-        if stalls > MAX_STALLS:
-            summary[S_STATUS] = STATUS_STALLED
-            break
         if ev == EV_TURN:
             # a turning point: theta' is zero there, its 1e-17 residue is
             # round-off that could make the next call find this root again
@@ -378,18 +380,13 @@ def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
             phase = PHASE_ROLLING
             n_transitions += 1
             continue
-        t_start = t
         res = _roll_rocking(params, t, y, t_end, t_out, y_out, out_i, t_breaks, rtol, atol, h)
-        out_i = _book_phase(res, phase_out, out_i, summary, y)
+        out_i, stalls = _book_phase(res, phase_out, out_i, summary, y, t, stalls)
         t, h = res.t, res.h_next
-        if res.status <= 0:  # reached the end, or failed (status kept in the summary)
+        if res.status <= 0 or stalls > MAX_STALLS:  # end, failure or stall (status in the summary)
             break
         ev = res.event_index
         theta = abs(y[rk.THETA2])
-        stalls = stalls + 1 if t == t_start else 0
-        if stalls > MAX_STALLS:
-            summary[S_STATUS] = STATUS_STALLED
-            break
         if ev == EV_TURN:
             y[rk.DTHETA2] = 0.0  # exactly a turning point (see run_frustum)
             a_u, _unused, az = fk.ground_acceleration(t, record, dt)
