@@ -21,7 +21,7 @@ Two models share this interface (``ModelSettings.model``):
 """
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import xarray as xr
@@ -282,8 +282,8 @@ def simulate_free(column, initial, duration, settings=ModelSettings(rtol=1e-12, 
     if not (math.isfinite(duration) and duration > 0):
         raise InputError(f"duration = {duration!r} s must be a positive number of seconds")
     if restitution is not None:
-        settings = _replace(settings, restitution=float(restitution))
-    settings = _replace(settings, model="3d")
+        settings = replace(settings, restitution=float(restitution))
+    settings = replace(settings, model="3d")
     rate = math.sqrt(column.R / G)  # (rad/s) * rate = rad per tau
     y0 = np.zeros(fk.N_STATE)
     y0[fk.PHI], y0[fk.THETA], y0[fk.PSI] = initial.phi, initial.theta, initial.psi
@@ -294,12 +294,6 @@ def simulate_free(column, initial, duration, settings=ModelSettings(rtol=1e-12, 
     ds = _histories(column, settings, raw, Excitation(), None)
     ds.attrs["title"] = "Free motion of a conical frustum rolling on its rim"
     return ds
-
-
-def _replace(settings, **changes):
-    from dataclasses import replace
-
-    return replace(settings, **changes)
 
 
 @dataclass
