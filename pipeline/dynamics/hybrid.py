@@ -24,6 +24,11 @@ Every jump of mechanical energy at a contact transition (uplift into
 ``theta_c``, impacts, settling) is added to ``summary[S_TRANSITION]``, so that
 ``E_end - E_0 = work + transitions - dissipated`` holds to the integration
 error.
+
+The entry points (:func:`run_frustum`, :func:`run_rocking`,
+:func:`diagnostics_rows`) release the GIL (``nogil=True``): a Dask worker's
+own threads (heartbeats, result transfers) then run beside a simulation instead
+of waiting for it, and threads may run simulations side by side.
 """
 
 import math
@@ -198,7 +203,7 @@ def _turning_point(summary, t, theta, mu, normal):
         summary[S_MIN_NORMAL] = normal
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_breaks, rtol, atol, summary, impacts):
     """Run the three-dimensional frustum through the record and its tail.
 
@@ -338,7 +343,7 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
     return out_i
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_breaks, rtol, atol, summary, impacts):
     """Run classical planar rocking; arguments as :func:`run_frustum`.
 
@@ -443,7 +448,7 @@ def _rocking_contact(theta, dtheta, a_u, a_z, c, nu):
     return mu, f_z
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def diagnostics_rows(tau, states, phase, params, model_3d, out):
     """Diagnostics of every output row (compiled loop), written to ``out``.
 
