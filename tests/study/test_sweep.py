@@ -112,3 +112,34 @@ def test_pga_is_the_peak_of_the_horizontal_vector_and_angle_independent(small_re
     turned = kt.rotated(math.radians(30.0))
     assert sweep.record_intensity(turned)["pga"] == pytest.approx(expected, rel=1e-12)
     assert sweep.record_intensity(turned)["pgv"] == pytest.approx(sweep.record_intensity(kt)["pgv"], rel=1e-12)
+
+
+def test_automatic_blocks_are_even(write_study):
+    """Without block_columns, ~64 simulations per task, spread evenly: 10 columns at 10 per column -> 5 + 5."""
+    grid = ('[column_grid]\nR = 0.4\nslenderness = [6.0, 7.0, 8.0, 9.0, 10.0, 11.0, 12.0, 13.0, 14.0, 15.0]\n'
+            'beta = 0.9\n')
+    text = SMALL_STUDY.replace("[execution]\nblock_columns = 2\n", "")
+    text = text[:text.index("[[columns]]")] + grid + text[text.index("[records]"):]
+    text = text.replace("angles = [0.0, 30.0, 90.0]", "angles = [0.0]").replace(
+        "scales = [0.5, 1.0, 2.0]", "scales = [0.5, 1.0, 1.5, 2.0, 2.5]")
+    study = load_study(write_study(text))
+    assert len(study.columns) == 10 and study.block_columns is None
+    # per column: 5 scales x (3d once + 2d at 1 angle) = 10 simulations; ceil(64 / 10) = 7 would leave 7 + 3
+    assert sweep.block_size(study) == 5
+    motions = load_motions(study)
+    tasks = sweep.plan(study, sweep.scale_factors(study, [sweep.record_intensity(m) for m in motions]))
+    assert [t.n_simulations for t in tasks] == [50] * 4
+
+
+def test_longest_tasks_go_first(write_study):
+    """The submission order is a permutation of the tasks, longest record first, then the more slender block."""
+    study = load_study(write_study())
+    motions = load_motions(study)
+    tasks = sweep.plan(study, sweep.scale_factors(study, [sweep.record_intensity(m) for m in motions]))
+    order = sweep.longest_first(tasks, motions)
+    assert sorted(t.index for t in order) == [t.index for t in tasks]
+    durations = [motions[t.record].duration for t in order]
+    assert durations == sorted(durations, reverse=True) and durations[0] > durations[-1]
+    # same record: the block holding the most slender column first
+    same = [t for t in order if t.record == order[0].record]
+    assert max(c.slenderness for c in same[0].columns) >= max(c.slenderness for c in same[1].columns)
