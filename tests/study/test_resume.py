@@ -13,8 +13,10 @@ from pipeline.dataset import open_results
 from pipeline.study import load_study
 from pipeline.sweep import Checkpoint, run_study
 
-# The child runs the small study serially with every task slowed down by 0.4 s, so
-# that the parent can kill it after a few checkpointed tasks, whatever the machine.
+# The child runs the small study (serially, or on a local cluster of two workers) with
+# every task slowed down by 0.4 s, so that the parent can kill it after a few
+# checkpointed tasks, whatever the machine. On the cluster the slowed task reaches the
+# workers by value (cloudpickle sends functions of __main__ whole).
 CHILD = textwrap.dedent("""\
     import sys, time
     from pipeline import sweep
@@ -24,14 +26,15 @@ CHILD = textwrap.dedent("""\
         time.sleep(0.4)
         return real(task, motion)
     sweep.run_task = slow
-    sweep.run_study(load_study(sys.argv[1]), serial=True, progress=False)
+    mode = {"serial": True} if sys.argv[2] == "serial" else {"workers": 2}
+    sweep.run_study(load_study(sys.argv[1]), progress=False, **mode)
 """)
 
 MANY_TASKS = 'block_columns = 1'  # 4 columns x 2 records = 8 tasks
 
 
-def _kill_after(path, checkpoint, n_done, timeout=120.0):
-    proc = subprocess.Popen([sys.executable, "-c", CHILD, str(path)], start_new_session=True,
+def _kill_after(path, checkpoint, n_done, mode="serial", timeout=120.0):
+    proc = subprocess.Popen([sys.executable, "-c", CHILD, str(path), mode], start_new_session=True,
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
     try:
         deadline = time.monotonic() + timeout
@@ -45,7 +48,7 @@ def _kill_after(path, checkpoint, n_done, timeout=120.0):
             time.sleep(0.02)
     finally:
         if proc.poll() is None:
-            os.killpg(proc.pid, signal.SIGKILL)  # the process group we started
+            os.killpg(proc.pid, signal.SIGKILL)  # the process group we started (with its workers)
         proc.wait(timeout=30)
     return proc.returncode
 
@@ -77,6 +80,29 @@ def test_killed_study_resumes_without_recomputing(write_study, small_reference, 
     again = run_study(load_study(path), serial=True, progress=False)
     assert again.computed == [] and again.simulations == 0 and len(again.skipped) == 8
     assert not os.path.exists(checkpoint)  # removed once the results are written
+
+
+def test_study_killed_on_the_cluster_resumes_on_the_cluster(write_study, small_reference, same_results):
+    """The same, driver and workers killed together mid-study, then resumed on a fresh local cluster."""
+    from conftest import SMALL_STUDY
+
+    path = write_study(SMALL_STUDY.replace("block_columns = 2", MANY_TASKS))
+    out = path.parent / "small.nc"
+    checkpoint = str(out) + ".checkpoint"
+    assert _kill_after(path, checkpoint, 3, mode="cluster") == -signal.SIGKILL
+    assert not out.exists()
+    finished = sorted(int(p[5:11]) for p in os.listdir(checkpoint) if p.startswith("task-"))
+    assert 3 <= len(finished) < 8
+    stamps = {i: os.stat(os.path.join(checkpoint, f"task-{i:06d}.npz")).st_mtime_ns for i in finished}
+
+    report = run_study(load_study(path), workers=2, progress=False, keep_checkpoint=True)
+    assert report.skipped == finished
+    assert sorted(report.computed) == sorted(set(range(8)) - set(finished))
+    for i, stamp in stamps.items():  # the finished tasks' files were not rewritten
+        assert os.stat(os.path.join(checkpoint, f"task-{i:06d}.npz")).st_mtime_ns == stamp
+    ds = open_results(out)
+    assert (ds.status == 0).all() and ds.peak_theta.notnull().all()
+    same_results(ds, small_reference[1])
 
 
 def test_changed_study_discards_the_old_checkpoint(write_study):
