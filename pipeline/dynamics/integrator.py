@@ -70,10 +70,15 @@ One call integrates one smooth phase. It fills ``y_out[i]`` for the grid times
 index not filled. At a terminal event it stops at the event time with the interpolated
 state; the caller applies its impact map and calls again from ``(t_event, y_new)`` with
 ``out_start=out_next``, so the grid is filled continuously with no point written twice.
-The start state usually *is* the previous event's state (g ~ 0), so on the first step
-of a call the event functions' signs are taken at ``t0 + 1e-7 h`` (h the first step) on
-the interpolant: the restart is not reported again, and a return to zero later in that
-same step still is. Roots closer than that to ``t0`` are therefore not reported.
+The start state usually *is* the previous event's state (g ~ 0, its sign rounding noise),
+so the event functions' signs are first taken at the end of a restart window,
+``t0 + 1e-7 h`` on the interpolant, with h the first step the controller wanted: the
+restart is not reported again, and a return to zero after the window still is. Roots
+closer than that to ``t0`` are therefore not reported. When a break point cuts the first
+step short (a record sample 1e-9 after ``t0``, say), the window still has the wanted
+step's length: steps inside it report nothing, and the first step that leaves it reads
+the signs at its end. (Scaling the window by the cut step instead put the reading within
+rounding of ``t0``, where a noisy sign could report the restart again and again.)
 
 Limitations
 -----------
@@ -708,6 +713,7 @@ def dop853(
 
     n_acc = 0
     n_rej = 0
+    restart_end = t0  # end of the restart window, set by the first step (events only)
     status = STATUS_END
     event_index = -1
     n_breaks = t_breaks.shape[0]
@@ -774,25 +780,35 @@ def dop853(
         # The interpolant costs 3 rhs evaluations: build it only for a step that holds an
         # output point before its end or a sign change of an event function.
         need_dense = out_i < m and t_out[out_i] < t_new
-        # The first step of a call starts on the previous phase's event (the restart state,
-        # g ~ 0): its sign is taken just after the start, on the interpolant, so that the
-        # restart is not reported again while a return to zero later in the step still is.
-        first_with_events = n_ev > 0 and n_acc == 1
-        if need_dense or first_with_events:
+        # A call starts on the previous phase's event (the restart state, g ~ 0, its sign
+        # rounding noise). The signs are first taken at the end of the restart window,
+        # 1e-7 of the step the controller wanted (not of a first step cut short by a
+        # break, which may be ~1e-9 long): the restart is not reported again while a
+        # return to zero after the window still is. Steps inside the window report nothing.
+        first_step_of_call = n_acc == 1
+        if n_ev > 0 and first_step_of_call:
+            restart_end = t_old + _START_WINDOW * max(h, h_wanted)
+        in_window = n_ev > 0 and t_old < restart_end
+        read_in_step = in_window and t_new > restart_end
+        if need_dense or read_in_step:
             _dense_coefficients(rhs, params, t_old, h, y, y_new, K, F, y_stage)
             nfev += 3
         t_a = t_old
         any_event = False
         if n_ev > 0:
-            if first_with_events:
-                t_a = t_old + _START_WINDOW * h
-                _dense_eval(F, y, _START_WINDOW, y_stage)
-                events(t_a, y_stage, params, g_old)
             events(t_new, y_new, params, g_new)
+            if read_in_step:
+                # an uncut first step reads at exactly t_old + 1e-7 h
+                frac = _START_WINDOW if (first_step_of_call and h_wanted <= h) else (restart_end - t_old) / h
+                t_a = t_old + frac * h
+                _dense_eval(F, y, frac, y_stage)
+                events(t_a, y_stage, params, g_old)
+            elif in_window:
+                g_old[:] = g_new  # the whole step is inside the restart window
             for k in range(n_ev):
                 if _event_triggered(g_old[k], g_new[k], event_direction[k]):
                     any_event = True
-        if any_event and not (need_dense or first_with_events):
+        if any_event and not (need_dense or read_in_step):
             _dense_coefficients(rhs, params, t_old, h, y, y_new, K, F, y_stage)
             nfev += 3
 

@@ -113,6 +113,12 @@ def run_oscillator(p, t0, y0, t_end, t_out, y_out, out_start, direction, rtol, a
                   direction, EMPTY, rtol, atol, np.inf, first_step, 1_000_000)
 
 
+@njit(cache=True)
+def run_oscillator_breaks(p, t0, y0, t_end, t_out, y_out, direction, t_breaks, rtol, atol):
+    return dop853(oscillator, oscillator_events, p, t0, y0, t_end, t_out, y_out, 0,
+                  direction, t_breaks, rtol, atol, np.inf, 0.0, 1_000_000)
+
+
 def scipy_dop853(fun, t_end, y0, rtol, atol, t_eval=None, events=None):
     return solve_ivp(fun, (0.0, t_end), y0, method="DOP853", rtol=rtol, atol=atol,
                      t_eval=t_eval, events=events)
@@ -428,6 +434,27 @@ def test_restart_after_bounce_fills_grid_continuously():
     # rounding only (quadratics are integrated exactly); 1e-11 m covers the ~1e-13 s
     # uncertainty of each impact time times speeds of ~5 m/s, accumulated over phases
     np.testing.assert_allclose(y_out, exact, rtol=0, atol=1e-11)
+
+
+@pytest.mark.parametrize("break_after", [3e-9, 1e-15])
+def test_restart_just_before_a_break_is_not_reported_again(break_after):
+    """A restart on a turning point whose velocity has the wrong sign by rounding (+1e-15 where
+    the motion turns downwards), with a record sample cutting the first step to 3e-9 or 1e-15:
+    the turning point is the restart itself and must not be reported again (the hybrid loop
+    would restart on it for ever); the next turning point, at pi, still is."""
+    t0, t_end = 0.0, 4.0
+    y0 = np.array([1.0, 1e-15])  # x = cos t at its maximum, x' = 0 up to rounding
+    t_breaks = np.array([t0 + break_after, 1.0, 2.0])
+    y_out = np.empty((0, 2))
+    r = run_oscillator_breaks(np.array([1.0, 0.0]), t0, y0, t_end, np.empty(0), y_out,
+                              np.array([0.0, 1.0]), t_breaks, EV_RTOL, 1e-12)
+    # events after the window are still seen: x falls through 0 at pi/2 (velocity rises only at pi)
+    assert r.status == STATUS_EVENT and r.event_index == 0 and abs(r.t - np.pi / 2) < 1e-9
+    r = run_oscillator_breaks(np.array([1.0, 0.0]), t0, y0, t_end, np.empty(0), y_out,
+                              np.array([1.0, -1.0]), t_breaks, EV_RTOL, 1e-12)
+    # x rises through 0 at 3 pi / 2 > t_end, the velocity falls through 0 at 2 pi > t_end and at
+    # the restart's own zero (t ~ 1e-15), which is not reported: no event before the end
+    assert r.status == STATUS_END and r.t == t_end
 
 
 # --- Failure modes and bookkeeping --------------------------------------------------------------
