@@ -18,7 +18,14 @@ Definitions (omega_p = 2 pi / T_p):
   Arias = pi omega_p^2 v_p^2 T_p / (16 g));
   type B, a = omega_p v_p cos(omega_p t) (one full velocity cycle
   v = v_p sin(omega_p t): PGV = v_p, PGA = omega_p v_p,
-  Arias = pi omega_p^2 v_p^2 T_p / (4 g)).
+  Arias = pi omega_p^2 v_p^2 T_p / (4 g));
+  type C_n (Makris & Chang 2000), v = v_p [sin(omega_p t + phi) - sin(phi)] for
+  0 <= t <= t_c = (n + 1/2 - phi/pi) T_p: n + 1/2 velocity cycles that end
+  at rest where they started, with phi the root of
+  cot(phi) = pi (n + 1/2) - phi (zero final displacement; phi = 0.0697 pi for
+  n = 1). a = omega_p v_p cos(omega_p t + phi); PGA = omega_p v_p,
+  PGV = v_p (1 + sin phi),
+  Arias = pi omega_p^2 v_p^2 [t_c / 2 - sin(2 phi) / (2 omega_p)] / (2 g).
 - rectangular pulse: a = a_p for 0 <= t < t_p, 0 after; the sample at
   t = t_p holds a_p / 2 (the mid value of the jump), which makes the
   trapezoidal velocity reach exactly a_p t_p. Between samples the step is a
@@ -37,6 +44,7 @@ Definitions (omega_p = 2 pi / T_p):
 import math
 
 import numpy as np
+from scipy.optimize import brentq
 from scipy.signal import cont2discrete, lfilter
 
 from pipeline.errors import InputError
@@ -112,39 +120,68 @@ def one_sine_pulse(ap, tp, *, dt=0.001, duration=None, direction=0.0, record_id=
     return _planar(acc, dt, direction, record_id, "one_sine_pulse", {"ap": ap, "tp": tp, "dt": dt, "duration": float(t[-1])})
 
 
-def cycloidal_pulse(vp, tp, kind="A", *, dt=0.001, duration=None, direction=0.0, record_id=None):
-    """Cycloidal pulse of Zhang & Makris (2001), type ``'A'`` or ``'B'``.
+def cycloidal_phase(n):
+    """Phase phi [rad] of the type-C_n cycloidal pulse: the root of cot(phi) = pi (n + 1/2) - phi.
+
+    It makes the ground displacement return to zero at the end of the pulse
+    (Makris & Chang 2000); 0.0697 pi for n = 1.
+    """
+    return brentq(lambda phi: math.cos(phi) - math.sin(phi) * (math.pi * (n + 0.5) - phi), 1e-12, 0.5 * math.pi,
+                  xtol=1e-15, rtol=4 * np.finfo(float).eps)
+
+
+def cycloidal_pulse(vp, tp, kind="A", *, n=1, dt=0.001, duration=None, direction=0.0, record_id=None):
+    """Cycloidal pulse of Zhang & Makris (2001), type ``'A'``, ``'B'`` or ``'C'`` (C_n).
 
     Parameters
     ----------
     vp : float
-        Peak ground velocity [m/s].
+        Velocity amplitude [m/s]: the peak ground velocity of types A and B;
+        type C_n peaks at v_p (1 + sin phi).
     tp : float
         Pulse period [s].
-    kind : {'A', 'B'}
+    kind : {'A', 'B', 'C'}
         A: a = (w v_p/2) sin(w t) (forward pulse); B: a = w v_p cos(w t)
-        (forward-and-back), 0 <= t <= T_p, w = 2 pi / T_p.
+        (forward-and-back), 0 <= t <= T_p, w = 2 pi / T_p; C: a = w v_p
+        cos(w t + phi), 0 <= t <= (n + 1/2 - phi/pi) T_p (n + 1/2 velocity
+        cycles, ground back at rest where it started; phi from
+        :func:`cycloidal_phase`).
+    n : int
+        Number of main cycles of type C_n (>= 1); ignored for A and B.
     dt, duration, direction
-        As in :func:`one_sine_pulse`. With ``duration`` > T_p the type-B
-        record jumps back to 0 after T_p; the sample at T_p then holds half
-        the jump (as for the rectangular pulse).
+        As in :func:`one_sine_pulse`. With ``duration`` longer than the pulse,
+        types B and C jump back to 0 at its end; a sample exactly at the end
+        holds half the jump (as for the rectangular pulse), otherwise the drop
+        is a ramp one ``dt`` long.
     """
     vp = float(vp)
     tp = _positive("tp", tp, "cycloidal_pulse")
     kind = str(kind).upper()
     w = 2.0 * math.pi / tp
-    t, dt = _grid(dt, duration or tp, "cycloidal_pulse")
-    inside = _pulse_window(t, tp)
+    params = {"vp": vp, "tp": tp}
+    if kind == "C":
+        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+            raise InputError(f"cycloidal_pulse: n={n!r}; type C_n needs a whole number of cycles n >= 1")
+        phi = cycloidal_phase(int(n))
+        t_end = (n + 0.5 - phi / math.pi) * tp
+        params.update(n=int(n), phi=phi)
+    elif kind in ("A", "B"):
+        t_end = tp
+    else:
+        raise InputError(f"cycloidal_pulse: kind={kind!r}; use 'A', 'B' or 'C'")
+    t, dt = _grid(dt, duration or t_end, "cycloidal_pulse")
+    inside = _pulse_window(t, t_end)
     if kind == "A":
         acc = np.where(inside, 0.5 * w * vp * np.sin(w * t), 0.0)
-    elif kind == "B":
-        acc = np.where(inside, w * vp * np.cos(w * t), 0.0)
-        end = np.flatnonzero(inside)[-1]
-        if end + 1 < t.size and abs(t[end] - tp) <= 1e-9 * tp:
-            acc[end] *= 0.5
     else:
-        raise InputError(f"cycloidal_pulse: kind={kind!r}; use 'A' or 'B'")
-    return _planar(acc, dt, direction, record_id, f"cycloidal_pulse_{kind}", {"vp": vp, "tp": tp, "dt": dt, "duration": float(t[-1])})
+        shape = np.cos(w * t) if kind == "B" else np.cos(w * t + params["phi"])
+        acc = np.where(inside, w * vp * shape, 0.0)
+        end = np.flatnonzero(inside)[-1]
+        if end + 1 < t.size and abs(t[end] - t_end) <= 1e-9 * t_end:
+            acc[end] *= 0.5
+    params.update(dt=dt, duration=float(t[-1]))
+    name = f"cycloidal_pulse_{kind}" + (str(params["n"]) if kind == "C" else "")
+    return _planar(acc, dt, direction, record_id, name, params)
 
 
 def rectangular_pulse(ap, tp, *, dt=0.001, duration=None, direction=0.0, record_id=None):

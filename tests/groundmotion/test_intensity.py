@@ -38,6 +38,44 @@ def test_cycloidal_closed_forms(kind):
     assert im.arias_intensity(gm.acc_x, gm.dt) == pytest.approx(arias, rel=RTOL)
 
 
+def test_cycloidal_phase_is_makris_and_changs():
+    """phi = 0.0697 pi for C_1 (Makris & Chang 2000 print 3 digits); it solves cot(phi) = pi (n + 1/2) - phi."""
+    from pipeline.groundmotion.synthesis import cycloidal_phase
+
+    assert cycloidal_phase(1) / math.pi == pytest.approx(0.0697, abs=5e-5)
+    for n in (1, 2, 3):
+        phi = cycloidal_phase(n)
+        assert 1.0 / math.tan(phi) == pytest.approx(math.pi * (n + 0.5) - phi, rel=1e-13)
+
+
+@pytest.mark.parametrize("n", [1, 2])
+def test_cycloidal_c_closed_forms(n):
+    """Type C_n: PGA w v_p, PGV v_p (1 + sin phi), Arias in closed form, and the ground ends at rest where it
+    started. Checked at the last sample t_k <= t_c of the pulse: from there to t_c the ground still moves by
+    |v| <= w v_p (t_c - t_k) and |u| <= w v_p (t_c - t_k)^2 / 2; the trapezoidal integration adds at most
+    t_c dt^2 w^3 v_p / 12 ~ 2.5e-7 m/s (and t_c times that in m), hence the 1e-6 margin."""
+    from pipeline.groundmotion.synthesis import cycloidal_phase
+
+    vp, tp = 0.8, 1.0
+    wp = 2.0 * math.pi / tp
+    phi = cycloidal_phase(n)
+    t_c = (n + 0.5 - phi / math.pi) * tp
+    gm = cycloidal_pulse(vp, tp, "C", n=n, dt=DT, duration=t_c + 1.0)
+    assert im.pga(gm.acc_x) == pytest.approx(wp * vp, rel=RTOL)
+    assert im.pgv(gm.acc_x, gm.dt) == pytest.approx(vp * (1.0 + math.sin(phi)), rel=RTOL)
+    arias = math.pi * (wp * vp) ** 2 * (t_c / 2.0 - math.sin(2.0 * phi) / (2.0 * wp)) / (2.0 * G)
+    assert im.arias_intensity(gm.acc_x, gm.dt) == pytest.approx(arias, rel=1e-3)  # the end ramp: ~ dt / t_c
+    velocity = im.velocity(gm.acc_x, gm.dt)
+    displacement = np.concatenate([[0.0], np.cumsum(0.5 * (velocity[1:] + velocity[:-1]) * gm.dt)])
+    k = int(np.flatnonzero(gm.time <= t_c)[-1])
+    gap = t_c - gm.time[k]
+    assert abs(velocity[k]) <= wp * vp * gap + 1e-6
+    assert abs(displacement[k]) <= wp * vp * gap**2 / 2.0 + 1e-6
+    assert abs(displacement).max() > 0.1 * vp * tp  # it did move
+    with pytest.raises(Exception, match="n >= 1"):
+        cycloidal_pulse(vp, tp, "C", n=0)
+
+
 def test_pgd_cav_duration_of_harmonic():
     # a = a_p sin(w t) over n whole cycles: |a| integrates to 2 a_p n T / pi;
     # the Husid curve of sin^2 is t/2 - sin(2wt)/(4w), so D5-95 is close to
