@@ -160,8 +160,7 @@ def run_workflow(path, workers=None, scheduler=None, force=False):
     force : bool
         Rerun steps that are up to date.
     """
-    from pipeline.study import load_motions, load_study
-    from pipeline.sweep import run_study
+    from pipeline.sweep import Cluster
 
     wf = load_workflow(path)
     workers = workers or wf["workers"]
@@ -175,40 +174,49 @@ def run_workflow(path, workers=None, scheduler=None, force=False):
             log(f"workflow {wf['path']}: another run holds {wf['log']}.lock; not starting")
             return 1
         log(f"workflow {wf['path']} ({wf['title']}): start, frustum {__version__}, {len(wf['steps'])} step(s)")
-        for i, step in enumerate(wf["steps"]):
-            t0 = time.monotonic()
-            try:
-                study = load_study(step["study"], load_records=False)
-                motions = load_motions(study)
-                output = step["output"] or study.output
-                if not force and up_to_date(study, motions, output):
-                    log(f"step {i + 1}: {step['study']}: up to date ({output}), nothing recomputed")
-                    computed = False
-                else:
-                    report = run_study(study, out=output, motions=motions, scheduler=scheduler,
-                                       workers=workers, progress=False)
-                    log(f"step {i + 1}: {step['study']}: {len(report.computed)} task(s) computed, "
-                        f"{len(report.skipped)} from checkpoint, {report.simulations} simulations, "
-                        f"{report.failed} failed, {time.monotonic() - t0:.1f} s -> {output}")
-                    computed = True
-                plot = step["plot"]
-                if plot and (computed or not os.path.isfile(plot) or os.path.getmtime(plot) < os.path.getmtime(output)):
-                    from pipeline.dataset import open_results
-                    from pipeline.plotting import plot_study
-
-                    plot_study(open_results(output), plot)
-                    log(f"step {i + 1}: plot -> {plot}")
-            except Exception as exc:  # noqa: BLE001 - log every failure, exit non-zero
-                log(f"step {i + 1}: {step['study']}: FAILED: {type(exc).__name__}: {exc}")
-                if not isinstance(exc, InputError):
-                    log(traceback.format_exc().rstrip())
-                log(f"workflow {wf['path']}: failed at step {i + 1}")
-                return 1
-        log(f"workflow {wf['path']}: done")
-        return 0
+        # one cluster for all steps, started by the first step that computes
+        with Cluster(scheduler, workers) as cluster:
+            return _run_steps(wf, log, cluster, force)
     finally:
         lock.close()
         log.file.close()
+
+
+def _run_steps(wf, log, cluster, force):
+    """Run the workflow's steps in order on ``cluster``; returns the exit status."""
+    from pipeline.study import load_motions, load_study
+    from pipeline.sweep import run_study
+
+    for i, step in enumerate(wf["steps"]):
+        t0 = time.monotonic()
+        try:
+            study = load_study(step["study"], load_records=False)
+            motions = load_motions(study)
+            output = step["output"] or study.output
+            if not force and up_to_date(study, motions, output):
+                log(f"step {i + 1}: {step['study']}: up to date ({output}), nothing recomputed")
+                computed = False
+            else:
+                report = run_study(study, out=output, motions=motions, cluster=cluster, progress=False)
+                log(f"step {i + 1}: {step['study']}: {len(report.computed)} task(s) computed, "
+                    f"{len(report.skipped)} from checkpoint, {report.simulations} simulations, "
+                    f"{report.failed} failed, {time.monotonic() - t0:.1f} s -> {output}")
+                computed = True
+            plot = step["plot"]
+            if plot and (computed or not os.path.isfile(plot) or os.path.getmtime(plot) < os.path.getmtime(output)):
+                from pipeline.dataset import open_results
+                from pipeline.plotting import plot_study
+
+                plot_study(open_results(output), plot)
+                log(f"step {i + 1}: plot -> {plot}")
+        except Exception as exc:  # noqa: BLE001 - log every failure, exit non-zero
+            log(f"step {i + 1}: {step['study']}: FAILED: {type(exc).__name__}: {exc}")
+            if not isinstance(exc, InputError):
+                log(traceback.format_exc().rstrip())
+            log(f"workflow {wf['path']}: failed at step {i + 1}")
+            return 1
+    log(f"workflow {wf['path']}: done")
+    return 0
 
 
 def run_workflow_command(args):

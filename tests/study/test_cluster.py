@@ -122,6 +122,53 @@ def test_local_cluster_equals_serial(write_study, small_reference, same_results,
     assert not (path.parent / "small.nc.checkpoint").exists()
 
 
+def test_one_cluster_serves_several_studies(write_study, small_reference, same_results):
+    """run_study(cluster=...) leaves the cluster running: the next study runs on the same worker processes."""
+    from pipeline.sweep import Cluster
+
+    path = write_study()
+    with Cluster(workers=2) as cluster:
+        first = run_study(load_study(path), out=str(path.parent / "a.nc"), cluster=cluster, progress=False)
+        pids = cluster.client.run(os.getpid)
+        second = run_study(load_study(path), out=str(path.parent / "b.nc"), cluster=cluster, progress=False)
+        assert cluster.client.run(os.getpid) == pids and len(pids) == 2  # same two workers, still up
+        assert len(first.computed) == len(second.computed) == 4
+    assert cluster._client is None and cluster._local is None  # closed on leaving the block
+    same_results(open_results(path.parent / "a.nc"), small_reference[1])
+    same_results(open_results(path.parent / "b.nc"), small_reference[1])
+
+
+def test_workflow_starts_its_local_cluster_once_and_only_when_needed(tmp_path, monkeypatch):
+    """Two steps that compute share one local cluster; a rerun with everything up to date starts none."""
+    import textwrap
+
+    from conftest import SMALL_STUDY
+    from pipeline import sweep
+
+    starts = []
+    real = sweep._connect
+    monkeypatch.setattr(sweep, "_connect", lambda *a: starts.append(a) or real(*a))
+    (tmp_path / "small.toml").write_text(SMALL_STUDY, encoding="utf-8")
+    (tmp_path / "other.toml").write_text(SMALL_STUDY.replace("tail = 2.0", "tail = 1.0"), encoding="utf-8")
+    wf = tmp_path / "wf.toml"
+    wf.write_text(textwrap.dedent("""\
+        title = "two steps"
+        log = "wf.log"
+        [execution]
+        workers = 2
+        [[steps]]
+        study = "small.toml"
+        output = "small.nc"
+        [[steps]]
+        study = "other.toml"
+        output = "other.nc"
+    """), encoding="utf-8")
+    assert main(["workflow", "run", str(wf)]) == 0
+    assert len(starts) == 1 and (tmp_path / "small.nc").is_file() and (tmp_path / "other.nc").is_file()
+    assert main(["workflow", "run", str(wf)]) == 0
+    assert len(starts) == 1  # nothing to compute: no cluster started
+
+
 def test_unreachable_scheduler_is_an_input_error(write_study, capsys):
     port = _free_port()
     assert main(["study", "run", str(write_study()), "--scheduler", f"tcp://127.0.0.1:{port}", "--quiet"]) == 2
