@@ -9,7 +9,8 @@ or more) and the parallel efficiency E = S / 2, for the compute phase
 workers x compute-phase wall time, i.e. 1 - (scheduling overhead + load
 imbalance); and the CPU share of the tasks: their CPU time over their wall time
 (below 1 when other processes compete for the cores, which caps the efficiency
-whatever Dask does). Last, the machine's own ceiling: two copies of the serial
+whatever Dask does). Then end to end on clusters already running (the case of
+``--scheduler`` and of a workflow's later steps). Last, the machine's own ceiling: two copies of the serial
 run started together in two processes, without Dask.
 
 ``--memory`` instead runs ``studies/bench_100k.toml`` (100,000 simulations,
@@ -32,7 +33,7 @@ import time
 from pathlib import Path
 
 from pipeline.study import load_motions, load_study
-from pipeline.sweep import run_study, warm_up
+from pipeline.sweep import Cluster, run_study, warm_up
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -101,6 +102,28 @@ def ceiling(study_path, serial_seconds):
     return 2.0 * serial_seconds / max(times), times
 
 
+def running_cluster(study, motions, repeat):
+    """End to end on clusters already running (``--scheduler``, or a workflow's later steps).
+
+    The whole ``run_study`` call is timed: plan, checkpoint, compute, assembling
+    and writing the netCDF file. A first run on each cluster loads the kernels
+    on its workers and is not counted.
+    """
+    with tempfile.TemporaryDirectory() as tmp, Cluster(workers=1) as one_worker, Cluster(workers=2) as two:
+        out = os.path.join(tmp, "bench.nc")
+        times = {1: [], 2: []}
+        for cluster in (one_worker, two):
+            run_study(study, out=out, motions=motions, cluster=cluster, progress=False)
+        for _ in range(repeat):
+            for n, cluster in ((1, one_worker), (2, two)):
+                t0 = time.monotonic()
+                run_study(study, out=out, motions=motions, cluster=cluster, progress=False)
+                times[n].append(time.monotonic() - t0)
+    t1, t2 = min(times[1]), min(times[2])
+    print(f"running cluster, end to end (best of {repeat}): 1 worker {t1:.2f} s, 2 workers {t2:.2f} s: "
+          f"speed-up {t1 / t2:.2f}, parallel efficiency {t1 / (2 * t2):.2f}")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--study", default=None)
@@ -149,6 +172,7 @@ def main():
     print(f"end to end:    speed-up T1/T2 = {t1:.2f}/{t2:.2f} = {t1 / t2:.2f}, "
           f"parallel efficiency T1/(2 T2) = {t1 / (2 * t2):.2f}")
     print(f"dask overhead (1 worker vs serial, compute phase): {best['1 worker'][0] / best['serial'][0] - 1:+.1%}")
+    running_cluster(study, motions, args.repeat)
     limit, times = ceiling(args.study, best["serial"][0])
     print(f"machine ceiling: two serial copies at once took {times[0]:.2f} s and {times[1]:.2f} s "
           f"against {best['serial'][0]:.2f} s alone: the cores allow a speed-up of {limit:.2f}")
