@@ -90,6 +90,11 @@ class Task:
     vertical: bool
 
     @property
+    def shape(self):
+        """Shape of the task's result arrays: (columns, angles, scales, models)."""
+        return (len(self.columns), len(self.angles), len(self.factors), len(self.settings))
+
+    @property
     def n_simulations(self):
         """Simulations actually run (3D once over all angles)."""
         per = sum(1 if s.model == "3d" else len(self.angles) for s in self.settings)
@@ -268,6 +273,15 @@ def longest_first(tasks, motions):
     return sorted(tasks, key=cost)
 
 
+def blank_arrays(shape, status):
+    """Result arrays of ``shape`` before any simulation: floats NaN, counts and flags 0, ``status`` as given."""
+    arrays = {name: np.zeros(shape, dtype=_DTYPES[name]) for name in RESULT_VARIABLES}
+    for name in FLOAT_VARIABLES:
+        arrays[name][...] = np.nan
+    arrays["status"][...] = status
+    return arrays
+
+
 # -- one task ------------------------------------------------------------------------------------
 
 def run_task(task, motion):
@@ -287,10 +301,7 @@ def run_task(task, motion):
         ``arrays``: name -> array (n_block_columns, n_angles, n_scales, n_models).
     """
     t0, c0 = time.perf_counter(), time.process_time()
-    shape = (len(task.columns), len(task.angles), len(task.factors), len(task.settings))
-    arrays = {name: np.zeros(shape, dtype=_DTYPES[name]) for name in RESULT_VARIABLES}
-    for name in FLOAT_VARIABLES:
-        arrays[name][...] = np.nan
+    arrays = blank_arrays(task.shape, status=0)
     runs, errors = 0, []
     for ci, column in enumerate(task.columns):
         for mi, settings in enumerate(task.settings):
@@ -323,11 +334,7 @@ def run_task(task, motion):
 
 def failed_result(task, message):
     """What a task that could not run yields: every cell status 1 (NaN, flags 0)."""
-    shape = (len(task.columns), len(task.angles), len(task.factors), len(task.settings))
-    arrays = {name: np.zeros(shape, dtype=_DTYPES[name]) for name in RESULT_VARIABLES}
-    for name in FLOAT_VARIABLES:
-        arrays[name][...] = np.nan
-    arrays["status"][...] = 1
+    arrays = blank_arrays(task.shape, status=1)
     return {"index": task.index, "record": task.record, "start": task.start, "stop": task.stop, "runs": 0,
             "seconds": 0.0, "cpu_seconds": 0.0, "errors": [f"columns {task.start}-{task.stop - 1}: {message}"],
             "arrays": arrays}
@@ -492,13 +499,6 @@ class Progress:
 
 # -- run -----------------------------------------------------------------------------------------
 
-def _allocate(shape):
-    arrays = {name: np.zeros(shape, dtype=_DTYPES[name]) for name in RESULT_VARIABLES}
-    for name in FLOAT_VARIABLES:
-        arrays[name][...] = np.nan
-    arrays["status"][...] = 1  # unfilled cells are failures until a task fills them
-    return arrays
-
 
 def _place(arrays, result):
     ri, a, b = result["record"], result["start"], result["stop"]
@@ -548,16 +548,20 @@ def run_study(study, *, out=None, motions=None, scheduler=None, workers=None, se
     factors = scale_factors(study, measures)
     tasks = plan(study, factors)
     ckpt = Checkpoint(out + ".checkpoint", checkpoint_key(study, motions, tasks))
+    own = cluster is None  # a cluster for this study alone; it connects only if a task is left to compute
+    cluster = cluster or Cluster(scheduler, workers)
     try:
-        return _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, cluster or (scheduler, workers),
-                                 serial, progress, keep_checkpoint, window)
+        return _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, cluster, serial, progress,
+                                 keep_checkpoint, window)
     finally:
         ckpt.release()
+        if own:
+            cluster.close()
 
 
 def _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, cluster, serial, progress,
                       keep_checkpoint, window):
-    arrays = _allocate(study.shape)
+    arrays = blank_arrays(study.shape, status=1)  # unfilled cells are failures until a task fills them
     done = ckpt.done() & {t.index for t in tasks}
     for index in sorted(done):
         _place(arrays, ckpt.load(index))
@@ -591,11 +595,7 @@ def _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, clust
                 report.startup_seconds = time.monotonic() - t0
                 report.n_workers = n_workers
 
-            if isinstance(cluster, Cluster):
-                _run_dask(pending, motions, finish, cluster, window, study.models, started)
-            else:  # (scheduler, workers): a cluster for this study alone
-                with Cluster(*cluster) as own:
-                    _run_dask(pending, motions, finish, own, window, study.models, started)
+            _run_dask(pending, motions, finish, cluster, window, study.models, started)
     report.seconds = time.monotonic() - t0
     bar.show(final=True)
     ds = assemble(study, motions, measures, factors, arrays)
