@@ -167,27 +167,22 @@ def sdof_response(acc, dt, period, damping=0.05):
     # two-input recurrence into a standard one, s_{k+1} = Phi s_k + (Phi g1 + g0) a_k,
     # which scipy's lfilter runs in compiled code.
     bd = phi @ g1 + g0
+    # transfer function of (Phi, bd, c, d): H(z) = d + c (zI - Phi)^-1 bd, with
+    # (zI - Phi)^-1 = (z I - adj) / den(z)
+    tr = np.trace(phi)
+    den = np.array([1.0, -tr, np.linalg.det(phi)])
+    adj = np.array([[phi[1, 1], -phi[0, 1]], [-phi[1, 0], phi[0, 0]]])
+    # lfilter from a zero state means an input ramping up from zero over the step
+    # before t = 0. At rest at t = 0 means s_0 = -g1 a_0 instead: its free response
+    # c Phi^k s_0 obeys the same denominator and enters as lfilter's initial state
+    # (direct form II transposed: zi = [y_0, y_1 - tr y_0] gives outputs y_0, y_1).
+    s0 = -g1 * a[0]
     outputs = []
     for c in (np.array([1.0, 0.0]), np.array([0.0, 1.0])):
         d = float(c @ g1)
-        # transfer function of (Phi, bd, c, d): H(z) = d + c (zI - Phi)^-1 bd
-        tr = np.trace(phi)
-        det = np.linalg.det(phi)
-        den = np.array([1.0, -tr, det])
-        adj = np.array([[phi[1, 1], -phi[0, 1]], [-phi[1, 0], phi[0, 0]]])
-        # (zI - Phi)^-1 = (z I - adj) / den(z)
-        num1 = float(c @ bd)
-        num0 = float(-c @ adj @ bd)
-        num = d * den + np.array([0.0, num1, num0])
-        y = lfilter(num, den, a)
-        # lfilter starts from s_0 = 0, i.e. an input ramping up from zero over
-        # the step before t = 0. At rest at t = 0 means s_0 = -g1 a_0 instead:
-        # add the free response c Phi^k s_0, which obeys the same denominator.
-        s0 = -g1 * a[0]
+        num = d * den + np.array([0.0, float(c @ bd), float(-c @ adj @ bd)])
         y0, y1 = float(c @ s0), float(c @ phi @ s0)
-        impulse = np.zeros_like(a)
-        impulse[0] = 1.0
-        y += lfilter([y0, y1 - tr * y0], den, impulse)
+        y, _ = lfilter(num, den, a, zi=np.array([y0, y1 - tr * y0]))
         outputs.append(y)
     disp, vel = outputs
     abs_acc = -(omega * omega * disp + 2.0 * damping * omega * vel)

@@ -33,10 +33,10 @@ def baseline_correct(gm, type="linear", order=None):
     """
     if type not in ("demean", "linear", "polynomial", "simple", "constant"):
         raise InputError(f"{gm.record_id}: baseline type {type!r}; use 'demean', 'linear' or 'polynomial'")
-    st = gm.stream
-    kwargs = {"order": int(order)} if type == "polynomial" else {}
     if type == "polynomial" and order is None:
         raise InputError(f"{gm.record_id}: baseline type 'polynomial' needs order=")
+    st = gm.stream
+    kwargs = {"order": int(order)} if type == "polynomial" else {}
     st.detrend(type, **kwargs)
     return gm.with_stream(st)
 

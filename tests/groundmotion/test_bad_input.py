@@ -111,7 +111,6 @@ def test_stream_with_gap_is_non_uniform(tmp_path):
 def test_missing_sampling_rate_on_stream():
     tr = obspy.Trace(np.ones(10))
     tr.stats.sampling_rate = 1.0
-    tr.stats.sampling_rate = 1.0
     tr2 = tr.copy()
     tr.stats.__dict__["sampling_rate"] = 0.0  # a header without sampling
     with pytest.raises(InputError, match=r"rec: component x .* has no sampling rate .*give dt"):
@@ -178,3 +177,10 @@ def test_changed_bundled_file_is_refused(tmp_path, monkeypatch):
     monkeypatch.setenv("FRUSTUM_RECORDS", str(copy))
     with pytest.raises(InputError, match=r"SYN-KT-01\.mseed: file digest differs from records/catalog\.toml for SYN-KT-01"):
         load("SYN-KT-01")
+
+
+def test_polynomial_baseline_without_order_names_the_parameter():
+    from pipeline.groundmotion.processing import baseline_correct
+
+    with pytest.raises(InputError, match="needs order="):
+        baseline_correct(one_sine_pulse(1.0, 0.5, dt=0.01), "polynomial")
