@@ -31,7 +31,7 @@ from pipeline.dynamics import frustum as fk
 from pipeline.dynamics import hybrid as hy
 from pipeline.dynamics import rocking as rk
 from pipeline.errors import InputError
-from pipeline.units import G
+from pipeline.units import G, time_scale
 
 MODELS = ("3d", "2d")
 
@@ -237,7 +237,7 @@ def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), 
     check_column(column)
     if not isinstance(excitation, Excitation):
         raise InputError(f"excitation must be an Excitation, got {type(excitation).__name__}")
-    t_scale = math.sqrt(column.R / G)
+    t_scale = time_scale(column.R)
     ax = np.asarray(motion.acc_x, dtype=np.float64) * excitation.scale
     ay = np.asarray(motion.acc_y, dtype=np.float64) * excitation.scale
     az = motion.acc_z
@@ -284,7 +284,7 @@ def simulate_free(column, initial, duration, settings=ModelSettings(rtol=1e-12, 
     if restitution is not None:
         settings = replace(settings, restitution=float(restitution))
     settings = replace(settings, model="3d")
-    rate = math.sqrt(column.R / G)  # (rad/s) * rate = rad per tau
+    rate = time_scale(column.R)  # (rad/s) * rate = rad per tau
     y0 = np.zeros(fk.N_STATE)
     y0[fk.PHI], y0[fk.THETA], y0[fk.PSI] = initial.phi, initial.theta, initial.psi
     y0[fk.DPHI] = initial.phi_dot * rate
@@ -312,7 +312,7 @@ class _Raw:
 
 
 def _run(column, settings, record, dt, y0, duration):
-    t_scale = math.sqrt(column.R / G)
+    t_scale = time_scale(column.R)
     c = column.kernel_constants()
     params = (c, record, dt, _options(column, settings))
     tau_end = duration / t_scale

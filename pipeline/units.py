@@ -1,8 +1,8 @@
 """The one place for units and physical constants.
 
 Everything inside the package is SI (metres, seconds, kilograms, radians).
-Degrees and fractions of g appear only at the edges: study files, the command
-line and plots convert through the helpers below.
+Degrees and fractions of g appear only at the edges (study files, the command
+line, plots), converted there with ``math.radians``/``deg_to_rad`` and ``G``.
 """
 
 import math
@@ -17,21 +17,6 @@ MARBLE_DENSITY = 2700.0
 def deg_to_rad(value_deg):
     """Convert degrees to radians (works on floats and numpy arrays)."""
     return value_deg * (math.pi / 180.0)
-
-
-def rad_to_deg(value_rad):
-    """Convert radians to degrees (works on floats and numpy arrays)."""
-    return value_rad * (180.0 / math.pi)
-
-
-def g_to_ms2(value_g):
-    """Convert an acceleration in fractions of g to m/s^2."""
-    return value_g * G
-
-
-def ms2_to_g(value_ms2):
-    """Convert an acceleration in m/s^2 to fractions of g."""
-    return value_ms2 / G
 
 
 def time_scale(radius_m):

@@ -14,7 +14,6 @@ letter of the channel): ``E``/``X``/``1`` -> x, ``N``/``Y``/``2`` -> y,
 else needs ``components=(x, y[, z])`` naming channels or trace ids.
 """
 
-import os
 import re
 import warnings
 from pathlib import Path
@@ -321,8 +320,3 @@ def read_text(path, *, units, dt=None, missing_y="error", record_id=None, metada
     meta = {"source": where, "licence": "unknown (user file)", "format": "text"}
     meta.update(metadata or {})
     return GroundMotion(stream, record_id=record_id or Path(path).name, metadata=meta, source=where)
-
-
-def is_text_path(path):
-    """True if ``path`` ends like a text/CSV record file."""
-    return os.path.splitext(str(path))[1].lower() in TEXT_SUFFIXES

@@ -133,10 +133,6 @@ class GroundMotion:
             traces.append(tr)
         return cls(Stream(traces), record_id=record_id, metadata=metadata)
 
-    def _derived(self, stream, **meta_updates):
-        metadata = dict(self._metadata, **meta_updates)
-        return GroundMotion(stream, record_id=self._record_id, metadata=metadata)
-
     # -- properties --------------------------------------------------------------
     @property
     def record_id(self):
@@ -225,7 +221,7 @@ class GroundMotion:
         st[1].data = s * x + c * y
         for tr in st:
             log_step(tr, f"rotated(angle_rad={angle!r})")
-        return self._derived(st)
+        return self.with_stream(st)
 
     def scaled(self, factor):
         """All components multiplied by ``factor`` [1]."""
@@ -236,7 +232,7 @@ class GroundMotion:
         for tr in st:
             tr.data = tr.data * factor
             log_step(tr, f"scaled(factor={factor!r})")
-        return self._derived(st)
+        return self.with_stream(st)
 
     def with_processing(self, *steps):
         """Apply processing steps in order (see :func:`pipeline.groundmotion.processing.apply`).
@@ -250,7 +246,7 @@ class GroundMotion:
 
     def with_stream(self, stream, **metadata_updates):
         """A new motion from a processed copy of :attr:`stream` (same id, metadata)."""
-        return self._derived(stream, **metadata_updates)
+        return GroundMotion(stream, record_id=self._record_id, metadata=dict(self._metadata, **metadata_updates))
 
     # -- identity ----------------------------------------------------------------
     def sha256(self):
