@@ -91,14 +91,20 @@ def significant_duration(acc, dt, lower=0.05, upper=0.95):
     Returns ``(duration, t_lower, t_upper)`` [s].
     """
     husid = arias_husid(acc, dt)
-    total = husid[-1]
-    if total <= 0.0:
+    if husid[-1] <= 0.0:
         return 0.0, 0.0, 0.0
-    frac = husid / total
-    t = np.arange(frac.size) * dt
-    t_lo = float(np.interp(lower, frac, t))
-    t_hi = float(np.interp(upper, frac, t))
+    t_lo, t_hi = husid_window(husid, dt, lower, upper)
     return t_hi - t_lo, t_lo, t_hi
+
+
+def husid_window(husid, dt, lower, upper):
+    """Times [s] at which a cumulative Arias curve (positive total) reaches ``lower`` and ``upper`` of its total.
+
+    Interpolated linearly between samples ``dt`` [s] apart, from t = 0.
+    """
+    frac = husid / husid[-1]
+    t = np.arange(frac.size) * dt
+    return float(np.interp(lower, frac, t)), float(np.interp(upper, frac, t))
 
 
 def _discrete_sdof(omega, damping, h):

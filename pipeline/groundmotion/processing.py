@@ -14,7 +14,6 @@ Steps can also be given as data (study files) and run by :func:`apply`::
 
 import math
 
-import numpy as np
 
 from pipeline.errors import InputError
 from pipeline.groundmotion import intensity as im
@@ -97,9 +96,7 @@ def trim_arias(gm, lower=0.05, upper=0.95):
     husid = im.arias_husid(gm.acc_x, gm.dt) + im.arias_husid(gm.acc_y, gm.dt)
     if husid[-1] <= 0:
         raise InputError(f"{gm.record_id}: zero Arias intensity; nothing to trim to")
-    frac = husid / husid[-1]
-    t = gm.time
-    t_lo, t_hi = float(np.interp(lower, frac, t)), float(np.interp(upper, frac, t))
+    t_lo, t_hi = im.husid_window(husid, gm.dt, lower, upper)
     st = gm.stream
     t0 = st[0].stats.starttime
     st.trim(t0 + t_lo, t0 + t_hi, nearest_sample=True)
