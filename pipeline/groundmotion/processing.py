@@ -14,7 +14,6 @@ Steps can also be given as data (study files) and run by :func:`apply`::
 
 import math
 
-
 from pipeline.errors import InputError
 from pipeline.groundmotion import intensity as im
 from pipeline.groundmotion.record import log_step
