@@ -253,8 +253,9 @@ def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), 
     duration = motion.duration + settings.tail
     y0 = np.zeros(fk.N_STATE if settings.model == "3d" else rk.N_STATE2)
     raw = _run(column, settings, record, dt, y0, duration)
-    summary = _summary(column, settings, raw, motion, excitation)
-    ds = _histories(column, settings, raw, excitation, motion) if histories else None
+    diag = _diagnostics(raw, settings)
+    summary = _summary(column, settings, raw, diag, motion, excitation)
+    ds = _histories(column, settings, raw, diag, excitation, motion) if histories else None
     return Response(summary, ds, _impact_table(raw, column))
 
 
@@ -291,7 +292,7 @@ def simulate_free(column, initial, duration, settings=ModelSettings(rtol=1e-12, 
     y0[fk.DTHETA] = initial.theta_dot * rate
     y0[fk.OMEGA] = (initial.phi_dot * math.cos(initial.theta) + initial.psi_dot) * rate
     raw = _run(column, settings, np.zeros((0, 3)), 1.0, y0, duration)
-    ds = _histories(column, settings, raw, Excitation(), None)
+    ds = _histories(column, settings, raw, _diagnostics(raw, settings), Excitation(), None)
     ds.attrs["title"] = "Free motion of a conical frustum rolling on its rim"
     return ds
 
@@ -324,7 +325,7 @@ def _run(column, settings, record, dt, y0, duration):
     summary = np.zeros(hy.N_SUMMARY)
     restitution = -1.0 if settings.restitution is None else float(settings.restitution)
     runner = hy.run_frustum if settings.model == "3d" else hy.run_rocking
-    impacts = np.full((MAX_LOGGED_IMPACTS, 4), np.nan)
+    impacts = np.empty((MAX_LOGGED_IMPACTS, 4))  # the kernel fills every logged row; only those are read
     n = runner(params, restitution, y0, tau_end, tau, states, phase, breaks, settings.rtol, settings.atol,
                summary, impacts)
     if summary[hy.S_STATUS] < 0:
@@ -352,10 +353,9 @@ def _diagnostics(raw, settings):
     return out
 
 
-def _summary(column, settings, raw, motion, excitation):
+def _summary(column, settings, raw, diag, motion, excitation):
     s = raw.summary
     ts = raw.t_scale
-    diag = _diagnostics(raw, settings)
     # Peaks, sliding and lift-off are taken before the final fall: once the
     # column passes theta_crit for the last time it is going over (and the
     # rows after it lies down hold a frozen state under a moving ground).
@@ -366,7 +366,7 @@ def _summary(column, settings, raw, motion, excitation):
         moving = np.arange(len(moving)) <= (upright[-1] if len(upright) else -1)
     rolling = moving & (raw.phase == hy.PHASE_ROLLING)
     peak_mu = max(float(np.nanmax(diag[moving, 4])) if moving.any() else 0.0, s[hy.S_PEAK_MU])
-    min_normal = np.nanmin([np.nanmin(diag[rolling, 2]) if rolling.any() else np.inf, s[hy.S_MIN_NORMAL]])
+    min_normal = np.fmin(np.nanmin(diag[rolling, 2]) if rolling.any() else np.inf, s[hy.S_MIN_NORMAL])
     weight_energy = column.R  # energies per m g: multiply dimensionless by R -> per (m g) [m]
     last = raw.states[raw.n_filled - 1]
     c = raw.params[0]
@@ -417,11 +417,10 @@ def _summary(column, settings, raw, motion, excitation):
     return out
 
 
-def _histories(column, settings, raw, excitation, motion):
+def _histories(column, settings, raw, diag, excitation, motion):
     ts = raw.t_scale
     R = column.R
     per_s = 1.0 / ts
-    diag = _diagnostics(raw, settings)
     st = raw.states
     rest = raw.phase == hy.PHASE_REST
     if settings.model == "3d":
