@@ -45,6 +45,7 @@ import numpy as np
 import xarray as xr
 from scipy.special import log_ndtr, ndtr
 
+from pipeline import dataset
 from pipeline.dataset import annotate, append_history, write_netcdf
 from pipeline.errors import InputError
 
@@ -261,17 +262,9 @@ def open_results(path):
     if not os.path.exists(path):
         raise InputError(f"{path}: no such file; give the netCDF written by 'frustum study run'")
     try:
-        with xr.open_dataset(path) as ds:
-            ds = ds.load()
+        ds = dataset.open_results(path)
     except (OSError, ValueError) as exc:
         raise InputError(f"{path}: cannot be read as netCDF ({exc}); give the file 'frustum study run' wrote") from None
-    # study files keep the dimension labels in auxiliary character coordinates
-    # (pipeline.dataset.write_results): put them back on their dimensions
-    for dim, label in (("column", "column_label"), ("record", "record_label"), ("model", "model_label")):
-        if label in ds.variables and ds[label].dims == (dim,):
-            attrs = dict(ds[label].attrs)
-            values = np.asarray(ds[label].values).astype(str)
-            ds = ds.drop_vars(label).assign_coords({dim: (dim, values, attrs)})
     ds.attrs["source_file"] = path
     return _normalise(ds, path)
 
