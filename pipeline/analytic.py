@@ -40,7 +40,7 @@ from dataclasses import dataclass
 import mpmath
 import numpy as np
 
-from pipeline.geometry import k1_coefficient, k2_coefficient, k3_coefficient
+from pipeline.geometry import axial_inertia_hat, k1_coefficient, transverse_inertia_hat
 
 
 def _constants(column):
@@ -206,10 +206,8 @@ def ps_product(slenderness, beta):
     """
     h = np.asarray(slenderness, dtype=float)
     beta = np.asarray(beta, dtype=float)
-    k1, k2, k3 = k1_coefficient(beta), k2_coefficient(beta), k3_coefficient(beta)
-    Iy = 0.25 * (k3 + 4.0) + (k2 + 3.0 * k1**2) * h**2 / 12.0
-    Iz = 0.5 * (k3 + 2.0)
-    return _denominator(Iy, Iz, h * k1) / (Iz * (Iz - 1.0))
+    Iy, Iz = transverse_inertia_hat(h, beta), axial_inertia_hat(beta)
+    return _denominator(Iy, Iz, h * k1_coefficient(beta)) / (Iz * (Iz - 1.0))
 
 
 def wobbling_constants(theta0, dphi0, dpsi0, column):
@@ -548,22 +546,10 @@ class AppellSolution:
         """Spin omega_zeta at inclination theta [rad] -> [1/tau]."""
         return self._eval(theta)[0]
 
-    def domega_zeta(self, theta):
-        """d omega_zeta / d theta [1/tau per rad]."""
-        return self._eval(theta)[1]
-
     def omega_eta(self, theta):
         """omega_eta = phi' sin(theta) from Eq. B.2 [1/tau]."""
         w, dw = self._eval(theta)
         return self.eta_a * dw + self.eta_b * w
-
-    def rates(self, theta):
-        """(phi', psi') at inclination theta [rad] -> [1/tau]."""
-        theta = np.asarray(theta, dtype=float)
-        w, dw = self._eval(theta)
-        eta = self.eta_a * dw + self.eta_b * w
-        dphi = eta / np.sin(theta)
-        return dphi, w - dphi * np.cos(theta)
 
     def log_coefficients(self):
         """Coefficients of log(1 - z) in T_+Delta, T_-Delta as theta -> 0 (A&S 15.3.10).

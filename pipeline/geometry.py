@@ -8,7 +8,6 @@ parallel-axis term is ``k1^2 m h^2 / 4``, not ``k1 m h^2 / 4``).
 
 import math
 from dataclasses import dataclass
-from functools import cached_property
 
 from pipeline.errors import InputError
 from pipeline.units import G
@@ -37,6 +36,21 @@ def k2_coefficient(beta):
 def k3_coefficient(beta):
     """k3 of the paper (Section 2.2): axial inertia shape factor, C = k3 m R^2 / 2 [1]."""
     return 0.6 * (beta**4 + beta**3 + beta**2 + beta + 1.0) / (beta**2 + beta + 1.0)
+
+
+def transverse_inertia_hat(slenderness, beta):
+    """I_y^P / (m R^2), transverse inertia about a rim point (the paper's I_x^P = I_y^P) [1].
+
+    ``(k3 + 4)/4 + (k2 + 3 k1^2) (h/R)^2 / 12``: the parallel-axis term uses k1^2
+    (docs/misprints.md). Works on floats and numpy arrays.
+    """
+    k1 = k1_coefficient(beta)
+    return 0.25 * (k3_coefficient(beta) + 4.0) + (k2_coefficient(beta) + 3.0 * k1**2) * slenderness**2 / 12.0
+
+
+def axial_inertia_hat(beta):
+    """I_z^P / (m R^2) = C/(m R^2) + 1, axial inertia about a rim point [1]."""
+    return 0.5 * (k3_coefficient(beta) + 2.0)
 
 
 @dataclass(frozen=True)
@@ -123,12 +137,12 @@ class Column:
         Equals A/(m R^2) + (z_cm/R)^2 + 1 with A the central transverse moment
         (the paper's I_x^P = I_y^P).
         """
-        return 0.25 * (self.k3 + 4.0) + (self.k2 + 3.0 * self.k1**2) * self.slenderness**2 / 12.0
+        return transverse_inertia_hat(self.slenderness, self.beta)
 
     @property
     def inertia_axial_hat(self):
         """I_z^P / (m R^2) = C/(m R^2) + 1 [1]."""
-        return 0.5 * (self.k3 + 2.0)
+        return axial_inertia_hat(self.beta)
 
     @property
     def central_inertia_hat(self):
@@ -150,11 +164,6 @@ class Column:
             (0.0, A + m * z**2, -m * R * z),
             (0.0, -m * R * z, C + m * R**2),
         )
-
-    @property
-    def rocking_inertia(self):
-        """Moment of inertia about a rim point for planar rocking, I_0 [kg m^2] (needs density)."""
-        return self.inertia_transverse_hat * self.mass * self.R**2
 
     # Statics ----------------------------------------------------------------
     @property
