@@ -134,6 +134,17 @@ def probability(im, median, beta):
     return out
 
 
+def fitted_probability(im, median, beta, fit_status):
+    """:func:`probability` of stored fits, whose degenerate cases keep a NaN median.
+
+    ``fit_status`` FIT_NO_EXCEEDANCE gives 0 and FIT_ALL_EXCEED gives 1 at every
+    intensity, as the fits that produced them say.
+    """
+    status = np.asarray(fit_status)
+    median = np.where(status == FIT_NO_EXCEEDANCE, np.inf, np.where(status == FIT_ALL_EXCEED, 0.0, median))
+    return probability(im, median, beta)
+
+
 def _group(im, n, k):
     """Sum runs and exceedances at each distinct IM level."""
     im = np.asarray(im, float).ravel()

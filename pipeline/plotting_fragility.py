@@ -182,15 +182,12 @@ def plot_geometry_map(frag, stem, im_value, model="3d", state="overturning", tit
     im_value : float
         IM at which to evaluate the curves, in the dataset's units (m/s^2 for PGA).
     """
-    from pipeline.fragility import probability
+    from pipeline.fragility import fitted_probability
 
     sub = frag.sel(model=model, state=state)
     slender = frag["slenderness"].values
     conicity = frag["column_beta"].values if "column_beta" in frag.coords else np.full(slender.size, np.nan)
-    p = probability(im_value, sub["median"].values, sub["beta"].values)
-    # keep degenerate fits: status 1 -> 0, 2 -> 1
-    status = sub["fit_status"].values
-    p = np.where(status == 1, 0.0, np.where(status == 2, 1.0, p))
+    p = fitted_probability(im_value, sub["median"].values, sub["beta"].values, sub["fit_status"].values)
     factor, label, _ = im_axis(frag.attrs.get("intensity_measure", "pga"), frag["median"].attrs.get("units", ""))
     fig, ax = plt.subplots(figsize=(7.5, 5.5), constrained_layout=True)
     levels = np.linspace(0, 1, 11)

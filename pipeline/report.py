@@ -78,20 +78,15 @@ def overturning_probabilities(frag, pga_levels_g=DEFAULT_PGA_LEVELS_G):
     dict
         ``{(column, model): numpy.ndarray of probabilities [1]}``, from the
         fitted lognormal curve (degenerate fits as documented in
-        :func:`pipeline.fragility.probability`).
+        :func:`pipeline.fragility.fitted_probability`).
     """
     out = {}
     levels = np.asarray(pga_levels_g, float) * G
     for c in frag["column"].values:
         for m in frag["model"].values:
             cell = frag.sel(state="overturning", column=c, model=m)
-            median, beta = float(cell["median"]), float(cell["beta"])
-            status = int(cell["fit_status"])
-            if status == F.FIT_NO_EXCEEDANCE:
-                median = math.inf
-            elif status == F.FIT_ALL_EXCEED:
-                median = 0.0
-            out[(str(c), str(m))] = F.probability(levels, median, beta)
+            out[(str(c), str(m))] = F.fitted_probability(levels, float(cell["median"]), float(cell["beta"]),
+                                                         int(cell["fit_status"]))
     return out
 
 
