@@ -49,6 +49,7 @@ see docs/studies.md for the full reference)::
 import hashlib
 import math
 import tomllib
+from collections import Counter
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
@@ -324,6 +325,13 @@ class _Checker:
             self.fail(field, f"has repeated values {list(out)}; give each value once")
         return out
 
+    def unique(self, values, field, message):
+        """Fail on the first value (in sorted order) given more than once; ``message`` formats it as {!r}."""
+        counts = Counter(values)
+        dup = sorted(v for v, n in counts.items() if n > 1)
+        if dup:
+            self.fail(field, message.format(dup[0]))
+
     def string(self, value, field):
         if not isinstance(value, str) or not value.strip():
             self.fail(field, f"must be a non-empty string, got {value!r}")
@@ -429,10 +437,7 @@ def _columns(data, ck):
                     out.append(ColumnInfo(col, label, source="study grid"))
     if not out:
         ck.fail("columns", "no columns: give [[columns]] entries or a [column_grid]")
-    labels = [c.label for c in out]
-    dup = sorted({x for x in labels if labels.count(x) > 1})
-    if dup:
-        ck.fail("columns", f"column label {dup[0]!r} is used twice; give each column a distinct name")
+    ck.unique([c.label for c in out], "columns", "column label {!r} is used twice; give each column a distinct name")
     return tuple(out)
 
 
@@ -487,10 +492,7 @@ def _records(section, ck, path):
         out.append(RecordSpec("synthetic", rid, generator=gen, params=params, field=field))
     if not out:
         ck.fail("records", "no records: give ids, sets, files or synthetic (an empty grid computes nothing)")
-    ids = [r.id for r in out]
-    dup = sorted({x for x in ids if ids.count(x) > 1})
-    if dup:
-        ck.fail("records", f"record {dup[0]!r} is given twice; give each record once (files/synthetic: set id)")
+    ck.unique([r.id for r in out], "records", "record {!r} is given twice; give each record once (files/synthetic: set id)")
     return tuple(out)
 
 

@@ -57,6 +57,8 @@ BAD = {
                                     "records.synthetic[0].amplitude"),
     "unknown record set": (_broken("[records]", '[records]\nsets = ["FEMA-XX"]'), "records.sets[0]"),
     "block_columns": (_broken("block_columns = 2", "block_columns = 0"), "execution.block_columns"),
+    "duplicate column label": (_broken('name = "squat"', 'name = "paper"'), "columns"),
+    "duplicate record id": (_broken('id = "kt-1"', 'id = "ricker"'), "records"),
     "scales and intensity": (_broken("scales = [0.5, 1.0, 2.0]",
                                      'scales = [1.0]\nintensity = {measure = "pga", values = [1.0]}'),
                              "excitation.intensity"),
