@@ -13,6 +13,7 @@ Every number in the report and the CSV is read from the results Dataset or
 from the fragility Dataset fitted to it here; nothing is typed in.
 """
 
+import contextlib
 import csv
 import json
 import math
@@ -180,15 +181,27 @@ def summary_rows(results, frag, pga_levels_g=DEFAULT_PGA_LEVELS_G):
     return rows
 
 
-def _write_csv(rows, path):
+@contextlib.contextmanager
+def _atomic_text(path, **open_kwargs):
+    """Open ``path`` for writing text under a temporary name; renamed on success, removed on failure."""
     tmp = f"{path}.partial"
-    with open(tmp, "w", newline="", encoding="utf-8") as fh:
+    try:
+        with open(tmp, "w", encoding="utf-8", **open_kwargs) as fh:
+            yield fh
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def _write_csv(rows, path):
+    with _atomic_text(path, newline="") as fh:
         writer = csv.DictWriter(fh, fieldnames=list(rows[0].keys()))
         writer.writeheader()
         for row in rows:
             writer.writerow({k: ("" if isinstance(v, float) and not math.isfinite(v) else
                                  (repr(v) if isinstance(v, float) else v)) for k, v in row.items()})
-    os.replace(tmp, path)
 
 
 def _write_geojson(rows, path):
@@ -203,10 +216,8 @@ def _write_geojson(rows, path):
                          "properties": props})
     if not features:
         return None
-    tmp = f"{path}.partial"
-    with open(tmp, "w", encoding="utf-8") as fh:
+    with _atomic_text(path) as fh:
         json.dump({"type": "FeatureCollection", "features": features}, fh, indent=1)
-    os.replace(tmp, path)
     return path
 
 
@@ -345,9 +356,8 @@ def write_report(results, out_dir, pga_levels_g=DEFAULT_PGA_LEVELS_G, states=F.D
     text = _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, title, notes, geo_path,
                      stripe_tables_max)
     md_path = os.path.join(out_dir, "report.md")
-    with open(md_path + ".partial", "w", encoding="utf-8") as fh:
+    with _atomic_text(md_path) as fh:
         fh.write(text)
-    os.replace(md_path + ".partial", md_path)
     return {"report": md_path, "csv": csv_path, "geojson": geo_path, "fragility": frag_path, "figures": figs,
             "frag": frag}
 
