@@ -45,6 +45,7 @@ VARIABLES = {
     "tangential_force": ("N", "magnitude of the tangential contact force", None),
     "tangential_force_hat": ("1", "magnitude of the tangential contact force per weight m g", None),
     "mu_mob": ("1", "mobilized friction coefficient |F_t|/N", None),
+    "slip_velocity": ("m s-1", "speed of the sliding base or rim point relative to the ground", None),
     "ground_acc_x": ("m s-2", "ground acceleration, X component", None),
     "ground_acc_y": ("m s-2", "ground acceleration, Y component", None),
     "ground_acc_z": ("m s-2", "ground acceleration, vertical component (upwards)", None),
@@ -55,7 +56,11 @@ VARIABLES = {
     "overturn_time": ("s", "time of overturning (NaN if the column stands)", None),
     "uplift_time": ("s", "time of the first uplift (NaN if the base never leaves the ground)", None),
     "n_impacts": ("1", "number of landings (impacts of the base on the ground)", None),
-    "peak_mu_mob": ("1", "peak mobilized friction coefficient |F_t|/N", None),
+    "peak_mu_mob": ("1", "peak mobilized friction coefficient |F_t|/N while in contact", None),
+    "min_normal_force_hat": ("1", "lowest normal contact force per weight m g while in contact", None),
+    "sliding_time": ("s", "time the base or the rim first slides (NaN if it never does)", None),
+    "lift_off_time": ("s", "time the column first lifts off into flight (NaN if it never does)", None),
+    "energy_friction": ("m", "energy removed by sliding friction per unit weight, E/(m g)", None),
     "residual_rotation": ("rad", "residual rotation of the column about the vertical at the end", None),
     "residual_displacement": ("m", "residual horizontal displacement of the centre of the base", None),
     "energy_balance_error": ("m", "error of the energy balance per unit weight, E/(m g)", None),
@@ -92,14 +97,14 @@ STUDY_VARIABLES.update({
 })
 
 FLAGS = {
-    "phase": ([0, 1, 2], "at_rest rolling_on_rim overturned", "motion phase of the column"),
+    "phase": ([0, 1, 2, 3, 4, 5], "at_rest rolling_on_rim overturned sliding_flat slipping_on_rim flight",
+              "motion phase of the column"),
     "overturned": ([0, 1], "stands overturned", "the column overturned"),
     "uplifted": ([0, 1], "never_uplifted uplifted", "the base left full contact with the ground"),
     "sliding_onset": ([0, 1], "no_sliding sliding_onset",
-                      "the peak mobilized friction exceeded the study's friction coefficient "
-                      "(before any final fall past theta_crit)"),
+                      "the base or the rim slid on the ground (friction reached mu N)"),
     "lift_off": ([0, 1], "no_lift_off lift_off",
-                 "the normal contact force fell below zero, free flight (before any final fall past theta_crit)"),
+                 "the normal contact force reached zero and the column flew"),
     "status": ([0, 1], "ok failed", "status of the simulation (failed: values are NaN or 0)"),
 }
 
