@@ -8,12 +8,12 @@ run never leaves a half-written file behind.
 """
 
 import os
-import tempfile
 from datetime import datetime, timezone
 
 import numpy as np
 
 from pipeline import __version__
+from pipeline.atomic import atomic_path
 
 CONVENTIONS = "CF-1.10"
 REFERENCE = (
@@ -170,15 +170,8 @@ def write_netcdf(ds, path, encoding=None):
     }
     for name, extra in extra_encoding.items():
         encoding[name] = {**encoding.get(name, {}), **extra}
-    fd, tmp = tempfile.mkstemp(prefix=".partial-", suffix=".nc", dir=folder)
-    os.close(fd)
-    try:
+    with atomic_path(path) as tmp:  # permissions from the umask, not mkstemp's 0600
         ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=encoding)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
     return path
 
 

@@ -31,7 +31,6 @@ import math
 import os
 import shutil
 import sys
-import tempfile
 import time
 from dataclasses import dataclass, field
 
@@ -39,6 +38,7 @@ import numpy as np
 import xarray as xr
 
 from pipeline import __version__
+from pipeline.atomic import PARTIAL_PREFIX, atomic_open
 from pipeline.dataset import STUDY_VARIABLES, annotate, append_history, write_results
 from pipeline.errors import InputError
 from pipeline.simulate import Excitation, simulate
@@ -395,7 +395,7 @@ class Checkpoint:
                 old = None
         if old != key:
             for name in os.listdir(folder):
-                if name.startswith("task-") or name.startswith(".partial-"):
+                if name.startswith("task-") or name.startswith(PARTIAL_PREFIX):
                     os.unlink(os.path.join(folder, name))
             self._atomic(manifest, json.dumps({"key": key, "software": __version__}).encode())
 
@@ -403,17 +403,8 @@ class Checkpoint:
         return os.path.join(self.folder, f"task-{index:06d}.npz")
 
     def _atomic(self, path, payload):
-        fd, tmp = tempfile.mkstemp(prefix=".partial-", dir=self.folder)
-        try:
-            with os.fdopen(fd, "wb") as f:
-                f.write(payload)
-                f.flush()
-                os.fsync(f.fileno())
-            os.replace(tmp, path)
-        except BaseException:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-            raise
+        with atomic_open(path, "wb", fsync=True) as f:
+            f.write(payload)
 
     def done(self):
         """Indices of the finished tasks found in the folder."""

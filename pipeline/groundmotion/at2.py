@@ -31,6 +31,7 @@ import numpy as np
 from obspy import Stream, Trace
 from obspy.core.util import AttribDict
 
+from pipeline.atomic import atomic_open
 from pipeline.errors import InputError
 from pipeline.units import G
 
@@ -215,10 +216,8 @@ def _write_one(trace, target, digits, event, date):
     if hasattr(target, "write"):
         target.write(text if isinstance(target, io.TextIOBase) else text.encode("latin-1"))
         return
-    tmp = f"{target}.part"
-    with open(tmp, "w", encoding="latin-1") as fh:
+    with atomic_open(target, "w", encoding="latin-1") as fh:  # never a half-written file under the real name
         fh.write(text)
-    os.replace(tmp, target)  # never leave a half-written file under the real name
 
 
 def write_at2(stream, filename, digits=7, event=None, date=None, **kwargs):

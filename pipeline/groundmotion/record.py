@@ -271,8 +271,9 @@ class GroundMotion:
         component, ``<stem>_HNX<suffix>`` etc. Each file is written under a
         temporary name and then renamed. Returns the list of paths written.
         """
-        import os
         from pathlib import Path
+
+        from pipeline.atomic import atomic_path
 
         st = self.stream
         for name, tr in zip(COMPONENTS, st):
@@ -287,9 +288,8 @@ class GroundMotion:
             jobs = [(st, target)]
         written = []
         for part, path in jobs:
-            tmp = path.with_name(path.name + ".part")
-            part.write(str(tmp), format=format, **kwargs)
-            os.replace(tmp, path)
+            with atomic_path(path) as tmp:
+                part.write(tmp, format=format, **kwargs)
             written.append(path)
         return written
 
