@@ -41,6 +41,7 @@ from pipeline import __version__
 from pipeline.atomic import PARTIAL_PREFIX, atomic_open
 from pipeline.dataset import STUDY_VARIABLES, annotate, append_history, write_results
 from pipeline.errors import InputError
+from pipeline.locking import try_lock
 from pipeline.simulate import Excitation, simulate
 from pipeline.units import deg_to_rad
 
@@ -372,17 +373,12 @@ class Checkpoint:
     """
 
     def __init__(self, folder, key):
-        import fcntl
-
         self.folder = folder
         self.key = key
         os.makedirs(folder, exist_ok=True)
         # one run per checkpoint at a time; the kernel releases the lock if the run dies
-        self._lock = open(os.path.join(folder, ".lock"), "w")  # noqa: SIM115 - closed in release()
-        try:
-            fcntl.flock(self._lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
-            self._lock.close()
+        self._lock = try_lock(os.path.join(folder, ".lock"))
+        if self._lock is None:
             raise InputError(f"{folder}: another run of this study is writing here; wait for it to finish "
                              "(or give another --out)") from None
         manifest = os.path.join(folder, "manifest.json")
@@ -429,8 +425,7 @@ class Checkpoint:
 
     def release(self):
         """Let another run use the folder."""
-        if not self._lock.closed:
-            self._lock.close()
+        self._lock.release()
 
     def remove(self):
         """Delete the folder (after the results file is written) and release it."""

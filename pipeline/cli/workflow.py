@@ -21,7 +21,6 @@ order; the first failing step stops the workflow and the command exits 1.
 Two runs of the same workflow never overlap (a lock next to the log).
 """
 
-import fcntl
 import os
 import sys
 import time
@@ -32,6 +31,7 @@ from pathlib import Path
 
 from pipeline import __version__
 from pipeline.errors import InputError
+from pipeline.locking import try_lock
 
 _TOP = {"title", "log", "execution", "steps"}
 _EXECUTION = {"workers", "scheduler"}
@@ -166,11 +166,9 @@ def run_workflow(path, workers=None, scheduler=None, force=False):
     workers = workers or wf["workers"]
     scheduler = scheduler or wf["scheduler"]
     log = _Log(wf["log"])
-    lock = open(wf["log"] + ".lock", "w")  # noqa: SIM115
+    lock = try_lock(wf["log"] + ".lock")
     try:
-        try:
-            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
+        if lock is None:
             log(f"workflow {wf['path']}: another run holds {wf['log']}.lock; not starting")
             return 1
         log(f"workflow {wf['path']} ({wf['title']}): start, frustum {__version__}, {len(wf['steps'])} step(s)")
@@ -178,7 +176,8 @@ def run_workflow(path, workers=None, scheduler=None, force=False):
         with Cluster(scheduler, workers) as cluster:
             return _run_steps(wf, log, cluster, force)
     finally:
-        lock.close()
+        if lock is not None:
+            lock.release()
         log.file.close()
 
 
