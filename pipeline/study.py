@@ -35,7 +35,7 @@ see docs/studies.md for the full reference)::
     [excitation]
     angles = [0.0, 45.0, 90.0]       # [deg]
     scales = [0.5, 1.0, 2.0]         # factors on the record, or instead:
-    # intensity = {measure = "pga", values = [1.0, 2.0, 4.0]}   # targets [m/s^2] or [m/s]
+    # intensity = {measure = "pga", units = "g", values = [0.1, 0.2, 0.4]}   # units required
     vertical = true
     sa_period = 1.0                  # optional: also report Sa(T) [s]
 
@@ -57,6 +57,7 @@ from pathlib import Path
 from pipeline.errors import InputError
 from pipeline.geometry import Column
 from pipeline.simulate import MODELS, ModelSettings, check_column
+from pipeline.units import G
 
 __all__ = ["Study", "RecordSpec", "ColumnInfo", "Intensity", "load_study", "load_motions", "parse_study", "named_columns"]
 
@@ -67,12 +68,14 @@ _GRID = {"R", "slenderness", "beta"}
 _RECORDS = {"ids", "sets", "files", "synthetic"}
 _FILE = {"path", "units", "id"}
 _EXCITATION = {"angles", "scales", "intensity", "vertical", "sa_period"}
-_INTENSITY = {"measure", "values"}
+_INTENSITY = {"measure", "values", "units"}
 _OPTIONS = {"restitution", "contact_tilt", "damping", "friction", "tail", "rtol", "atol"}
 _EXECUTION = {"block_columns"}
 _GENERATORS = ("one_sine_pulse", "cycloidal_pulse", "rectangular_pulse", "ricker_wavelet",
                "mavroeidis_papageorgiou", "harmonic", "kanai_tajimi", "clough_penzien")
 INTENSITY_MEASURES = ("pga", "pgv")
+#: Units a study may state its intensity targets in (factor to SI), per measure; no default.
+INTENSITY_UNITS = {"pga": {"g": G, "m/s2": 1.0}, "pgv": {"m/s": 1.0, "cm/s": 0.01}}
 
 
 @dataclass(frozen=True)
@@ -149,11 +152,18 @@ class Intensity:
         Peak of the horizontal acceleration [m/s^2] or velocity [m/s] vector
         (independent of the incidence angle), as the ``pga``/``pgv`` results.
     values : tuple of float
-        Target levels, in the measure's units.
+        Target levels in SI units ([m/s^2] or [m/s]).
+    units : str
+        The unit the study file stated them in (``"g"``, ``"m/s2"``,
+        ``"m/s"``, ``"cm/s"``).
+    stated : tuple of float
+        The levels as the study file gives them, in ``units``.
     """
 
     measure: str
     values: tuple
+    units: str = "m/s2"
+    stated: tuple = ()
 
 
 @dataclass(frozen=True)
@@ -527,8 +537,15 @@ def _excitation(section, ck):
             ck.fail("excitation.intensity.measure", f"{measure!r}: choose {' or '.join(INTENSITY_MEASURES)}")
         if "values" not in table:
             ck.fail("excitation.intensity.values", "missing: give the target levels")
-        values = ck.numbers(table["values"], "excitation.intensity.values", positive=True)
-        intensity = Intensity(measure, values)
+        choices = INTENSITY_UNITS[measure]
+        hint = " or ".join(f'units = "{u}"' for u in choices)
+        if "units" not in table:
+            ck.fail("excitation.intensity.units", f"missing: state the unit of the {measure} targets, {hint}")
+        units = table["units"]
+        if units not in choices:
+            ck.fail("excitation.intensity.units", f"{units!r} is not a unit of {measure}; give {hint}")
+        stated = ck.numbers(table["values"], "excitation.intensity.values", positive=True)
+        intensity = Intensity(measure, tuple(v * choices[units] for v in stated), units, stated)
     else:
         if "scales" not in section:
             ck.fail("excitation.scales", "missing: give the factors on the records (or intensity)")

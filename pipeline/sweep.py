@@ -43,7 +43,6 @@ from pipeline.dataset import STUDY_VARIABLES, annotate, append_history, write_re
 from pipeline.errors import InputError
 from pipeline.locking import try_lock
 from pipeline.simulate import Excitation, simulate
-from pipeline.units import deg_to_rad
 
 FLOAT_VARIABLES = ("peak_theta", "peak_theta_ratio", "peak_time", "overturn_time", "uplift_time", "peak_mu_mob",
                    "residual_rotation", "residual_displacement", "work_ground", "energy_balance_error")
@@ -72,7 +71,7 @@ class Task:
         Column indices of the block, ``columns[start:stop]``.
     columns : tuple of pipeline.geometry.Column
     angles : tuple of float
-        Incidence angles [rad].
+        Incidence angles [degree].
     factors : tuple of float
         Factors on the record, one per scale level [1].
     settings : tuple of pipeline.simulate.ModelSettings
@@ -233,7 +232,7 @@ def plan(study, factors):
     list of Task
     """
     size = block_size(study)
-    angles = tuple(deg_to_rad(a) for a in study.angles)
+    angles = tuple(float(a) for a in study.angles)
     settings = tuple(study.settings(m) for m in study.models)
     columns = [c.column for c in study.columns]
     tasks = []
@@ -320,7 +319,7 @@ def run_task(task, motion):
                     except Exception as exc:  # noqa: BLE001 - one failure must not kill the study
                         arrays["status"][index] = 1
                         if len(errors) < 5:
-                            errors.append(f"{column.name} {settings.model} angle {math.degrees(angle):g} deg "
+                            errors.append(f"{column.name} {settings.model} angle {angle:g} deg "
                                           f"factor {factor:g}: {type(exc).__name__}: {exc}")
                         continue
                     for name in FLOAT_VARIABLES:
@@ -788,7 +787,9 @@ def assemble(study, motions, measures, factors, arrays):
     if study.intensity is not None:
         units = {"pga": "m s-2", "pgv": "m s-1"}[study.intensity.measure]
         ds["scale"].attrs.update(units=units, long_name=f"target {study.intensity.measure} of the scaled record "
-                                 "(peak of the horizontal vector); the factor is scale_factor")
+                                 "(peak of the horizontal vector); the factor is scale_factor",
+                                 comment=f"the study file states the targets in {study.intensity.units}: "
+                                 + ", ".join(f"{v:g}" for v in study.intensity.stated))
     if study.sa_period is not None:
         ds["sa"].attrs["period"] = study.sa_period
         ds["sa"].attrs["long_name"] += f" (period {study.sa_period:g} s)"

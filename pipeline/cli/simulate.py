@@ -119,7 +119,7 @@ def _earthquake(args, column):
         friction=args.friction, tail=args.tail, rtol=args.rtol or 1e-9, atol=args.atol or 1e-12,
         output_step=args.output_step,
     )
-    excitation = Excitation(angle=deg_to_rad(args.angle), scale=args.scale, vertical=not args.no_vertical)
+    excitation = Excitation(angle=args.angle, scale=args.scale, vertical=not args.no_vertical)
     motion = load(args.record, units=args.units)
     response = simulate(column, motion, excitation, settings)
     return response.histories, response.summary

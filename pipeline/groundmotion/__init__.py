@@ -6,7 +6,7 @@ Public interface::
     gm = load("FEMA-FF-01")                  # catalog id (records/catalog.toml)
     gm = load("x.mseed", units="g")          # any obspy.read format, AT2, text/CSV
     gm.acc_x, gm.acc_y, gm.acc_z, gm.dt      # m/s^2, s
-    gm.rotated(angle_rad).scaled(2.0)        # new objects, processing logged
+    gm.rotated(30.0).scaled(2.0)             # degrees; new objects, processing logged
 
 Modules: :mod:`.record` (the type), :mod:`.files` (file loaders),
 :mod:`.at2` (ObsPy plugin), :mod:`.fema` (FEMA P695 sets), :mod:`.catalog`

@@ -18,6 +18,7 @@ from obspy import Stream, Trace
 
 from pipeline import __version__
 from pipeline.errors import InputError
+from pipeline.units import deg_to_rad
 
 __all__ = ["GroundMotion", "COMPONENTS", "log_step"]
 
@@ -201,11 +202,11 @@ class GroundMotion:
         return self._acc[COMPONENTS.index(name)]
 
     # -- transformations (new objects) ------------------------------------------------
-    def rotated(self, angle_rad):
+    def rotated(self, angle):
         """Rotate the horizontal motion by an incidence angle.
 
         The motion vector is turned counter-clockwise (x towards y) by
-        ``angle_rad`` [rad] in the fixed x-y frame of the column::
+        ``angle`` [degree] in the fixed x-y frame of the column::
 
             x' = x cos(a) - y sin(a)
             y' = x sin(a) + y cos(a)
@@ -213,14 +214,14 @@ class GroundMotion:
         so a record with motion on x only arrives along the direction at angle
         ``a`` from the x axis. The vertical is unchanged.
         """
-        angle = float(angle_rad)
-        c, s = math.cos(angle), math.sin(angle)
+        angle = float(angle)
+        c, s = math.cos(deg_to_rad(angle)), math.sin(deg_to_rad(angle))
         st = self._stream.copy()
         x, y = self._acc[0], self._acc[1]
         st[0].data = c * x - s * y
         st[1].data = s * x + c * y
         for tr in st:
-            log_step(tr, f"rotated(angle_rad={angle!r})")
+            log_step(tr, f"rotated(angle={angle!r} deg)")
         return self.with_stream(st)
 
     def scaled(self, factor):
