@@ -29,7 +29,9 @@ see docs/studies.md for the full reference)::
     [records]
     ids = ["FEMA-FF-01"]             # catalog ids (frustum records list)
     sets = ["SYN"]                   # whole catalog sets
-    files = [{path = "quake.mseed", units = "g"}]
+    files = [{path = "quake.mseed", units = "g"},
+             {path = ["RSN6_ELC180.AT2", "RSN6_ELC270.AT2"], id = "elcentro"},   # a pair: x, y
+             {path = "gm.g3", units = "g", dt = 0.01, missing_y = "zero"}]     # OpenSees input
     synthetic = [{generator = "ricker_wavelet", id = "ricker", ap = 3.0, fp = 2.0}]
 
     [excitation]
@@ -66,7 +68,7 @@ _TOP = {"title", "summary", "output", "models", "columns", "column_grid", "recor
 _COLUMN = {"name", "R", "r", "h", "named"}
 _GRID = {"R", "slenderness", "beta"}
 _RECORDS = {"ids", "sets", "files", "synthetic"}
-_FILE = {"path", "units", "id"}
+_FILE = {"path", "units", "id", "components", "missing_y", "dt", "processing"}
 _EXCITATION = {"angles", "scales", "intensity", "vertical", "sa_period"}
 _INTENSITY = {"measure", "values", "units"}
 _OPTIONS = {"restitution", "contact_tilt", "damping", "friction", "tail", "rtol", "atol"}
@@ -110,10 +112,18 @@ class RecordSpec:
     id : str
         Record label in the results (the catalog id, the file's id, the
         synthetic record's id).
-    path : str
-        Absolute file path (kind "file").
+    path : str or tuple of str
+        Absolute file path, or 2-3 paths forming one record (kind "file").
     units : str or None
         Units of a file that does not state them.
+    components : tuple or None
+        Channel codes or trace ids of x, y[, z] (y None: y = 0).
+    missing_y : {"error", "zero"}
+        A file with one horizontal component: an error, or y = 0.
+    dt : float or None
+        Time step [s] of a text file without a time column.
+    processing : tuple of dict
+        Steps run after loading (:func:`pipeline.groundmotion.processing.apply`).
     generator : str
         Synthesis function (kind "synthetic").
     params : tuple of (str, object)
@@ -124,8 +134,12 @@ class RecordSpec:
 
     kind: str
     id: str
-    path: str = ""
+    path: str | tuple = ""
     units: str | None = None
+    components: tuple | None = None
+    missing_y: str = "error"
+    dt: float | None = None
+    processing: tuple = ()
     generator: str = ""
     params: tuple = ()
     field: str = ""
@@ -137,7 +151,9 @@ class RecordSpec:
         if self.kind == "catalog":
             return load(self.id)
         if self.kind == "file":
-            return load(self.path, units=self.units) if self.units else load(self.path)
+            return load(list(self.path) if isinstance(self.path, tuple) else self.path, units=self.units,
+                        components=self.components, missing_y=self.missing_y, dt=self.dt,
+                        processing=list(self.processing) or None)
         func = getattr(synthesis, self.generator)
         return func(**dict(self.params), record_id=self.id)
 
@@ -477,15 +493,7 @@ def _records(section, ck, path):
     if not isinstance(files, list):
         ck.fail("records.files", "must be a list of tables {path = ..., units = ...}")
     for i, entry in enumerate(files):
-        field = f"records.files[{i}]"
-        ck.table(entry, field, _FILE)
-        file_path = ck.string(entry.get("path"), f"{field}.path")
-        full = (path.parent / file_path).resolve()
-        units = entry.get("units")
-        if units is not None:
-            ck.string(units, f"{field}.units")
-        rid = ck.string(entry.get("id", Path(file_path).stem), f"{field}.id")
-        out.append(RecordSpec("file", rid, path=str(full), units=units, field=field))
+        out.append(_file_record(entry, f"records.files[{i}]", ck, path))
     synth = section.get("synthetic", [])
     if not isinstance(synth, list):
         ck.fail("records.synthetic", "must be a list of tables {generator = ..., id = ..., ...}")
@@ -504,6 +512,45 @@ def _records(section, ck, path):
         ck.fail("records", "no records: give ids, sets, files or synthetic (an empty grid computes nothing)")
     ck.unique([r.id for r in out], "records", "record {!r} is given twice; give each record once (files/synthetic: set id)")
     return tuple(out)
+
+
+def _file_record(entry, field, ck, study_path):
+    """A ``[records] files`` entry: one path, or 2-3 paths (x, y[, z]), and how to read them."""
+    ck.table(entry, field, _FILE)
+    given = entry.get("path")
+    if isinstance(given, list):
+        if not 2 <= len(given) <= 3:
+            ck.fail(f"{field}.path", f"a list names the 2 or 3 files of one record (x, y[, z]), got {len(given)}")
+        names = ck.strings(given, f"{field}.path")
+    else:
+        names = [ck.string(given, f"{field}.path")]
+    full = tuple(str((study_path.parent / n).resolve()) for n in names)
+    units = entry.get("units")
+    if units is not None:
+        ck.string(units, f"{field}.units")
+    components = entry.get("components")
+    if components is not None:
+        components = ck.strings(components, f"{field}.components")
+        if len(components) not in (2, 3):
+            ck.fail(f"{field}.components", 'name x, y[, z], e.g. ["HNE", "HNN"] ("none" for y = 0)')
+        components = tuple(None if c.lower() == "none" else c for c in components)
+    missing_y = entry.get("missing_y", "error")
+    if missing_y not in ("error", "zero"):
+        ck.fail(f"{field}.missing_y", f'{missing_y!r}: give "zero" (y = 0) or "error"')
+    dt = entry.get("dt")
+    if dt is not None:
+        dt = ck.number(dt, f"{field}.dt", positive=True)
+    processing = entry.get("processing", [])
+    from pipeline.groundmotion.processing import STEPS
+
+    if not isinstance(processing, list):
+        ck.fail(f"{field}.processing", 'must be a list of steps, e.g. [{step = "baseline", type = "linear"}]')
+    for k, step in enumerate(processing):
+        if not isinstance(step, dict) or step.get("step") not in STEPS:
+            ck.fail(f"{field}.processing[{k}]", f"give {{step = NAME, ...}} with NAME one of {', '.join(STEPS)}")
+    rid = ck.string(entry.get("id", Path(names[0]).stem), f"{field}.id")
+    return RecordSpec("file", rid, path=full if len(full) > 1 else full[0], units=units, components=components,
+                      missing_y=missing_y, dt=dt, processing=tuple(processing), field=field)
 
 
 def _check_signature(ck, generator, params, field):

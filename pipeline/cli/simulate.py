@@ -5,6 +5,7 @@ import math
 
 import numpy as np
 
+from pipeline.cli.records import add_record_options, load_record
 from pipeline.errors import InputError
 from pipeline.units import MARBLE_DENSITY, deg_to_rad
 
@@ -15,6 +16,11 @@ examples:
         --out response.nc --plot response.png
   a record file (MiniSEED here) whose header does not carry units:
     frustum simulate --column 0.5,0.4,4 --record quake.mseed --units m/s2 --out r.nc
+  a PEER pair, and a single component (y = 0):
+    frustum simulate --column 0.5,0.4,4 --record RSN6_ELC180.AT2,RSN6_ELC270.AT2 --out r.nc
+    frustum simulate --column 0.5,0.4,4 --record RSN6_ELC180.AT2 --missing-y zero --out r.nc
+  an OpenSees input: one column in g, 0.01 s apart:
+    frustum simulate --column 0.5,0.4,4 --record elcentro.g3 --units g --dt 0.01 --missing-y zero --out r.nc
   free motion released on the rim (the paper's Section 4 case, rates in rad/s):
     frustum simulate --column 0.5,0.4,4 --theta0 10 --phi-dot0 0.44 --psi-dot0 -0.89 \\
         --duration 20 --out free.nc
@@ -39,9 +45,9 @@ def register(subparsers):
                      f"(default {MARBLE_DENSITY:g}, marble)")
     quake = p.add_argument_group("ground motion (earthquake response, from rest)")
     quake.add_argument("--record", metavar="ID_OR_FILE",
-                       help="catalog id (frustum records list) or a record file; without it, free motion")
-    quake.add_argument("--units", default=None, metavar="UNITS",
-                       help="units of a record file that does not state them: m/s2, cm/s2, g")
+                       help="catalog id (frustum records list), a record file, or 2-3 files X,Y[,Z] "
+                       "(e.g. an AT2 pair); without it, free motion")
+    add_record_options(quake)
     quake.add_argument("--angle", type=float, default=0.0, metavar="DEG",
                        help="incidence angle: the horizontal pair is turned counter-clockwise [deg] (default 0)")
     quake.add_argument("--scale", type=float, default=1.0, help="factor on the record [1] (default 1)")
@@ -109,7 +115,6 @@ def run_simulate(args):
 
 
 def _earthquake(args, column):
-    from pipeline.groundmotion import load
     from pipeline.simulate import Excitation, ModelSettings, simulate
 
     if args.theta0 is not None:
@@ -120,7 +125,7 @@ def _earthquake(args, column):
         output_step=args.output_step,
     )
     excitation = Excitation(angle=args.angle, scale=args.scale, vertical=not args.no_vertical)
-    motion = load(args.record, units=args.units)
+    motion = load_record(args)
     response = simulate(column, motion, excitation, settings)
     return response.histories, response.summary
 
@@ -147,7 +152,7 @@ def _free(args, column):
 
 
 def _argv_echo(args):
-    keys = ("column", "density", "record", "units", "angle", "scale", "model", "tail", "contact_tilt", "damping",
+    keys = ("column", "density", "record", "units", "components", "missing_y", "dt", "baseline", "angle", "scale", "model", "tail", "contact_tilt", "damping",
             "friction", "phi0", "theta0", "psi0", "phi_dot0", "theta_dot0", "psi_dot0",
             "duration", "output_step", "rtol", "atol", "restitution", "out")
     return [f"--{k.replace('_', '-')} {getattr(args, k)}" for k in keys if getattr(args, k, None) is not None]

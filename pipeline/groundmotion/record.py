@@ -18,6 +18,7 @@ from obspy import Stream, Trace
 
 from pipeline import __version__
 from pipeline.errors import InputError
+from pipeline.groundmotion.options import how_to_give
 from pipeline.units import deg_to_rad
 
 __all__ = ["GroundMotion", "COMPONENTS", "log_step"]
@@ -67,13 +68,14 @@ class GroundMotion:
             raise InputError(
                 f"{where}: a ground motion needs 2 horizontal components (+ optional vertical), "
                 f"got {len(stream)} traces ({', '.join(tr.id for tr in stream) or 'none'}); "
-                "select the components with components=(x, y[, z])"
+                f"select the components with {how_to_give('components')}"
             )
         traces = []
         for name, tr in zip(COMPONENTS, stream):
             rate = tr.stats.sampling_rate
             if not (math.isfinite(rate) and rate > 0):
-                raise InputError(f"{where}: component {name} ({tr.id}) has no sampling rate (got {rate!r}); give dt [s]")
+                raise InputError(f"{where}: component {name} ({tr.id}) has no sampling rate (got {rate!r}); "
+                                 "set the trace's stats.delta [s]")
             if tr.stats.npts < 2:
                 raise InputError(f"{where}: component {name} ({tr.id}) has {tr.stats.npts} samples; a record needs at least 2")
             if np.ma.isMaskedArray(tr.data):
