@@ -58,6 +58,7 @@ from pathlib import Path
 
 from pipeline.errors import InputError
 from pipeline.geometry import Column
+from pipeline.limits import check_tolerance
 from pipeline.simulate import MODELS, ModelSettings, check_column
 from pipeline.units import G
 
@@ -378,8 +379,12 @@ def parse_study(data, path="<study>", digest=""):
     summary = data.get("summary", "")
     if not isinstance(summary, str):
         ck.fail("summary", "must be a string")
-    output = ck.string(data.get("output", f"{path.stem}.nc"), "output")
-    output = str((path.parent / output).resolve())
+    given = ck.string(data.get("output", f"{path.stem}.nc"), "output")
+    output = (path.parent / given).resolve()
+    if given.endswith(("/", "\\")) or not output.name or output.is_dir():
+        ck.fail("output", f"{given!r} is a folder; give the path of a file, e.g. out/{path.stem}.nc "
+                "(its checkpoint folder, FILE.checkpoint, goes beside it)")
+    output = str(output)
     models = data.get("models", ["3d"])
     models = tuple(ck.strings(models, "models"))
     if not models:
@@ -396,6 +401,11 @@ def parse_study(data, path="<study>", digest=""):
     for key, value in options.items():
         if key == "restitution":
             ck.number(value, "options.restitution", lo=0.0, hi=1.0)
+        elif key in ("rtol", "atol"):
+            try:
+                check_tolerance(key, value, "value")
+            except InputError as exc:
+                ck.fail(f"options.{key}", str(exc))
         else:
             ck.number(value, f"options.{key}")
     options = tuple(sorted((k, float(v)) for k, v in options.items()))

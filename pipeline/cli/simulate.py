@@ -7,6 +7,8 @@ import numpy as np
 
 from pipeline.cli.records import add_record_options, load_record
 from pipeline.errors import InputError
+from pipeline.limits import check_tolerance
+from pipeline.paths import check_output_file, check_plot_file
 from pipeline.units import MARBLE_DENSITY, deg_to_rad
 
 _EXAMPLES = """\
@@ -95,6 +97,13 @@ def run_simulate(args):
     from pipeline.dataset import append_history, write_netcdf
     from pipeline.geometry import Column
 
+    # everything that can be refused is refused before computing
+    check_output_file(args.out, "--out")
+    if args.plot:
+        check_plot_file(args.plot, "--plot")
+    for name in ("rtol", "atol"):
+        if getattr(args, name) is not None:
+            check_tolerance(name, getattr(args, name), f"--{name}")
     column = Column.parse(args.column, density=args.density)
     ds, summary = _earthquake(args, column) if args.record else _free(args, column)
     append_history(ds, "frustum simulate " + " ".join(_argv_echo(args)))
@@ -121,11 +130,12 @@ def _earthquake(args, column):
         raise InputError("--theta0 starts a free motion; an earthquake response starts at rest (drop --theta0)")
     settings = ModelSettings(
         model=args.model, restitution=args.restitution, contact_tilt=args.contact_tilt, damping=args.damping,
-        friction=args.friction, tail=args.tail, rtol=args.rtol or 1e-9, atol=args.atol or 1e-12,
+        friction=args.friction, tail=args.tail, rtol=_given(args.rtol, 1e-9), atol=_given(args.atol, 1e-12),
         output_step=args.output_step,
     )
     excitation = Excitation(angle=args.angle, scale=args.scale, vertical=not args.no_vertical)
     motion = load_record(args)
+    _check_history_memory(motion.duration + settings.tail, settings.output_step, "the record and --tail")
     response = simulate(column, motion, excitation, settings)
     return response.histories, response.summary
 
@@ -145,10 +155,28 @@ def _free(args, column):
         theta_dot=args.theta_dot0,
         psi_dot=args.psi_dot0,
     )
-    settings = ModelSettings(rtol=args.rtol or 1e-12, atol=args.atol or 1e-14, output_step=args.output_step,
-                             contact_tilt=0.0, damping=args.damping)
+    settings = ModelSettings(rtol=_given(args.rtol, 1e-12), atol=_given(args.atol, 1e-14),
+                             output_step=args.output_step, contact_tilt=0.0, damping=args.damping)
+    if not (math.isfinite(args.duration) and args.duration > 0):
+        raise InputError(f"--duration {args.duration!r}: give a positive number of seconds")
+    _check_history_memory(args.duration, settings.output_step, "--duration")
     ds = simulate_free(column, initial, args.duration, settings, restitution=args.restitution)
     return ds, {"peak_theta": float(np.nanmax(ds.theta.values))}
+
+
+def _given(value, default):
+    """An option's value, or its default when not given (0 is a value: it is refused, not replaced)."""
+    return default if value is None else value
+
+
+def _check_history_memory(duration, output_step, what):
+    """Refuse histories that cannot fit in memory, before computing."""
+    from pipeline.limits import check_fits, history_bytes
+
+    rows = math.floor(duration / output_step) + 1
+    check_fits(history_bytes(duration, output_step),
+               f"{duration:g} s of histories every {output_step:g} s ({rows:,} rows)",
+               f"shorten {what} or sample less often with a larger --output-step")
 
 
 def _argv_echo(args):

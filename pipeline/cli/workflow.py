@@ -32,6 +32,7 @@ from pathlib import Path
 from pipeline import __version__
 from pipeline.errors import InputError
 from pipeline.locking import try_lock
+from pipeline.paths import check_plot_file
 
 _TOP = {"title", "log", "execution", "steps"}
 _EXECUTION = {"workers", "scheduler"}
@@ -114,8 +115,13 @@ def load_workflow(path):
         study = resolve(step["study"], f"steps[{i}].study")
         if not os.path.isfile(study):
             fail(f"steps[{i}].study", f"{study} does not exist")
-        out.append({"study": study, "output": resolve(step.get("output"), f"steps[{i}].output"),
-                    "plot": resolve(step.get("plot"), f"steps[{i}].plot")})
+        plot = resolve(step.get("plot"), f"steps[{i}].plot")
+        if plot is not None:
+            try:  # a plot matplotlib cannot write is refused before any step computes
+                check_plot_file(plot, "")
+            except InputError as exc:
+                fail(f"steps[{i}].plot", str(exc).strip())
+        out.append({"study": study, "output": resolve(step.get("output"), f"steps[{i}].output"), "plot": plot})
     log = resolve(data.get("log", f"{path.stem}.log"), "log")
     return {"title": data.get("title", path.stem), "log": log, "workers": workers, "scheduler": scheduler,
             "steps": out, "path": str(path)}

@@ -119,3 +119,12 @@ def test_workflow_lock_works_without_fcntl(tmp_path):
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.splitlines() == ["SoftFileLock", "held: 1", "after release: True"]
     assert "another run holds" in proc.stderr and str(lock) in proc.stderr
+
+
+def test_a_plot_format_matplotlib_lacks_is_refused_before_computing(tmp_path, capsys):
+    wf = _workflow(tmp_path)
+    wf.write_text(wf.read_text().replace('plot = "out/small.png"', 'plot = "out/small.txt"'))
+    assert main(["workflow", "run", str(wf)]) == 2
+    err = capsys.readouterr().err
+    assert "field steps[0].plot" in err and "small.txt': not a figure format matplotlib writes" in err
+    assert not (tmp_path / "out").exists()
