@@ -3,9 +3,6 @@ memory, outputs that cannot be written, full disks, Ctrl-C."""
 
 import errno
 import os
-import signal
-import subprocess
-import sys
 import textwrap
 import time
 
@@ -188,36 +185,3 @@ def test_ctrl_c_prints_one_line_exits_130_and_keeps_the_checkpoint(write_study, 
     monkeypatch.setattr(sweep, "run_task", real)
     report = run_study(load_study(path), serial=True, progress=False)
     assert len(report.computed) == N_TASKS - 2
-
-
-CHILD = textwrap.dedent("""\
-    import sys, time
-    from pipeline import sweep
-    from pipeline.cli import main
-    real = sweep.run_task
-    def slow(task, motion):
-        time.sleep(0.5)
-        return real(task, motion)
-    sweep.run_task = slow
-    sys.exit(main(["study", "run", sys.argv[1], "--serial", "--quiet"]))
-""")
-
-
-def test_a_real_sigint(write_study):
-    path = write_study()
-    checkpoint = str(path.parent / "small.nc") + ".checkpoint"
-    proc = subprocess.Popen([sys.executable, "-c", CHILD, str(path)], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, start_new_session=True)
-    try:
-        deadline = time.monotonic() + 60
-        while not _task_files(checkpoint):
-            assert proc.poll() is None and time.monotonic() < deadline
-            time.sleep(0.02)
-        os.kill(proc.pid, signal.SIGINT)
-        _, err = proc.communicate(timeout=30)
-    finally:
-        if proc.poll() is None:
-            os.killpg(proc.pid, signal.SIGKILL)
-    assert proc.returncode == 130
-    assert err.splitlines()[-1] == "frustum: interrupted: run again to resume" and "Traceback" not in err
-    assert 1 <= len(_task_files(checkpoint)) < N_TASKS
