@@ -178,6 +178,8 @@ def write_netcdf(ds, path, encoding=None):
     except OSError as exc:  # read-only, no permission, disk full: one clear line
         raise OutputError(f"{path}: cannot write ({exc.strerror or exc})") from None
     except RuntimeError as exc:  # the HDF5 library reports a full disk as "NetCDF: HDF error"
+        if "NetCDF" not in str(exc):
+            raise
         free = shutil.disk_usage(folder).free
         raise OutputError(f"{path}: the netCDF library could not write ({exc}); {free / 2**20:.0f} MiB free "
                           "on that disk") from None

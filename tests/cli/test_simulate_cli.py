@@ -123,17 +123,19 @@ def test_bad_outputs_are_refused_before_computing(tmp_path, capsys, no_computing
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a_file"]
 
 
-def test_a_full_disk_gives_one_line_and_no_partial_file(tmp_path, capsys, monkeypatch):
-    import errno
-
+@pytest.mark.parametrize("error, message", [
+    (OSError(28, "No space left on device"), "cannot write (No space left on device)"),
+    (RuntimeError("NetCDF: HDF error"), "the netCDF library could not write (NetCDF: HDF error); "),
+])
+def test_a_full_disk_gives_one_line_and_no_partial_file(tmp_path, capsys, monkeypatch, error, message):
     def full(self, path, *args, **kwargs):
         with open(path, "wb") as fh:  # half a file, then the disk is full
             fh.write(b"CDF")
-        raise OSError(errno.ENOSPC, "No space left on device")
+        raise error
 
     monkeypatch.setattr(xr.Dataset, "to_netcdf", full)
     out = tmp_path / "r.nc"
     assert main(["simulate", *FREE, "--out", str(out)]) == 2
     err = capsys.readouterr().err
-    assert err == f"frustum: error: {out}: cannot write (No space left on device)\n"
+    assert err.startswith(f"frustum: error: {out}: {message}") and len(err.splitlines()) == 1
     assert list(tmp_path.iterdir()) == []
