@@ -226,3 +226,33 @@ def test_every_option_a_message_recommends_exists():
         named |= set(re.findall(r"(?<![\w-])--[a-z][a-z0-9]*(?:-[a-z0-9]+)*", path.read_text(encoding="utf-8")))
     assert {"--missing-y", "--components", "--units", "--dt", "--baseline"} <= named
     assert sorted(named - known) == []
+
+
+def test_knet_test_file_shows_the_headers_max_acc(knet_file, capsys):
+    """`frustum records show test.knet`: PGA 0.04383 m/s^2 = the header's Max. Acc. 4.383 gal, within 1 %."""
+    assert main(["records", "show", str(knet_file), "--missing-y", "zero", "--json"]) == 0
+    x = json.loads(capsys.readouterr().out.splitlines()[0])
+    assert x["pga"] == pytest.approx(0.04383, rel=0.01)
+    assert x["pgv"] < 0.01 and x["pgd"] < 0.01  # 2.53 m/s and 74.7 m with the offset left in
+    assert main(["records", "show", str(knet_file), "--missing-y", "zero"]) == 0
+    assert "offset -0.0429339 m/s^2 removed (mean of the whole record, NIED's definition)" in capsys.readouterr().out
+
+
+def test_study_file_entries_take_the_record_options(tmp_path, quake):
+    from pipeline.study import load_motions, parse_study
+
+    (tmp_path / "gm.g3").write_text("\n".join(f"{v:.8e}" for v in quake[0]))
+    entry = {"path": "gm.g3", "units": "g", "dt": 0.01, "missing_y": "zero",
+             "processing": [{"step": "baseline", "type": "demean"}]}
+    data = {"columns": [{"named": "paper"}], "excitation": {"scales": [1.0]}, "records": {"files": [entry]}}
+    study = parse_study(data, tmp_path / "s.toml")
+    (motion,) = load_motions(study)
+    direct = load(tmp_path / "gm.g3", units="g", dt=0.01, missing_y="zero",
+                  processing=[{"step": "baseline", "type": "demean"}])
+    assert motion.sha256() == direct.sha256() and study.records[0].id == "gm"
+    for key, value, message in [("missing_y", "yes", 'give "zero"'), ("dt", -1, "must be positive"),
+                                ("components", ["HNE"], "name x, y[, z]"),
+                                ("processing", [{"step": "smooth"}], "with NAME one of baseline")]:
+        bad = dict(data, records={"files": [dict(entry, **{key: value})]})
+        with pytest.raises(InputError, match=rf"field records\.files\[0\]\.{key}.*{re.escape(message)}"):
+            parse_study(bad, tmp_path / "s.toml")
