@@ -683,6 +683,23 @@ async def _identity(address, timeout):
         comm.abort()
 
 
+def scheduler_address(address):
+    """``PROTOCOL://HOST:PORT`` from a scheduler address (``HOST:PORT`` means tcp), or InputError if malformed."""
+    from urllib.parse import urlsplit
+
+    full = address if "://" in address else f"tcp://{address}"
+    parts = urlsplit(full)
+    try:
+        port = parts.port
+    except ValueError:
+        port = None
+    host = parts.netloc.rsplit(":", 1)[0] if parts.netloc else ""
+    if parts.scheme not in _SCHEMES or not _HOST.match(host) or port is None or parts.path not in ("", "/"):
+        raise InputError(f"--scheduler {address!r}: not a scheduler address; give PROTOCOL://HOST:PORT with "
+                         f"PROTOCOL one of {', '.join(_SCHEMES)}, e.g. tcp://10.0.0.5:8786")
+    return full
+
+
 def check_scheduler(address, timeout=SCHEDULER_TIMEOUT):
     """Refuse, within ``timeout`` [s], a scheduler address that is malformed, unreachable or not Dask's.
 
@@ -697,19 +714,9 @@ def check_scheduler(address, timeout=SCHEDULER_TIMEOUT):
     """
     import asyncio
     import concurrent.futures
-    from urllib.parse import urlsplit
 
     fix = "start one with `dask scheduler`, or drop --scheduler for a local cluster"
-    full = address if "://" in address else f"tcp://{address}"
-    parts = urlsplit(full)
-    try:
-        port = parts.port
-    except ValueError:
-        port = None
-    host = parts.netloc.rsplit(":", 1)[0] if parts.netloc else ""
-    if parts.scheme not in _SCHEMES or not _HOST.match(host) or port is None or parts.path not in ("", "/"):
-        raise InputError(f"--scheduler {address!r}: not a scheduler address; give PROTOCOL://HOST:PORT with "
-                         f"PROTOCOL one of {', '.join(_SCHEMES)}, e.g. tcp://10.0.0.5:8786")
+    full = scheduler_address(address)
     pool = concurrent.futures.ThreadPoolExecutor(1)  # its own event loop, whatever the caller runs
     try:
         reply = pool.submit(asyncio.run, _identity(full, timeout)).result(timeout + 1.0)

@@ -92,6 +92,10 @@ def run_study_command(args):
 
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers {args.workers}: give a positive number of worker processes")
+    if args.scheduler:
+        from pipeline.sweep import scheduler_address
+
+        scheduler_address(args.scheduler)  # a malformed address is refused before the records load
     t0 = time.monotonic()
     study, motions = _load(args.file, args.out, args.plot)
     print(describe(study), file=sys.stderr)

@@ -90,8 +90,15 @@ def load_workflow(path):
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         fail("execution.workers", f"must be a positive integer, got {workers!r}")
     scheduler = execution.get("scheduler")
-    if scheduler is not None and not isinstance(scheduler, str):
-        fail("execution.scheduler", "must be an address string such as tcp://host:8786")
+    if scheduler is not None:
+        if not isinstance(scheduler, str):
+            fail("execution.scheduler", "must be an address string such as tcp://host:8786")
+        from pipeline.sweep import scheduler_address
+
+        try:
+            scheduler_address(scheduler)
+        except InputError as exc:
+            fail("execution.scheduler", str(exc))
     steps = data.get("steps")
     if not isinstance(steps, list) or not steps:
         fail("steps", "give one or more [[steps]] with study = FILE")
