@@ -49,7 +49,7 @@ from scipy.signal import cont2discrete, lfilter
 
 from pipeline.errors import InputError
 from pipeline.groundmotion.record import GroundMotion
-from pipeline.units import G, deg_to_rad
+from pipeline.units import deg_to_rad
 
 __all__ = [
     "one_sine_pulse",
