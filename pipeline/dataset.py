@@ -8,12 +8,14 @@ run never leaves a half-written file behind.
 """
 
 import os
-import tempfile
+import shutil
 from datetime import datetime, timezone
 
 import numpy as np
 
 from pipeline import __version__
+from pipeline.atomic import atomic_path
+from pipeline.errors import OutputError
 
 CONVENTIONS = "CF-1.10"
 REFERENCE = (
@@ -175,15 +177,17 @@ def write_netcdf(ds, path, encoding=None):
     }
     for name, extra in extra_encoding.items():
         encoding[name] = {**encoding.get(name, {}), **extra}
-    fd, tmp = tempfile.mkstemp(prefix=".partial-", suffix=".nc", dir=folder)
-    os.close(fd)
     try:
-        ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=encoding)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+        with atomic_path(path) as tmp:  # permissions from the umask, not mkstemp's 0600
+            ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=encoding)
+    except OSError as exc:  # read-only, no permission, disk full: one clear line
+        raise OutputError(f"{path}: cannot write ({exc.strerror or exc})") from None
+    except RuntimeError as exc:  # the HDF5 library reports a full disk as "NetCDF: HDF error"
+        if "NetCDF" not in str(exc):
+            raise
+        free = shutil.disk_usage(folder).free
+        raise OutputError(f"{path}: the netCDF library could not write ({exc}); {free / 2**20:.0f} MiB free "
+                          "on that disk") from None
     return path
 
 

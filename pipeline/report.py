@@ -13,7 +13,6 @@ Every number in the report and the CSV is read from the results Dataset or
 from the fragility Dataset fitted to it here; nothing is typed in.
 """
 
-import contextlib
 import csv
 import json
 import math
@@ -23,6 +22,7 @@ import numpy as np
 
 from pipeline import fragility as F
 from pipeline import plotting_fragility as P
+from pipeline.atomic import atomic_open
 from pipeline.errors import InputError
 from pipeline.units import G
 
@@ -181,18 +181,9 @@ def summary_rows(results, frag, pga_levels_g=DEFAULT_PGA_LEVELS_G):
     return rows
 
 
-@contextlib.contextmanager
 def _atomic_text(path, **open_kwargs):
     """Open ``path`` for writing text under a temporary name; renamed on success, removed on failure."""
-    tmp = f"{path}.partial"
-    try:
-        with open(tmp, "w", encoding="utf-8", **open_kwargs) as fh:
-            yield fh
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    return atomic_open(path, "w", encoding="utf-8", **open_kwargs)
 
 
 def _write_csv(rows, path):

@@ -31,7 +31,7 @@ from pipeline.dynamics import frustum as fk
 from pipeline.dynamics import hybrid as hy
 from pipeline.dynamics import rocking as rk
 from pipeline.errors import InputError
-from pipeline.units import G, time_scale
+from pipeline.units import G, deg_to_rad, time_scale
 
 MODELS = ("3d", "2d")
 
@@ -152,8 +152,10 @@ class Excitation:
     Parameters
     ----------
     angle : float
-        Incidence angle [rad]: the horizontal pair is turned counter-clockwise
-        by it (:meth:`pipeline.groundmotion.GroundMotion.rotated`).
+        Incidence angle [degree]: the horizontal pair is turned
+        counter-clockwise by it (:meth:`pipeline.groundmotion.GroundMotion.rotated`).
+        Degrees as on the command line and in study files; :attr:`angle_rad`
+        is what the kernels use.
     scale : float
         Factor on every component [1], > 0.
     vertical : bool
@@ -168,7 +170,12 @@ class Excitation:
         if not (isinstance(self.scale, (int, float)) and math.isfinite(self.scale) and self.scale > 0):
             raise InputError(f"scale = {self.scale!r} must be a positive number")
         if not math.isfinite(self.angle):
-            raise InputError(f"angle = {self.angle!r} must be a finite number of radians")
+            raise InputError(f"angle = {self.angle!r} must be a finite number of degrees")
+
+    @property
+    def angle_rad(self):
+        """Incidence angle [rad]."""
+        return deg_to_rad(self.angle)
 
 
 @dataclass
@@ -262,7 +269,7 @@ def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), 
     ay = np.asarray(motion.acc_y, dtype=np.float64) * excitation.scale
     az = motion.acc_z
     az = np.zeros_like(ax) if (az is None or not excitation.vertical) else np.asarray(az) * excitation.scale
-    gamma = excitation.angle
+    gamma = excitation.angle_rad
     if settings.model == "3d":
         record = np.stack([ax, ay, az], axis=1) / G  # turned after, by axisymmetry
     else:
@@ -426,13 +433,13 @@ def _histories(column, settings, raw, diag, excitation, motion):
     st = raw.states
     phase = raw.phase
     flat = (phase == hy.PHASE_REST) | (phase == hy.PHASE_SLIDING)
-    cg, sg = math.cos(excitation.angle), math.sin(excitation.angle)
+    cg, sg = math.cos(excitation.angle_rad), math.sin(excitation.angle_rad)
     bx, by = diag[:, hy.D_BASE_X] * R, diag[:, hy.D_BASE_Y] * R
     px, py = diag[:, hy.D_CONTACT_X] * R, diag[:, hy.D_CONTACT_Y] * R
     if settings.model == "3d":
         theta = np.where(flat, 0.0, st[:, fk.THETA])
         data = {
-            "phi": np.where(flat, np.nan, st[:, fk.PHI] + excitation.angle),
+            "phi": np.where(flat, np.nan, st[:, fk.PHI] + excitation.angle_rad),
             "theta": theta,
             "psi": np.where(flat, np.nan, st[:, fk.PSI]),
             "phi_dot": np.where(flat, 0.0, st[:, fk.DPHI]) * per_s,
@@ -492,7 +499,7 @@ def _histories(column, settings, raw, diag, excitation, motion):
     )
     if motion is not None:
         ds.attrs.update(record_id=motion.record_id, record_sha256=motion.sha256(),
-                        incidence_angle_rad=excitation.angle, scale=excitation.scale)
+                        incidence_angle_rad=excitation.angle_rad, scale=excitation.scale)
     annotate(ds)
     append_history(ds, f"pipeline.simulate ({settings.model})")
     return ds

@@ -21,7 +21,6 @@ order; the first failing step stops the workflow and the command exits 1.
 Two runs of the same workflow never overlap (a lock next to the log).
 """
 
-import fcntl
 import os
 import sys
 import time
@@ -32,6 +31,8 @@ from pathlib import Path
 
 from pipeline import __version__
 from pipeline.errors import InputError
+from pipeline.locking import try_lock
+from pipeline.paths import check_plot_file
 
 _TOP = {"title", "log", "execution", "steps"}
 _EXECUTION = {"workers", "scheduler"}
@@ -89,8 +90,15 @@ def load_workflow(path):
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         fail("execution.workers", f"must be a positive integer, got {workers!r}")
     scheduler = execution.get("scheduler")
-    if scheduler is not None and not isinstance(scheduler, str):
-        fail("execution.scheduler", "must be an address string such as tcp://host:8786")
+    if scheduler is not None:
+        if not isinstance(scheduler, str):
+            fail("execution.scheduler", "must be an address string such as tcp://host:8786")
+        from pipeline.sweep import scheduler_address
+
+        try:
+            scheduler_address(scheduler)
+        except InputError as exc:
+            fail("execution.scheduler", str(exc))
     steps = data.get("steps")
     if not isinstance(steps, list) or not steps:
         fail("steps", "give one or more [[steps]] with study = FILE")
@@ -114,8 +122,13 @@ def load_workflow(path):
         study = resolve(step["study"], f"steps[{i}].study")
         if not os.path.isfile(study):
             fail(f"steps[{i}].study", f"{study} does not exist")
-        out.append({"study": study, "output": resolve(step.get("output"), f"steps[{i}].output"),
-                    "plot": resolve(step.get("plot"), f"steps[{i}].plot")})
+        plot = resolve(step.get("plot"), f"steps[{i}].plot")
+        if plot is not None:
+            try:  # a plot matplotlib cannot write is refused before any step computes
+                check_plot_file(plot, "")
+            except InputError as exc:
+                fail(f"steps[{i}].plot", str(exc).strip())
+        out.append({"study": study, "output": resolve(step.get("output"), f"steps[{i}].output"), "plot": plot})
     log = resolve(data.get("log", f"{path.stem}.log"), "log")
     return {"title": data.get("title", path.stem), "log": log, "workers": workers, "scheduler": scheduler,
             "steps": out, "path": str(path)}
@@ -166,11 +179,9 @@ def run_workflow(path, workers=None, scheduler=None, force=False):
     workers = workers or wf["workers"]
     scheduler = scheduler or wf["scheduler"]
     log = _Log(wf["log"])
-    lock = open(wf["log"] + ".lock", "w")  # noqa: SIM115
+    lock = try_lock(wf["log"] + ".lock")
     try:
-        try:
-            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
+        if lock is None:
             log(f"workflow {wf['path']}: another run holds {wf['log']}.lock; not starting")
             return 1
         log(f"workflow {wf['path']} ({wf['title']}): start, frustum {__version__}, {len(wf['steps'])} step(s)")
@@ -178,7 +189,8 @@ def run_workflow(path, workers=None, scheduler=None, force=False):
         with Cluster(scheduler, workers) as cluster:
             return _run_steps(wf, log, cluster, force)
     finally:
-        lock.close()
+        if lock is not None:
+            lock.release()
         log.file.close()
 
 

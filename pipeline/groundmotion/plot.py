@@ -2,6 +2,7 @@
 
 import numpy as np
 
+from pipeline.atomic import atomic_path
 from pipeline.groundmotion import intensity as im
 
 __all__ = ["plot_motion"]
@@ -22,8 +23,6 @@ def plot_motion(gm, out, periods=None, damping=0.05):
     damping : float
         Damping ratio of the spectrum [1].
     """
-    import os
-
     import matplotlib
 
     matplotlib.use("Agg")
@@ -57,8 +56,9 @@ def plot_motion(gm, out, periods=None, damping=0.05):
     meta = gm.metadata
     subtitle = ", ".join(str(meta[k]) for k in ("event", "year", "station") if meta.get(k))
     fig.suptitle(f"{gm.record_id}" + (f" — {subtitle}" if subtitle else "") + f"   (dt = {gm.dt:g} s, {gm.npts} samples)")
-    tmp = f"{out}.part.png"
-    fig.savefig(tmp, dpi=110)
-    plt.close(fig)
-    os.replace(tmp, out)
+    try:
+        with atomic_path(out) as tmp:
+            fig.savefig(tmp, dpi=110, format="png")
+    finally:
+        plt.close(fig)
     return out
