@@ -454,13 +454,13 @@ def _histories(column, settings, raw, diag, excitation, motion):
     else:
         signed = st[:, rk.THETA2]
         data = {
-            "phi": np.where(flat, np.nan, np.where(signed >= 0, 0.5 * math.pi, -0.5 * math.pi)),
+            "phi": np.where(flat, np.nan, np.copysign(0.5 * math.pi, signed)),
             "theta": np.where(flat, 0.0, np.abs(signed)),
             "x_p": px,
             "y_p": np.where(np.isnan(px), np.nan, 0.0),
             "x_b": bx,
             "y_b": by,
-            "theta_dot": np.where(flat, 0.0, np.sign(signed) * st[:, rk.DTHETA2]) * per_s,
+            "theta_dot": np.where(flat, 0.0, np.copysign(1.0, signed) * st[:, rk.DTHETA2]) * per_s,
         }
         ground_x, ground_y = diag[:, hy.D_AX], np.zeros_like(diag[:, hy.D_AX])
     data.update({

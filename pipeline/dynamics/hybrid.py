@@ -957,12 +957,13 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
             y_new[fk.DTHETA] *= scale
             y_new[fk.DPHI] *= scale
             y_new[fk.OMEGA] *= scale
-        summary[S_N_IMPACTS] += 1
         e_after = energy3d(PHASE_ROLLING, y_new, c)
         kinetic = e_after - fk.energy(theta_land, 0.0, 0.0, 0.0, c)
         settles = y_new[fk.DTHETA] <= 0.0 or kinetic < settle_kinetic
-        _log_impact(impacts, summary, t, y[fk.DTHETA], 0.0 if settles else y_new[fk.DTHETA],
-                    (rest_energy if settles else e_after) - e_before)
+        if y[fk.DTHETA] != 0.0:  # touching back down with no speed at all is no impact
+            summary[S_N_IMPACTS] += 1
+            _log_impact(impacts, summary, t, y[fk.DTHETA], 0.0 if settles else y_new[fk.DTHETA],
+                        (rest_energy if settles else e_after) - e_before)
         if settles:
             # full base contact, at rest on the ground
             s_phi, c_phi = fk.sincos(y[fk.PHI])
@@ -1160,10 +1161,12 @@ def _clear_free_slots2d(y):
 
 @njit(cache=True)
 def _enter_contact2d(t, y, params):
-    """Rolling, slipping (direction in OPT_SIGN) or flight for a planar state whose pivot sticks."""
+    """Rolling, slipping (direction in OPT_SIGN) or flight for a planar state whose pivot sticks.
+
+    The pivot side is ``OPT_PIVOT``, set by the caller (theta may be a signed zero).
+    """
     c, record, dt, opts = params[0], params[1], params[2], params[3]
     a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
-    opts[fk.OPT_PIVOT] = 1.0 if y[rk.THETA2] >= 0.0 else -1.0
     f_u, f_z = _rocking_contact(y[rk.THETA2], y[rk.DTHETA2], a_u, a_z, c, opts[fk.OPT_NU])
     b_u, _unused, b_z = fk.ground_acceleration(t + LOOK_AHEAD, record, dt)
     theta_ahead = y[rk.THETA2] + LOOK_AHEAD * y[rk.DTHETA2]
@@ -1256,7 +1259,7 @@ def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
     phase = PHASE_REST
     if y0[rk.THETA2] != 0.0:
         phase = PHASE_ROLLING
-        opts[fk.OPT_PIVOT] = 1.0 if y0[rk.THETA2] > 0.0 else -1.0
+        opts[fk.OPT_PIVOT] = math.copysign(1.0, y0[rk.THETA2])
     summary[S_ENERGY_START] = energy2d(phase, y, c)
     moving = phase
     t = 0.0
@@ -1290,8 +1293,9 @@ def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
                 _first(summary, S_SLIDE_TIME, t)
                 phase = PHASE_SLIDING
                 continue
-            y[rk.THETA2] = toward * theta_c
+            y[rk.THETA2] = toward * theta_c  # a signed zero when theta_c = 0
             y[rk.X2] += toward * math.cos(theta_c)  # the pivot on that side of the base
+            opts[fk.OPT_PIVOT] = toward
             summary[S_TRANSITION] += rk.energy(theta_c, 0.0, c) - rest_energy
             _first(summary, S_UPLIFT_TIME, t)
             phase = _enter_contact2d(t, y, p)
@@ -1343,8 +1347,8 @@ def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
             continue
         # EV_LAND
         e_before = energy2d(phase, y, c)
-        summary[S_N_IMPACTS] += 1
         if phase == PHASE_FLIGHT:
+            summary[S_N_IMPACTS] += 1
             if theta < theta_c:
                 left = abs(y[rk.V2]) - mu * abs(y[rk.VZ2])
                 sense = 1.0 if y[rk.V2] > 0.0 else -1.0
@@ -1364,7 +1368,7 @@ def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
                 else:
                     phase = PHASE_REST
             else:
-                opts[fk.OPT_PIVOT] = 1.0 if y[rk.THETA2] > 0.0 else -1.0
+                opts[fk.OPT_PIVOT] = math.copysign(1.0, y[rk.THETA2])
                 slip = _touch_down_corner(y, c, mu)
                 if slip != 0.0:
                     opts[fk.OPT_SIGN] = 1.0 if slip > 0.0 else -1.0
@@ -1380,8 +1384,10 @@ def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
         kinetic = 0.5 * c[fk.C_IY] * new_rate * new_rate
         settles = kinetic < settle_kinetic
         e_after = rk.energy(theta, new_rate, c)
-        _log_impact(impacts, summary, t, y[rk.DTHETA2], 0.0 if settles else new_rate,
-                    (rest_energy if settles else e_after) - e_before)
+        if y[rk.DTHETA2] != 0.0:  # touching back down with no speed at all is no impact
+            summary[S_N_IMPACTS] += 1
+            _log_impact(impacts, summary, t, y[rk.DTHETA2], 0.0 if settles else new_rate,
+                        (rest_energy if settles else e_after) - e_before)
         side = opts[fk.OPT_PIVOT]
         _clear_free_slots2d(y)
         reach = side * math.cos(y[rk.THETA2])  # pivot -> base centre is -reach
@@ -1394,7 +1400,9 @@ def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
         else:
             summary[S_TRANSITION] += e_after - e_before
             y[rk.X2] -= 2.0 * reach
-            y[rk.THETA2] = -y[rk.THETA2]
+            # the other rim point: its side explicitly (theta ~ 0 has no reliable sign)
+            opts[fk.OPT_PIVOT] = -side
+            y[rk.THETA2] = math.copysign(abs(y[rk.THETA2]), -side)
             y[rk.DTHETA2] = new_rate
             phase = _enter_contact2d(t, y, p)
             if phase == PHASE_SLIPPING:
@@ -1539,7 +1547,7 @@ def _diagnose2d(t, y, ph, params, row):
         row[D_NORMAL] = 0.0
         row[D_TANGENTIAL] = 0.0
         return
-    side = 1.0 if theta >= 0.0 else -1.0
+    side = math.copysign(1.0, theta)
     row[D_BASE_X] = y[rk.X2] - side * math.cos(theta)
     row[D_CONTACT_X] = y[rk.X2]
     row[D_CONTACT_Y] = 0.0

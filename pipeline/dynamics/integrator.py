@@ -715,7 +715,7 @@ def dop853_monitored(
     F = np.empty((_INTERPOLATOR_POWER, n))
     atol_v = np.empty(n)
     atol_v[:] = atol  # a scalar broadcasts; an array is copied
-    g_old = np.empty(n_ev)
+    g_old = np.full(n_ev, np.nan)  # NaN triggers nothing: no sign is ever read before it is set
     g_new = np.empty(n_ev)
     g_buf = np.empty(n_ev)
 
@@ -828,7 +828,9 @@ def dop853_monitored(
         # return to zero after the window still is. Steps inside the window report nothing.
         first_step_of_call = n_acc == 1
         if n_ev > 0 and first_step_of_call:
-            restart_end = t_old + _START_WINDOW * max(h, h_wanted)
+            # at a late time a tiny first step's window can round away (t + 1e-16 == t):
+            # it still ends at least one float after the start, so the first step reads signs
+            restart_end = max(t_old + _START_WINDOW * max(h, h_wanted), np.nextafter(t_old, np.inf))
         in_window = n_ev > 0 and t_old < restart_end
         read_in_step = in_window and t_new > restart_end
         if need_dense or read_in_step:

@@ -50,7 +50,7 @@ def angular_acceleration(theta, a_u, a_z, c):
         Constants from :func:`pipeline.dynamics.frustum.column_constants`.
     """
     zc = c[fk.C_ZC]
-    sgn = 1.0 if theta >= 0.0 else -1.0
+    sgn = math.copysign(1.0, theta)  # -0.0: pivot on the -u side
     th = abs(theta)
     s = math.sin(th)
     co = math.cos(th)
@@ -75,7 +75,7 @@ def rhs(t, y, params, dydt):
     dydt[DISSIPATED2] = nu * y[DTHETA2] * y[DTHETA2]
     zc = c[fk.C_ZC]
     th = abs(theta)
-    sgn = 1.0 if theta >= 0.0 else -1.0
+    sgn = math.copysign(1.0, theta)  # -0.0: pivot on the -u side
     # power of the field -a_g on the centre of mass (horizontal and vertical
     # velocity of C for rotation theta' about the pivot)
     vx = (zc * math.cos(th) + math.sin(th)) * y[DTHETA2]
@@ -93,7 +93,7 @@ def energy(theta, dtheta, c):
 @njit(cache=True)
 def cm_offset(theta, zc):
     """Centre of mass relative to the pivot, ``(C_u, C_z)`` [R], for signed theta."""
-    sgn = 1.0 if theta >= 0.0 else -1.0
+    sgn = math.copysign(1.0, theta)  # -0.0: pivot on the -u side
     th = abs(theta)
     return -sgn * math.cos(th) + zc * math.sin(theta), math.sin(th) + zc * math.cos(th)
 
