@@ -404,19 +404,27 @@ def _watch(summary, mu, normal):
 
 
 @njit(cache=True)
-def monitor3d(t, y, params):
-    """Peak mobilized friction and lowest normal force, at every accepted step."""
+def monitor3d(t, y, params, g):
+    """Peak mobilized friction and lowest normal force, at every accepted step.
+
+    The event functions there (``g``) already hold N and ``mu N - |F_t|``.
+    """
     opts, summary = params[3], params[4]
     phase = opts[fk.OPT_PHASE]
+    mu = opts[fk.OPT_MU]
+    fast = opts[fk.OPT_UNILATERAL] != 0.0 and mu < math.inf
     if phase == PHASE_ROLLING:
-        f_xi, f_n, f_z, _ax, _ay, _az = _rolling_contact(t, y, params)
-        _watch(summary, math.sqrt(f_xi * f_xi + f_n * f_n) / f_z if f_z > 0.0 else 0.0, f_z)
+        if fast:
+            normal = g[EV_LIFT]
+            f_t = mu * normal - g[EV_SLIP]
+        else:
+            f_xi, f_n, normal, _ax, _ay, _az = _rolling_contact(t, y, params)
+            f_t = math.sqrt(f_xi * f_xi + f_n * f_n)
+        _watch(summary, f_t / normal if normal > 0.0 else 0.0, normal)
     elif phase == PHASE_SLIPPING:
-        _watch(summary, opts[fk.OPT_MU], _slip_state(t, y, params)[0])
+        _watch(summary, mu, g[EV_LIFT] if fast else _slip_state(t, y, params)[0])
     elif phase == PHASE_SLIDING:
-        record, dt = params[1], params[2]
-        _ax, _ay, az = fk.ground_acceleration(t, record, dt)
-        _watch(summary, opts[fk.OPT_MU], 1.0 + az)
+        _watch(summary, mu, g[EV_LIFT])
     elif phase == PHASE_FLIGHT:
         _watch(summary, 0.0, 0.0)
 
@@ -1111,20 +1119,33 @@ def events2d(t, y, params, g):
 
 
 @njit(cache=True)
-def monitor2d(t, y, params):
-    """Peak mobilized friction and lowest normal force at every accepted step (planar)."""
+def monitor2d(t, y, params, g):
+    """Peak mobilized friction and lowest normal force at every accepted step (planar).
+
+    The event functions there (``g``) already hold N and ``mu N - |F_u|``.
+    """
     c, record, dt, opts, summary = params[0], params[1], params[2], params[3], params[4]
     phase = opts[fk.OPT_PHASE]
-    a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
+    mu = opts[fk.OPT_MU]
+    fast = opts[fk.OPT_UNILATERAL] != 0.0 and mu < math.inf
     if phase == PHASE_ROLLING:
-        f_u, f_z = _rocking_contact(y[rk.THETA2], y[rk.DTHETA2], a_u, a_z, c, opts[fk.OPT_NU])
-        _watch(summary, abs(f_u) / f_z if f_z > 0.0 else 0.0, f_z)
+        if fast:
+            normal = g[EV_LIFT]
+            f_t = mu * normal - g[EV_SLIP]
+        else:
+            a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
+            f_u, normal = _rocking_contact(y[rk.THETA2], y[rk.DTHETA2], a_u, a_z, c, opts[fk.OPT_NU])
+            f_t = abs(f_u)
+        _watch(summary, f_t / normal if normal > 0.0 else 0.0, normal)
     elif phase == PHASE_SLIPPING:
-        normal = rk.slip_accelerations(y[rk.THETA2], y[rk.DTHETA2], opts[fk.OPT_SIGN], opts[fk.OPT_MU],
-                                       a_u, a_z, c)[2]
-        _watch(summary, opts[fk.OPT_MU], normal)
+        if fast:
+            normal = g[EV_LIFT]
+        else:
+            a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
+            normal = rk.slip_accelerations(y[rk.THETA2], y[rk.DTHETA2], opts[fk.OPT_SIGN], mu, a_u, a_z, c)[2]
+        _watch(summary, mu, normal)
     elif phase == PHASE_SLIDING:
-        _watch(summary, opts[fk.OPT_MU], 1.0 + a_z)
+        _watch(summary, mu, g[EV_LIFT])
     elif phase == PHASE_FLIGHT:
         _watch(summary, 0.0, 0.0)
 

@@ -364,7 +364,7 @@ def no_events(t, y, params, g_out):
 
 
 @njit(cache=True)
-def no_monitor(t, y, params):
+def no_monitor(t, y, params, g):
     """Step monitor for problems that watch nothing (does nothing)."""
 
 
@@ -656,11 +656,12 @@ def dop853_monitored(
         ``events(t, y, params, g_out)``; writes the event functions into ``g_out``.
         :func:`no_events` when ``event_direction`` is empty.
     monitor : numba-jitted function
-        ``monitor(t, y, params)``, called once per accepted step with the state at its
-        end (at the event, for the step that ends on one), and never at trial or
-        interpolated points. It may update accumulators held in ``params`` (peaks of
-        derived quantities, say): the steps do not depend on ``t_out``, so what it sees
-        is the same for every output grid. :func:`no_monitor` for none.
+        ``monitor(t, y, params, g)``, called once per accepted step with the state at its
+        end (at the event, for the step that ends on one) and the event functions' values
+        there, and never at trial or interpolated points. It may update accumulators held
+        in ``params`` (peaks of derived quantities, say, which the event functions often
+        already hold): the steps do not depend on ``t_out``, so what it sees is the same
+        for every output grid. :func:`no_monitor` for none.
     params : any numba-typable value
         Passed unchanged to ``rhs`` and ``events``.
     t0 : float
@@ -875,7 +876,8 @@ def dop853_monitored(
                 _dense_eval(F, y, (t_ev - t_old) / h, y_new)
                 t = t_ev
                 y[:] = y_new
-                monitor(t, y, params)
+                events(t, y, params, g_buf)
+                monitor(t, y, params, g_buf)
                 status = STATUS_EVENT
                 break
         if n_ev > 0:
@@ -891,7 +893,7 @@ def dop853_monitored(
 
         t = t_new
         y[:] = y_new
-        monitor(t, y, params)
+        monitor(t, y, params, g_new)
         K[0, :] = K[_N_STAGES]  # FSAL: f at the new point starts the next step
 
     return Dop853Result(

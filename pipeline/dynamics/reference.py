@@ -58,7 +58,8 @@ def integrate_scipy(params, t0, y0, t_end, t_out, y_out, out_start, t_breaks, rt
     sol = solve_ivp(fun, (t0, t_end), y0, method="DOP853", rtol=rtol, atol=atol, events=events,
                     dense_output=True, first_step=h0 if h0 > 0 else None)
     for t_step, y_step in zip(sol.t[1:], sol.y.T[1:]):
-        hy.monitor3d(t_step, y_step, params)
+        hy.events3d(t_step, y_step, params, g)
+        hy.monitor3d(t_step, y_step, params, g)
     t_stop = sol.t[-1]
     stop = int(np.searchsorted(t_out, t_stop, side="right"))
     if stop > out_start:
