@@ -23,6 +23,7 @@ import numpy as np
 
 from pipeline import fragility as F
 from pipeline import plotting_fragility as P
+from pipeline.citation import CITE, REFERENCE
 from pipeline.errors import InputError
 from pipeline.units import G
 
@@ -34,7 +35,7 @@ ASSUMPTIONS = """\
   bottom radius R, top radius r, height h. It does not bend, crack or break; flutes are ignored.
 - It stands free on a rigid, horizontal ground that moves with the recorded earthquake (both horizontal
   components{vertical}).
-- **3D model** (Stefanou, Psycharis & Georgopoulos 2011): when the shaking is strong enough the column tips
+- **3D model** ({cite}): when the shaking is strong enough the column tips
   onto the rim of its base and *rolls on the rim without slipping*: it rocks and wobbles (the contact point
   travels around the rim) and spins about its axis. Friction is assumed large enough that the base never
   slides; the report counts the runs in which the friction needed would have exceeded the friction
@@ -458,7 +459,7 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
         damping = json.loads(results.attrs.get("model_options", "{}")).get("damping", damping)
     except (TypeError, ValueError):
         pass
-    lines.append(ASSUMPTIONS.format(vertical=" and the vertical one where recorded", damping=damping))
+    lines.append(ASSUMPTIONS.format(vertical=" and the vertical one where recorded", damping=damping, cite=CITE))
 
     lines += ["## Probability of overturning", ""]
     lines.append("Fitted lognormal fragility curves (maximum likelihood, Baker 2015) give the probability that "
