@@ -71,7 +71,7 @@ def test_bad_workflow_file_names_the_field(tmp_path, capsys):
     assert "field steps[0].colour" in capsys.readouterr().err
 
 
-def test_shipped_workflow_and_units_only_call_frustum_workflow_run():
+def test_shipped_workflow_and_units_only_call_frustum_workflow_run(tmp_path, capsys):
     from pathlib import Path
 
     from pipeline.cli.workflow import load_workflow
@@ -81,8 +81,43 @@ def test_shipped_workflow_and_units_only_call_frustum_workflow_run():
     assert wf["steps"][0]["study"].endswith("studies/quickstart.toml")
     commands = [line for line in (root / "workflows" / "cron" / "frustum.cron").read_text().splitlines()
                 if line.strip() and not line.startswith("#")]
-    assert len(commands) == 1 and "frustum workflow run workflows/nightly.toml" in commands[0]
-    service = (root / "workflows" / "systemd" / "frustum-workflow.service").read_text()
+    assert len(commands) == 1 and "frustum workflow run --quiet workflows/nightly.toml" in commands[0]
+    # the units are templates on the checkout path, written by a command
+    assert main(["workflow", "install-units", "--checkout", str(root), "--dir", str(tmp_path)]) == 0
+    service = (tmp_path / "frustum-workflow.service").read_text()
     execs = [line for line in service.splitlines() if line.startswith("Exec")]
-    assert execs == ["ExecStart=/work/main/.venv/bin/frustum workflow run workflows/nightly.toml"]
-    assert "OnCalendar=" in (root / "workflows" / "systemd" / "frustum-workflow.timer").read_text()
+    assert len(execs) == 1 and execs[0].startswith("ExecStart=/") and \
+        execs[0].endswith("/frustum workflow run --quiet workflows/nightly.toml")
+    assert f"WorkingDirectory={root.resolve()}" in service and "{" not in service
+    assert "Wants=network-online.target" in service and "After=network-online.target" in service
+    assert "SuccessExitStatus=75" in service
+    assert "OnCalendar=" in (tmp_path / "frustum-workflow.timer").read_text()
+    assert f"cd {root.resolve()} && " in capsys.readouterr().out
+
+
+def test_quiet_run_prints_nothing_on_success_and_the_log_on_failure(tmp_path, capsys, monkeypatch):
+    from pipeline import sweep
+
+    real_run = sweep.run_study
+    monkeypatch.setattr(sweep, "run_study", lambda *a, **k: real_run(*a, **dict(k, serial=True)))
+    wf = _workflow(tmp_path)
+    assert main(["workflow", "run", "--quiet", str(wf)]) == 0
+    printed = capsys.readouterr()
+    assert printed.out == "" and printed.err == ""
+    assert "done" in (tmp_path / "logs" / "wf.log").read_text()
+    (tmp_path / "small.toml").write_text(SMALL_STUDY.replace("tail = 2.0", "tail = -1.0"), encoding="utf-8")
+    assert main(["workflow", "run", "--quiet", str(wf)]) == 1
+    err = capsys.readouterr().err
+    assert "FAILED" in err and "failed at step 1" in err
+
+
+def test_a_run_that_finds_the_lock_held_exits_75(tmp_path, capsys):
+    import fcntl
+
+    wf = _workflow(tmp_path)
+    (tmp_path / "logs").mkdir()
+    with open(tmp_path / "logs" / "wf.log.lock", "w") as held:
+        fcntl.flock(held, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        assert main(["workflow", "run", "--quiet", str(wf)]) == 75
+    assert "another run holds" in capsys.readouterr().err
+    assert not (tmp_path / "out" / "small.nc").exists()
