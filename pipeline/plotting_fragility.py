@@ -302,6 +302,8 @@ def plot_model_comparison(frag, stem, state="overturning", title=None):
     sub = frag.sel(state=state)
     m3 = sub["median"].sel(model="3d").values * factor
     m2 = sub["median"].sel(model="2d").values * factor
+    if not np.any(np.isfinite(m3) & np.isfinite(m2) & (m3 > 0) & (m2 > 0)):
+        return []  # no column has a median under both models (e.g. nothing overturned): nothing to draw
     fig, ax = plt.subplots(figsize=(7.0, 6.0), constrained_layout=True)
     many = m3.size > 5 and "slenderness" in frag.coords and "column_beta" in frag.coords
     if "median_lower" in frag:

@@ -17,7 +17,7 @@ def register(subparsers):
     p = subparsers.add_parser(
         "report",
         help="write a short Markdown report with figures, CSV and GeoJSON of study results",
-        description="Write DIR/report.md (what was simulated, the model's assumptions, the probability of "
+        description="Write DIR/report.md and DIR/report.html (one self-contained file; what was simulated, the model's assumptions, the probability of "
         "overturning at stated PGA levels, 2D against 3D when both were run, figures), DIR/summary.csv "
         "(one row per column and model), DIR/columns.geojson (columns with coordinates), DIR/fragility.nc "
         "and DIR/figures/ (PNG and PDF).",
