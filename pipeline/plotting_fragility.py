@@ -26,14 +26,11 @@ _STATE_COLORS = ["k", "C2", "C1", "C4", "C5", "C6"]
 
 
 def _save(fig, stem):
-    stem = os.fspath(stem)
-    os.makedirs(os.path.dirname(os.path.abspath(stem)), exist_ok=True)
-    paths = []
-    for ext in ("png", "pdf"):
-        path = f"{stem}.{ext}"
-        fig.savefig(path, dpi=130)
-        paths.append(path)
-    plt.close(fig)
+    from pipeline.figfile import save_figure
+
+    paths = [f"{os.fspath(stem)}.png", f"{os.fspath(stem)}.pdf"]
+    for i, path in enumerate(paths):
+        save_figure(fig, path, dpi=130, close=i == len(paths) - 1)
     return paths
 
 

@@ -97,6 +97,10 @@ def run_simulate(args):
 
     column = Column.parse(args.column, density=args.density)
     models = _models(args.model)
+    if args.plot:
+        from pipeline.figfile import check_figure_path
+
+        check_figure_path(args.plot)
     if args.record:
         runs = _earthquake(args, column, models)
     else:

@@ -38,7 +38,8 @@ def register(subparsers):
     where.add_argument("--serial", action="store_true", help="run in this process without Dask (same numbers)")
     run.add_argument("--workers", type=int, default=None, metavar="N",
                      help="worker processes of the local cluster (default: number of cores)")
-    run.add_argument("--plot", metavar="FILE.png", help="also draw a summary plot of the results")
+    run.add_argument("--plot", metavar="FILE.png",
+                     help="also draw a summary plot of the results (.png, .pdf, .svg, ...)")
     run.add_argument("--keep-checkpoint", action="store_true",
                      help="keep the checkpoint folder OUT.checkpoint after writing the results")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -81,6 +82,10 @@ def run_study_command(args):
 
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers {args.workers}: give a positive number of worker processes")
+    if args.plot:
+        from pipeline.figfile import check_figure_path
+
+        check_figure_path(args.plot)  # before hours of computing
     t0 = time.monotonic()
     study, motions = _load(args.file)
     print(describe(study), file=sys.stderr)
