@@ -61,8 +61,6 @@ def register(subparsers):
     quake.add_argument("--plot", metavar="FILE.png",
                        help="also draw theta, contact path, mu_mob and excitation (any format matplotlib writes: "
                        ".png, .pdf, .svg, ...; with two models, one file per model: FILE_3d.png, FILE_2d.png)")
-    quake.add_argument("--animate", metavar="FILE.gif",
-                       help="also animate the motion (.gif, or .mp4 with imageio-ffmpeg): frustum animate")
     free = p.add_argument_group("initial state (free motion)")
     for name, unit, default, text in [  # noqa: B007
         ("phi0", "deg", 0.0, "precession angle"),
@@ -87,6 +85,9 @@ def register(subparsers):
                      help="theta' after / before a planar landing [1] (default: angular momentum "
                      "conservation, 1 - 2 m R^2 / I_P)")
     run.add_argument("--out", required=True, metavar="FILE.nc", help="netCDF file to write")
+    run.add_argument("--animate", metavar="FILE.gif",
+                     help="also animate the motion, every model side by side in real time (.gif, or .mp4 with "
+                     "pip install -e '.[video]'); as 'frustum animate OUT --out FILE'")
     p.set_defaults(handler=run_simulate)
 
 
@@ -101,6 +102,10 @@ def run_simulate(args):
         from pipeline.figfile import check_figure_path
 
         check_figure_path(args.plot)
+    if args.animate:
+        from pipeline.animate import check_animation_path
+
+        check_animation_path(args.animate, "--animate")
     if args.record:
         runs = _earthquake(args, column, models)
     else:
@@ -130,8 +135,8 @@ def run_simulate(args):
     if args.animate:
         from pipeline.animate import animate_file
 
-        animate_file(args.out, args.animate)
-        print(f"wrote {args.animate}")
+        n = animate_file(args.out, args.animate)
+        print(f"wrote {args.animate} ({n} frames)")
     return 0
 
 
