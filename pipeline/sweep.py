@@ -358,6 +358,56 @@ def warm_up(models=("3d", "2d")):
     return True
 
 
+#: What the first run on a machine is told, if loading the kernels takes longer than
+#: :data:`COMPILE_NOTICE_AFTER`: compiling them (both models) took 40-70 s on the project's
+#: 2-core machines (docs/studies.md); later runs load them from numba's cache in about 2 s.
+COMPILE_NOTICE = ("frustum: compiling the simulation kernels for this machine, once (about a minute); "
+                  "later runs load them from the cache")
+COMPILE_NOTICE_AFTER = 1.5  # [s]
+
+
+def prepare_kernels(models, stream=None):
+    """Load the compiled kernels in this process, compiling them first if numba's cache is cold or stale.
+
+    Called before any Dask worker starts, so that the compile happens once,
+    here, and the workers load the result from the cache. When ``stream`` is
+    given and loading takes longer than :data:`COMPILE_NOTICE_AFTER` (a
+    compile), one line says so while it runs, and one when it is done.
+
+    Parameters
+    ----------
+    models : sequence of str
+    stream : file, optional
+        Where to say it (e.g. ``sys.stderr``); None: silent.
+
+    Returns
+    -------
+    float
+        Seconds spent [s].
+    """
+    import threading
+
+    said = threading.Event()
+
+    def say():
+        if stream is not None:
+            print(COMPILE_NOTICE, file=stream, flush=True)
+            said.set()
+
+    t0 = time.monotonic()
+    notice = threading.Timer(COMPILE_NOTICE_AFTER, say)
+    notice.daemon = True
+    notice.start()
+    try:
+        warm_up(models)
+    finally:
+        notice.cancel()
+    seconds = time.monotonic() - t0
+    if said.is_set():
+        print(f"frustum: kernels ready after {seconds:.0f} s", file=stream, flush=True)
+    return seconds
+
+
 # -- checkpoint ----------------------------------------------------------------------------------
 
 class Checkpoint:
@@ -567,8 +617,10 @@ def _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, clust
         _place(arrays, ckpt.load(index))
     pending = [t for t in tasks if t.index not in done]
     report = RunReport(out, None, len(tasks), [], sorted(done), 0, study.n_simulations)
-    bar = Progress(len(tasks), len(done), enabled=progress)
     t0 = time.monotonic()
+    if pending:  # compiled once, here, before any worker starts and before the progress bar's clock
+        prepare_kernels(study.models, sys.stderr if progress else None)
+    bar = Progress(len(tasks), len(done), enabled=progress)
 
     def finish(result, save=True):
         if save:  # a failed task is not checkpointed: the next run tries it again
@@ -585,7 +637,6 @@ def _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, clust
         bar.advance()
 
     if pending:
-        warm_up(study.models)
         if serial:
             report.startup_seconds = time.monotonic() - t0
             for task in pending:
