@@ -5,15 +5,19 @@ BIN := $(VENV)/bin
 
 .PHONY: main test setup setup-test udunits clean
 
+# --no-compile: byte-compiling every installed module (sympy, obspy, dask, ...) took longer than
+# downloading them; Python compiles the few it imports on first use.
+PIP_INSTALL := $(BIN)/python -m pip install --quiet --no-compile
+
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
-	$(BIN)/python -m pip install --quiet --upgrade pip
+	$(PIP_INSTALL) --upgrade pip
 
 setup: $(BIN)/python
-	$(BIN)/python -m pip install --quiet -e ".[records]"
+	$(PIP_INSTALL) -e ".[records]"
 
 setup-test: $(BIN)/python udunits
-	$(BIN)/python -m pip install --quiet -e ".[records,test]"
+	$(PIP_INSTALL) -e ".[records,test]"
 
 # The CF check of the tests (cfchecks, in the test extra) loads the UDUNITS-2 C library:
 # Debian's libudunits2-0, installed here when missing (as root, as in CI); otherwise the

@@ -358,21 +358,40 @@ def warm_up(models=("3d", "2d")):
     return True
 
 
-#: What the first run on a machine is told, if loading the kernels takes longer than
-#: :data:`COMPILE_NOTICE_AFTER`: compiling them (both models) took 40-70 s on the project's
-#: 2-core machines (docs/studies.md); later runs load them from numba's cache in about 2 s.
+#: What the first run on a machine is told: compiling both models' kernels took 40-70 s on
+#: the project's 2-core machines; later runs load them from numba's cache in about 2 s.
 COMPILE_NOTICE = ("frustum: compiling the simulation kernels for this machine, once (about a minute); "
                   "later runs load them from the cache")
-COMPILE_NOTICE_AFTER = 1.5  # [s]
+#: Without a readable cache index (another numba version), a load this long [s] is taken for a compile.
+COMPILE_NOTICE_AFTER = 10.0
+
+# the compiled entry points of each model (their cache holds what they inline)
+_ENTRY_POINTS = {"3d": ("run_frustum", "diagnostics_rows"), "2d": ("run_rocking", "diagnostics_rows")}
+
+
+def kernels_cached(models):
+    """Whether numba's cache holds the compiled kernels of every model (None: cannot tell).
+
+    Reads the cache index of each model's entry points (numba's
+    ``FunctionCache``; an index of a changed source counts as missing).
+    """
+    from pipeline.dynamics import hybrid
+
+    try:
+        return all(bool(getattr(hybrid, name)._cache._cache_file._load_index())
+                   for model in models for name in _ENTRY_POINTS.get(model, ()))
+    except (AttributeError, OSError, EOFError, ValueError):
+        return None
 
 
 def prepare_kernels(models, stream=None):
     """Load the compiled kernels in this process, compiling them first if numba's cache is cold or stale.
 
     Called before any Dask worker starts, so that the compile happens once,
-    here, and the workers load the result from the cache. When ``stream`` is
-    given and loading takes longer than :data:`COMPILE_NOTICE_AFTER` (a
-    compile), one line says so while it runs, and one when it is done.
+    here, and the workers load the result from the cache. With a cold cache
+    the other models' kernels compile at the same time in a helper process
+    each (one per core), and, when ``stream`` is given, one line says that
+    the kernels compile once and about how long, and one when they are ready.
 
     Parameters
     ----------
@@ -385,25 +404,39 @@ def prepare_kernels(models, stream=None):
     float
         Seconds spent [s].
     """
+    import subprocess
     import threading
 
+    models = tuple(models)
+    t0 = time.monotonic()
+    cached = kernels_cached(models)
     said = threading.Event()
 
     def say():
+        said.set()
         if stream is not None:
             print(COMPILE_NOTICE, file=stream, flush=True)
-            said.set()
 
-    t0 = time.monotonic()
-    notice = threading.Timer(COMPILE_NOTICE_AFTER, say)
-    notice.daemon = True
-    notice.start()
+    helpers = []
+    if cached is False:
+        say()
+        helpers = [subprocess.Popen([sys.executable, "-c", f"from pipeline.sweep import warm_up; warm_up(({m!r},))"],
+                                    stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                   for m in models[1:] if os.cpu_count() and os.cpu_count() > 1]
+    notice = threading.Timer(COMPILE_NOTICE_AFTER, say) if cached is None else None
+    if notice is not None:
+        notice.daemon = True
+        notice.start()
     try:
-        warm_up(models)
+        warm_up(models[:1])
     finally:
-        notice.cancel()
+        if notice is not None:
+            notice.cancel()
+        for helper in helpers:
+            helper.wait()  # whatever a helper failed to cache, the next line compiles here
+    warm_up(models[1:])
     seconds = time.monotonic() - t0
-    if said.is_set():
+    if said.is_set() and stream is not None:
         print(f"frustum: kernels ready after {seconds:.0f} s", file=stream, flush=True)
     return seconds
 
