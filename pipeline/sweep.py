@@ -559,6 +559,12 @@ class Progress:
         self.done += n
         self.show()
 
+    def restart(self):
+        """Start the clock again (the cluster is ready): elapsed and ETA count only computing."""
+        self.start = time.monotonic()
+        self.first = self.done
+        self.last_line = -1.0
+
     def show(self, final=False):
         if not self.enabled or (final and getattr(self, "shown_total", False)):
             return
@@ -678,6 +684,7 @@ def _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, clust
             def started(n_workers):
                 report.startup_seconds = time.monotonic() - t0
                 report.n_workers = n_workers
+                bar.restart()  # the ETA counts computing, not starting the cluster
 
             _run_dask(pending, motions, finish, cluster, window, study.models, started)
     report.seconds = time.monotonic() - t0

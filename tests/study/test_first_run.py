@@ -79,3 +79,19 @@ def test_the_study_loads_the_kernels_before_the_workers_and_the_progress_bar(mon
     report = sweep.run_study(load_study(path), progress=False)
     assert report.failed == report.grid_size  # the faked cluster computed nothing: every cell failed
     assert events == [("kernels", ("3d", "2d")), ("progress",), ("cluster", 4)]
+
+
+def test_the_eta_counts_computing_not_starting_the_cluster():
+    import re
+
+    class Terminal(io.StringIO):
+        def isatty(self):
+            return True  # a line per task
+
+    out = Terminal()
+    bar = sweep.Progress(20, stream=out)
+    bar.start -= 60.0  # a minute of cluster start-up and kernel loading
+    bar.restart()
+    bar.advance()
+    eta = float(re.findall(r"eta\s+([0-9.]+) s", out.getvalue())[-1])
+    assert eta < 5.0  # not 19 x 60 s
