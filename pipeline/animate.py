@@ -25,11 +25,11 @@ moves, not a survey of where it ends.
 
 import math
 import os
-import tempfile
 from dataclasses import dataclass
 
 import numpy as np
 
+from pipeline.atomic import atomic_path
 from pipeline.errors import InputError
 
 #: Segments around the circumference of a drawn frustum.
@@ -372,23 +372,14 @@ def animate(runs, path, fps=10.0, speed=1.0, dpi=80, progress=None):
     writer = _writer(path, fps)
     fig, views = _figure(runs, dpi)
     times = frame_times(views[0].motion.time, fps, speed)
-    folder = os.path.dirname(os.path.abspath(path))
-    os.makedirs(folder, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=".partial-", suffix=os.path.splitext(path)[1], dir=folder)
-    os.close(fd)
     try:
-        with writer.saving(fig, tmp, dpi):
+        with atomic_path(path, suffix=os.path.splitext(path)[1]) as tmp, writer.saving(fig, tmp, dpi):
             for k, t in enumerate(times):
                 for view in views:
                     view.draw(t)
                 writer.grab_frame()
                 if progress is not None:
                     progress(k + 1, len(times))
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
     finally:
         plt.close(fig)
     return len(times)

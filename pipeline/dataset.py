@@ -28,13 +28,13 @@ A new output variable is one entry of :data:`VARIABLES`.
 """
 
 import os
-import tempfile
 from datetime import datetime, timezone
 from typing import NamedTuple
 
 import numpy as np
 
 from pipeline import __version__
+from pipeline.atomic import atomic_path
 from pipeline.citation import REFERENCE
 
 CONVENTIONS = "CF-1.10"
@@ -256,23 +256,13 @@ def write_netcdf(ds, path, encoding=None):
     str
         ``path``.
     """
-    path = os.fspath(path)
-    folder = os.path.dirname(os.path.abspath(path))
-    os.makedirs(folder, exist_ok=True)
     out = ds.copy()
     for name in label_dims(out):  # numpy unicode or object -> plain str labels
         out.coords[name] = out[name].copy(data=np.asarray(out[name].values).astype(str).astype(object))
     _declare_coordinates(out)
-    fd, tmp = tempfile.mkstemp(prefix=".partial-", suffix=".nc", dir=folder)
-    os.close(fd)
-    try:
+    with atomic_path(path, suffix=".nc") as tmp:
         out.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=_encoding(out, encoding))
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-    return path
+    return os.fspath(path)
 
 
 def write_results(ds, path):

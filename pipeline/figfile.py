@@ -7,7 +7,6 @@ the formats, and an interrupted run leaves no half-written figure.
 """
 
 import os
-import tempfile
 
 from pipeline.errors import InputError
 
@@ -52,19 +51,13 @@ def save_figure(fig, path, dpi=110, option="--plot", close=True):
     """
     import matplotlib.pyplot as plt
 
+    from pipeline.atomic import atomic_path
+
     path = os.fspath(path)
     fmt = check_figure_path(path, option)
-    folder = os.path.dirname(os.path.abspath(path))
-    os.makedirs(folder, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=".partial-", suffix=f".{fmt}", dir=folder)
-    os.close(fd)
     try:
-        fig.savefig(tmp, dpi=dpi, format=fmt)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+        with atomic_path(path, suffix=f".{fmt}") as tmp:
+            fig.savefig(tmp, dpi=dpi, format=fmt)
     finally:
         if close:
             plt.close(fig)

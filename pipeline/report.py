@@ -28,6 +28,7 @@ import numpy as np
 
 from pipeline import fragility as F
 from pipeline import plotting_fragility as P
+from pipeline.atomic import atomic_path
 from pipeline.citation import CITE, REFERENCE
 from pipeline.errors import InputError
 from pipeline.units import G
@@ -272,15 +273,8 @@ def summary_rows(results, frag, pga_levels_g=DEFAULT_PGA_LEVELS_G):
 @contextlib.contextmanager
 def _atomic_text(path, **open_kwargs):
     """Open ``path`` for writing text under a temporary name; renamed on success, removed on failure."""
-    tmp = f"{path}.partial"
-    try:
-        with open(tmp, "w", encoding="utf-8", **open_kwargs) as fh:
-            yield fh
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8", **open_kwargs) as fh:
+        yield fh
 
 
 def _write_csv(rows, path):

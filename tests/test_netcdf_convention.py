@@ -30,21 +30,13 @@ from pipeline.sweep import run_study
 CF_TABLES = Path(__file__).parent / "data" / "cf"
 
 STUDY = """\
-title = "named columns, with positions"
+title = "one file of each kind: the study"
 output = "study.nc"
 models = ["3d", "2d"]
-[[columns]]
-named = "pompeys-pillar"
-[[columns]]
-named = "paper"
-[records]
-synthetic = [{generator = "one_sine_pulse", id = "pulse", ap = 6.0, tp = 0.6, dt = 0.01}]
-[excitation]
-angles = [0.0, 30.0]
-scales = [1.0, 2.0]
-sa_period = 0.5
-[options]
-tail = 1.0
+options = {tail = 1.0}
+excitation = {angles = [0.0, 30.0], scales = [1.0, 2.0], sa_period = 0.5}
+records = {synthetic = [{generator = "one_sine_pulse", id = "pulse", ap = 6.0, tp = 0.6, dt = 0.01}]}
+columns = [{named = "pompeys-pillar"}, {name = "paper", R = 0.5, r = 0.4, h = 4.0}]
 """
 
 

@@ -298,7 +298,7 @@ def install_units(checkout, frustum, workflow="workflows/nightly.toml", folder=N
     list of str
         The files written (atomically: temporary name, then rename).
     """
-    import tempfile
+    from pipeline.atomic import atomic_path
 
     folder = folder or os.path.join(os.path.expanduser("~"), ".config", "systemd", "user")
     templates = Path(checkout) / "workflows" / "systemd"
@@ -313,10 +313,8 @@ def install_units(checkout, frustum, workflow="workflows/nightly.toml", folder=N
             raise InputError(f"{templates / name}: cannot read the unit template ({exc.strerror})") from None
         text = text.replace("{checkout}", checkout).replace("{frustum}", frustum).replace("{workflow}", workflow)
         target = os.path.join(folder, name[:-3])
-        fd, tmp = tempfile.mkstemp(prefix=".partial-", dir=folder)
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+        with atomic_path(target) as tmp, open(tmp, "w", encoding="utf-8") as fh:
             fh.write(text)
-        os.replace(tmp, target)
         written.append(target)
     return written
 
