@@ -382,6 +382,13 @@ def catalog_markdown():
         "keeps this page equal to the catalog). Study results: `docs/studies.md`; fragility",
         "datasets: `docs/fragility.md`.",
         "",
+        "Every file has its labels on its dimensions (`column`, `record`, `model`; `state` in a",
+        "fragility file), so `xr.open_dataset(f).sel(column=..., model=...)` works. The histories of",
+        "`frustum simulate` have dims (column, record, model, time), both models in one file when",
+        "both were run (`--model 3d,2d`), the geometry as coordinates on `column` and the incidence",
+        "angle [degree] and scale as scalar coordinates; `time` is seconds since the start of the",
+        "record (elapsed time, hence no CF `standard_name` time).",
+        "",
         "| name | units | long name | CF standard name |",
         "|---|---|---|---|",
     ]
