@@ -51,6 +51,6 @@ def run(args):
     results = F.open_results(args.results)
     out = write_report(results, args.out, pga_levels_g=levels, states=parse_states(args.states),
                        bootstrap=args.bootstrap, seed=args.seed, title=args.title)
-    print(f"wrote {out['report']}, {out['csv']}" + (f", {out['geojson']}" if out["geojson"] else "")
+    print(f"wrote {out['report']}, {out['html']}, {out['csv']}" + (f", {out['geojson']}" if out["geojson"] else "")
           + f" and {len(out['figures'])} figure(s)")
     return 0
