@@ -11,7 +11,6 @@ Run by hand: ``.venv/bin/python benchmarks/bench_animate.py [--repeat 3] [--reco
 """
 
 import argparse
-import math
 import os
 import platform
 import sys
@@ -38,7 +37,7 @@ def main(argv=None):
     column = Column(0.5, 0.4, 4.0)
     tail = max(0.0, args.seconds - motion.duration)
     with tempfile.TemporaryDirectory() as folder:
-        runs = [simulate(column, motion, Excitation(angle=math.radians(30), scale=2.0),
+        runs = [simulate(column, motion, Excitation(angle=30.0, scale=2.0),
                          ModelSettings(model=m, tail=tail)).histories for m in ("3d", "2d")]
         runs = [run.sel(time=slice(0.0, args.seconds + 1e-9)) for run in runs]
         nc = write_netcdf(histories_file(runs, column="paper", record=args.record), os.path.join(folder, "r.nc"))

@@ -373,7 +373,8 @@ def animate(runs, path, fps=10.0, speed=1.0, dpi=80, progress=None):
     fig, views = _figure(runs, dpi)
     times = frame_times(views[0].motion.time, fps, speed)
     try:
-        with atomic_path(path, suffix=os.path.splitext(path)[1]) as tmp, writer.saving(fig, tmp, dpi):
+        os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+        with atomic_path(path) as tmp, writer.saving(fig, tmp, dpi):  # the temporary name keeps the suffix
             for k, t in enumerate(times):
                 for view in views:
                     view.draw(t)

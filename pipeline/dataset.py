@@ -28,6 +28,7 @@ A new output variable is one entry of :data:`VARIABLES`.
 """
 
 import os
+import shutil
 from datetime import datetime, timezone
 from typing import NamedTuple
 
@@ -36,6 +37,7 @@ import numpy as np
 from pipeline import __version__
 from pipeline.atomic import atomic_path
 from pipeline.citation import REFERENCE
+from pipeline.errors import OutputError
 
 CONVENTIONS = "CF-1.10"
 
@@ -84,6 +86,7 @@ VARIABLES = {
     "tangential_force": Var("N", "magnitude of the tangential contact force"),
     "tangential_force_hat": Var("1", "magnitude of the tangential contact force per weight m g"),
     "mu_mob": Var("1", "mobilized friction coefficient |F_t|/N"),
+    "slip_velocity": Var("m s-1", "speed of the sliding base or rim point relative to the ground"),
     "ground_acc_x": Var("m s-2", "ground acceleration, X component"),
     "ground_acc_y": Var("m s-2", "ground acceleration, Y component"),
     "ground_acc_z": Var("m s-2", "ground acceleration, vertical component (upwards)"),
@@ -94,7 +97,11 @@ VARIABLES = {
     "overturn_time": Var("s", "time of overturning (NaN if the column stands)"),
     "uplift_time": Var("s", "time of the first uplift (NaN if the base never leaves the ground)"),
     "n_impacts": Var("1", "number of landings (impacts of the base on the ground)"),
-    "peak_mu_mob": Var("1", "peak mobilized friction coefficient |F_t|/N"),
+    "peak_mu_mob": Var("1", "peak mobilized friction coefficient |F_t|/N while in contact"),
+    "min_normal_force_hat": Var("1", "lowest normal contact force per weight m g while in contact"),
+    "sliding_time": Var("s", "time the base or the rim first slides (NaN if it never does)"),
+    "lift_off_time": Var("s", "time the column first lifts off into flight (NaN if it never does)"),
+    "energy_friction": Var("m", "energy removed by sliding friction per unit weight, E/(m g)"),
     "residual_rotation": Var("rad", "residual rotation of the column about the vertical at the end", degrees=True),
     "residual_displacement": Var("m", "residual horizontal displacement of the centre of the base"),
     "energy_balance_error": Var("m", "error of the energy balance per unit weight, E/(m g)"),
@@ -132,14 +139,14 @@ STUDY_VARIABLES.update({
 })
 
 FLAGS = {
-    "phase": ([0, 1, 2], "at_rest rolling_on_rim overturned", "motion phase of the column"),
+    "phase": ([0, 1, 2, 3, 4, 5], "at_rest rolling_on_rim overturned sliding_flat slipping_on_rim flight",
+              "motion phase of the column"),
     "overturned": ([0, 1], "stands overturned", "the column overturned"),
     "uplifted": ([0, 1], "never_uplifted uplifted", "the base left full contact with the ground"),
     "sliding_onset": ([0, 1], "no_sliding sliding_onset",
-                      "the peak mobilized friction exceeded the study's friction coefficient "
-                      "(before any final fall past theta_crit)"),
+                      "the base or the rim slid on the ground (friction reached mu N)"),
     "lift_off": ([0, 1], "no_lift_off lift_off",
-                 "the normal contact force fell below zero, free flight (before any final fall past theta_crit)"),
+                 "the normal contact force reached zero and the column flew"),
     "status": ([0, 1], "ok failed", "status of the simulation (failed: values are NaN or 0)"),
 }
 
@@ -260,9 +267,21 @@ def write_netcdf(ds, path, encoding=None):
     for name in label_dims(out):  # numpy unicode or object -> plain str labels
         out.coords[name] = out[name].copy(data=np.asarray(out[name].values).astype(str).astype(object))
     _declare_coordinates(out)
-    with atomic_path(path, suffix=".nc") as tmp:
-        out.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=_encoding(out, encoding))
-    return os.fspath(path)
+    path = os.fspath(path)
+    folder = os.path.dirname(os.path.abspath(path))
+    os.makedirs(folder, exist_ok=True)
+    try:
+        with atomic_path(path) as tmp:  # permissions from the umask, not mkstemp's 0600
+            out.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=_encoding(out, encoding))
+    except OSError as exc:  # read-only, no permission, disk full: one clear line
+        raise OutputError(f"{path}: cannot write ({exc.strerror or exc})") from None
+    except RuntimeError as exc:  # the HDF5 library reports a full disk as "NetCDF: HDF error"
+        if "NetCDF" not in str(exc):
+            raise
+        free = shutil.disk_usage(folder).free
+        raise OutputError(f"{path}: the netCDF library could not write ({exc}); {free / 2**20:.0f} MiB free "
+                          "on that disk") from None
+    return path
 
 
 def write_results(ds, path):

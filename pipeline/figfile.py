@@ -2,31 +2,14 @@
 
 Every figure of the package goes through :func:`save_figure`, so that a plot
 path ending in ``.png``, ``.pdf``, ``.svg``, ``.eps``, ``.jpg``, ... works
-everywhere, a wrong suffix fails before any computing with a message naming
-the formats, and an interrupted run leaves no half-written figure.
+everywhere (:func:`pipeline.paths.check_plot_file` refuses the others, before
+any computing where a command calls it first), and an interrupted run leaves
+no half-written figure.
 """
 
 import os
 
-from pipeline.errors import InputError
-
-
-def formats():
-    """File suffixes matplotlib writes here (``png``, ``pdf``, ``svg``, ...), sorted."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    return sorted(FigureCanvasAgg(Figure()).get_supported_filetypes())
-
-
-def check_figure_path(path, option="--plot"):
-    """The suffix of ``path`` without its dot, if matplotlib writes it; else an InputError naming the formats."""
-    suffix = os.path.splitext(os.fspath(path))[1].lower().lstrip(".")
-    known = formats()
-    if suffix not in known:
-        raise InputError(f"{option} {path}: matplotlib cannot write '.{suffix}' files; end the name with one of "
-                         + ", ".join(f".{s}" for s in known))
-    return suffix
+from pipeline.paths import check_plot_file
 
 
 def save_figure(fig, path, dpi=110, option="--plot", close=True):
@@ -53,10 +36,11 @@ def save_figure(fig, path, dpi=110, option="--plot", close=True):
 
     from pipeline.atomic import atomic_path
 
-    path = os.fspath(path)
-    fmt = check_figure_path(path, option)
+    path = check_plot_file(path, option)
+    fmt = os.path.splitext(path)[1].lower().lstrip(".")
     try:
-        with atomic_path(path, suffix=f".{fmt}") as tmp:
+        os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+        with atomic_path(path) as tmp:
             fig.savefig(tmp, dpi=dpi, format=fmt)
     finally:
         if close:
@@ -64,4 +48,4 @@ def save_figure(fig, path, dpi=110, option="--plot", close=True):
     return path
 
 
-__all__ = ["formats", "check_figure_path", "save_figure"]
+__all__ = ["save_figure"]

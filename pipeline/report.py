@@ -18,7 +18,6 @@ weakest) shaking simulated is marked *extrapolated*, a fit on fewer than
 probabilities carry their bootstrap bounds.
 """
 
-import contextlib
 import csv
 import json
 import math
@@ -28,7 +27,7 @@ import numpy as np
 
 from pipeline import fragility as F
 from pipeline import plotting_fragility as P
-from pipeline.atomic import atomic_path
+from pipeline.atomic import atomic_open
 from pipeline.citation import CITE, REFERENCE
 from pipeline.errors import InputError
 from pipeline.units import G
@@ -270,11 +269,9 @@ def summary_rows(results, frag, pga_levels_g=DEFAULT_PGA_LEVELS_G):
     return rows
 
 
-@contextlib.contextmanager
 def _atomic_text(path, **open_kwargs):
     """Open ``path`` for writing text under a temporary name; renamed on success, removed on failure."""
-    with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8", **open_kwargs) as fh:
-        yield fh
+    return atomic_open(path, "w", encoding="utf-8", **open_kwargs)
 
 
 def _write_csv(rows, path):

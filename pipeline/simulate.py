@@ -31,7 +31,7 @@ from pipeline.dynamics import frustum as fk
 from pipeline.dynamics import hybrid as hy
 from pipeline.dynamics import rocking as rk
 from pipeline.errors import InputError
-from pipeline.units import G, time_scale
+from pipeline.units import G, deg_to_rad, time_scale
 
 MODELS = ("3d", "2d")
 
@@ -94,8 +94,14 @@ class ModelSettings:
         Viscous contact couple nu, per m g R sqrt(R/g) [1]; 0 is the paper's
         model without dissipation other than impacts.
     friction : float
-        Friction coefficient [1] against which the mobilized friction is
-        compared (``sliding_onset``).
+        Coulomb friction coefficient of the base on the ground [1]: the base
+        slides flat, or the rim slips, when the friction needed exceeds
+        ``friction`` times the normal force. ``math.inf`` is the paper's
+        rolling without slip.
+    lift_off : bool
+        The ground can only push: the column flies when the normal force
+        would pull, and lands with an impact. False holds the rim on the
+        ground whatever the force, as the paper's model does.
     tail : float
         Free motion after the record ends [s].
     rtol, atol : float
@@ -109,6 +115,7 @@ class ModelSettings:
     contact_tilt: float = 1e-5
     damping: float = 0.0
     friction: float = 0.7
+    lift_off: bool = True
     tail: float = 5.0
     rtol: float = 1e-9
     atol: float = 1e-12
@@ -120,13 +127,16 @@ class ModelSettings:
         checks = {
             "contact_tilt": (0.0, 0.01, "rad"),
             "damping": (0.0, 100.0, "(per m g R sqrt(R/g))"),
-            "friction": (0.0, 10.0, ""),
             "tail": (0.0, 3600.0, "s"),
         }
         for name, (lo, hi, unit) in checks.items():
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and lo <= value <= hi):
                 raise InputError(f"{name} = {value!r} {unit} must be a number in [{lo:g}, {hi:g}]")
+        if not (isinstance(self.friction, (int, float)) and (self.friction == math.inf or
+                                                              0.0 < self.friction <= 10.0)):
+            raise InputError(f"friction = {self.friction!r} must be a number in (0, 10], or inf for rolling "
+                             "without slip")
         for name in ("rtol", "atol", "output_step"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
@@ -142,8 +152,10 @@ class Excitation:
     Parameters
     ----------
     angle : float
-        Incidence angle [rad]: the horizontal pair is turned counter-clockwise
-        by it (:meth:`pipeline.groundmotion.GroundMotion.rotated`).
+        Incidence angle [degree]: the horizontal pair is turned
+        counter-clockwise by it (:meth:`pipeline.groundmotion.GroundMotion.rotated`).
+        Degrees as on the command line and in study files; :attr:`angle_rad`
+        is what the kernels use.
     scale : float
         Factor on every component [1], > 0.
     vertical : bool
@@ -158,7 +170,12 @@ class Excitation:
         if not (isinstance(self.scale, (int, float)) and math.isfinite(self.scale) and self.scale > 0):
             raise InputError(f"scale = {self.scale!r} must be a positive number")
         if not math.isfinite(self.angle):
-            raise InputError(f"angle = {self.angle!r} must be a finite number of radians")
+            raise InputError(f"angle = {self.angle!r} must be a finite number of degrees")
+
+    @property
+    def angle_rad(self):
+        """Incidence angle [rad]."""
+        return deg_to_rad(self.angle)
 
 
 @dataclass
@@ -193,11 +210,15 @@ def housner_restitution(column):
 def lying_tilt(column):
     """Inclination at which the side of the frustum touches the ground [rad].
 
-    The generator of the side through the pivot makes the angle
-    atan((R - r)/h) with the axis; it reaches the ground at
-    ``theta = pi/2 - atan((R - r)/h)``. Reaching it is the overturning event.
+    The generator of the side through the pivot runs from the base rim
+    inwards by R - r over the height h, so it makes the angle
+    atan((R - r)/h) with the axis, leaning towards the axis. It lies on the
+    ground when the axis has turned past the horizontal by that angle:
+    ``theta_lie = pi/2 + atan((R - r)/h)`` (91.43 deg for R = 0.5, r = 0.4,
+    h = 4 m; below 90 deg for a column wider at the top). Reaching it is the
+    overturning event.
     """
-    return 0.5 * math.pi - math.atan((column.R - column.r) / column.h)
+    return 0.5 * math.pi + math.atan((column.R - column.r) / column.h)
 
 
 def check_column(column):
@@ -214,7 +235,13 @@ def check_column(column):
 
 
 def _options(column, settings):
-    return np.array([settings.contact_tilt, lying_tilt(column), settings.damping], dtype=np.float64)
+    opts = np.zeros(fk.N_OPT)
+    opts[fk.OPT_THETA_C] = settings.contact_tilt
+    opts[fk.OPT_THETA_LIE] = lying_tilt(column)
+    opts[fk.OPT_NU] = settings.damping
+    opts[fk.OPT_MU] = settings.friction
+    opts[fk.OPT_UNILATERAL] = 1.0 if settings.lift_off else 0.0
+    return opts
 
 
 def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), histories=True):
@@ -242,7 +269,7 @@ def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), 
     ay = np.asarray(motion.acc_y, dtype=np.float64) * excitation.scale
     az = motion.acc_z
     az = np.zeros_like(ax) if (az is None or not excitation.vertical) else np.asarray(az) * excitation.scale
-    gamma = excitation.angle
+    gamma = excitation.angle_rad
     if settings.model == "3d":
         record = np.stack([ax, ay, az], axis=1) / G  # turned after, by axisymmetry
     else:
@@ -260,7 +287,7 @@ def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), 
 
 
 def simulate_free(column, initial, duration, settings=ModelSettings(rtol=1e-12, atol=1e-14, contact_tilt=0.0),
-                  restitution=None):
+                  restitution=None, friction=math.inf, lift_off=False):
     """Free motion (no ground motion) of the 3D column released on its rim.
 
     Parameters
@@ -274,6 +301,9 @@ def simulate_free(column, initial, duration, settings=ModelSettings(rtol=1e-12, 
         only planar motion reaches.
     restitution : float, optional
         Overrides ``settings.restitution``.
+    friction, lift_off : float, bool
+        Override ``settings``; the defaults (inf, False) are the paper's
+        free motion: rolling without slip, the rim held on the ground.
 
     Returns
     -------
@@ -284,7 +314,7 @@ def simulate_free(column, initial, duration, settings=ModelSettings(rtol=1e-12, 
         raise InputError(f"duration = {duration!r} s must be a positive number of seconds")
     if restitution is not None:
         settings = replace(settings, restitution=float(restitution))
-    settings = replace(settings, model="3d")
+    settings = replace(settings, model="3d", friction=friction, lift_off=lift_off)
     rate = time_scale(column.R)  # (rad/s) * rate = rad per tau
     y0 = np.zeros(fk.N_STATE)
     y0[fk.PHI], y0[fk.THETA], y0[fk.PSI] = initial.phi, initial.theta, initial.psi
@@ -347,68 +377,47 @@ def _impact_table(raw, column):
 
 
 def _diagnostics(raw, settings):
-    """Per-row omega_zeta, energy, normal force, |F_t|, mu_mob, ground acceleration (dimensionless)."""
-    out = np.full((raw.tau.shape[0], fk.N_DIAGNOSTICS), np.nan)
+    """Per-row derived quantities (``hybrid.D_*`` columns, dimensionless)."""
+    out = np.full((raw.tau.shape[0], hy.N_DIAGNOSTICS), np.nan)
     hy.diagnostics_rows(raw.tau, raw.states, raw.phase, raw.params, settings.model == "3d", out)
     return out
 
 
 def _summary(column, settings, raw, diag, motion, excitation):
+    """Scalar results, all read from the kernel's own summary (none from the output grid)."""
     s = raw.summary
     ts = raw.t_scale
-    # Peaks, sliding and lift-off are taken before the final fall: once the
-    # column passes theta_crit for the last time it is going over (and the
-    # rows after it lies down hold a frozen state under a moving ground).
-    moving = raw.phase != hy.PHASE_OVERTURNED
-    if not math.isnan(s[hy.S_OVERTURN_TIME]):
-        tilt = np.abs(raw.states[:, fk.THETA if settings.model == "3d" else rk.THETA2])
-        upright = np.flatnonzero(moving & ~(tilt > column.critical_tilt))
-        moving = np.arange(len(moving)) <= (upright[-1] if len(upright) else -1)
-    rolling = moving & (raw.phase == hy.PHASE_ROLLING)
-    peak_mu = max(float(np.nanmax(diag[moving, 4])) if moving.any() else 0.0, s[hy.S_PEAK_MU])
-    min_normal = np.fmin(np.nanmin(diag[rolling, 2]) if rolling.any() else np.inf, s[hy.S_MIN_NORMAL])
-    weight_energy = column.R  # energies per m g: multiply dimensionless by R -> per (m g) [m]
-    last = raw.states[raw.n_filled - 1]
-    c = raw.params[0]
-    if settings.model == "3d":
-        work, dissipated = last[fk.WORK], last[fk.DISSIPATED]
-        e_end = c[fk.C_ZC] if raw.phase[raw.n_filled - 1] == hy.PHASE_REST else fk.energy(
-            last[fk.THETA], last[fk.DPHI], last[fk.DTHETA], last[fk.OMEGA], c)
-        e_start = fk.energy(raw.y0[fk.THETA], raw.y0[fk.DPHI], raw.y0[fk.DTHETA], raw.y0[fk.OMEGA], c) \
-            if raw.y0[fk.THETA] > 0 else c[fk.C_ZC]
-        residual_rotation = s[hy.S_ROTATION]
-        residual_displacement = math.hypot(s[hy.S_BASE_X], s[hy.S_BASE_Y]) * column.R
-    else:
-        work, dissipated = last[rk.WORK2], last[rk.DISSIPATED2]
-        e_end = c[fk.C_ZC] if raw.phase[raw.n_filled - 1] == hy.PHASE_REST else rk.energy(
-            last[rk.THETA2], last[rk.DTHETA2], c)
-        e_start = c[fk.C_ZC]
-        residual_rotation = 0.0
-        residual_displacement = 0.0
-    overturned = not math.isnan(s[hy.S_OVERTURN_TIME])
-    balance = (e_end - e_start) - (work + s[hy.S_TRANSITION] - dissipated)
+    R = column.R  # energies per m g: dimensionless times R [m]
+    e_start, e_end = s[hy.S_ENERGY_START], s[hy.S_ENERGY_END]
+    work, dissipated, friction = s[hy.S_WORK], s[hy.S_DISSIPATED], s[hy.S_FRICTION]
+    balance = (e_end - e_start) - (work + s[hy.S_TRANSITION] - dissipated - friction)
+    residual_rotation = s[hy.S_ROTATION] if settings.model == "3d" else 0.0
     out = {
         "model": settings.model,
         "peak_theta": float(s[hy.S_PEAK_THETA]),
         "peak_theta_ratio": float(s[hy.S_PEAK_THETA] / column.critical_tilt),
         "peak_time": float(s[hy.S_PEAK_TIME] * ts),
-        "overturned": overturned,
+        "overturned": not math.isnan(s[hy.S_OVERTURN_TIME]),
         "overturn_time": float(s[hy.S_OVERTURN_TIME] * ts),
         "uplifted": not math.isnan(s[hy.S_UPLIFT_TIME]),
         "uplift_time": float(s[hy.S_UPLIFT_TIME] * ts),
         "n_impacts": int(s[hy.S_N_IMPACTS]),
-        "peak_mu_mob": float(peak_mu),
-        "sliding_onset": bool(peak_mu > settings.friction),
-        "lift_off": bool(min_normal < 0.0),
+        "peak_mu_mob": float(s[hy.S_PEAK_MU]),
+        "min_normal_force_hat": float(s[hy.S_MIN_NORMAL]),
+        "sliding_onset": not math.isnan(s[hy.S_SLIDE_TIME]),
+        "sliding_time": float(s[hy.S_SLIDE_TIME] * ts),
+        "lift_off": not math.isnan(s[hy.S_FLIGHT_TIME]),
+        "lift_off_time": float(s[hy.S_FLIGHT_TIME] * ts),
         "residual_rotation": float(residual_rotation),
-        "residual_displacement": float(residual_displacement),
+        "residual_displacement": float(math.hypot(s[hy.S_BASE_X], s[hy.S_BASE_Y]) * R),
         # energy budget per unit weight [m]: E / (m g)
-        "energy_initial": float(e_start * weight_energy),
-        "work_ground": float(work * weight_energy),
-        "energy_transitions": float(s[hy.S_TRANSITION] * weight_energy),
-        "energy_dissipated": float(dissipated * weight_energy),
-        "energy_final": float(e_end * weight_energy),
-        "energy_balance_error": float(balance * weight_energy),
+        "energy_initial": float(e_start * R),
+        "work_ground": float(work * R),
+        "energy_transitions": float(s[hy.S_TRANSITION] * R),
+        "energy_dissipated": float(dissipated * R),
+        "energy_friction": float(friction * R),
+        "energy_final": float(e_end * R),
+        "energy_balance_error": float(balance * R),
         "rhs_evaluations": int(s[hy.S_NFEV]),
         "steps": int(s[hy.S_STEPS]),
     }
@@ -422,53 +431,48 @@ def _histories(column, settings, raw, diag, excitation, motion):
     R = column.R
     per_s = 1.0 / ts
     st = raw.states
-    rest = raw.phase == hy.PHASE_REST
+    phase = raw.phase
+    flat = (phase == hy.PHASE_REST) | (phase == hy.PHASE_SLIDING)
+    cg, sg = math.cos(excitation.angle_rad), math.sin(excitation.angle_rad)
+    bx, by = diag[:, hy.D_BASE_X] * R, diag[:, hy.D_BASE_Y] * R
+    px, py = diag[:, hy.D_CONTACT_X] * R, diag[:, hy.D_CONTACT_Y] * R
     if settings.model == "3d":
-        phi = st[:, fk.PHI] + excitation.angle
-        theta = np.where(rest, 0.0, st[:, fk.THETA])
-        cg, sg = math.cos(excitation.angle), math.sin(excitation.angle)
-        # the kernel stores the base centre in the contact-point slots at rest
-        px, py = st[:, fk.XP] * R, st[:, fk.YP] * R
-        bx = np.where(rest, px, px - np.sin(st[:, fk.PHI]) * np.cos(theta) * R)
-        by = np.where(rest, py, py + np.cos(st[:, fk.PHI]) * np.cos(theta) * R)
-        x_p = np.where(rest, np.nan, cg * px - sg * py)
-        y_p = np.where(rest, np.nan, sg * px + cg * py)
+        theta = np.where(flat, 0.0, st[:, fk.THETA])
         data = {
-            "phi": np.where(rest, np.nan, phi),
+            "phi": np.where(flat, np.nan, st[:, fk.PHI] + excitation.angle_rad),
             "theta": theta,
-            "psi": np.where(rest, np.nan, st[:, fk.PSI]),
-            "x_p": x_p,
-            "y_p": y_p,
-            "x_b": cg * bx - sg * by,
-            "y_b": sg * bx + cg * by,
-            "phi_dot": np.where(rest, 0.0, st[:, fk.DPHI]) * per_s,
-            "theta_dot": np.where(rest, 0.0, st[:, fk.DTHETA]) * per_s,
-            "psi_dot": np.where(rest, 0.0, st[:, fk.OMEGA] - st[:, fk.DPHI] * np.cos(st[:, fk.THETA])) * per_s,
-            "work_ground_hat": st[:, fk.WORK],
+            "psi": np.where(flat, np.nan, st[:, fk.PSI]),
+            "phi_dot": np.where(flat, 0.0, st[:, fk.DPHI]) * per_s,
+            "theta_dot": np.where(flat, 0.0, st[:, fk.DTHETA]) * per_s,
+            "psi_dot": np.where(flat, 0.0, st[:, fk.OMEGA] - st[:, fk.DPHI] * np.cos(st[:, fk.THETA])) * per_s,
         }
-        gx, gy = diag[:, 5], diag[:, 6]
+        # the kernel runs in the record's frame: turn the horizontal outputs by the angle
+        data.update({"x_p": cg * px - sg * py, "y_p": sg * px + cg * py,
+                     "x_b": cg * bx - sg * by, "y_b": sg * bx + cg * by})
+        gx, gy = diag[:, hy.D_AX], diag[:, hy.D_AY]
         ground_x, ground_y = cg * gx - sg * gy, sg * gx + cg * gy
     else:
         signed = st[:, rk.THETA2]
-        theta = np.abs(signed)
         data = {
-            "phi": np.where(rest, np.nan, np.where(signed >= 0, 0.5 * math.pi, -0.5 * math.pi)),
-            "theta": theta,
-            "x_p": np.where(rest, np.nan, np.sign(signed) * R),
-            "y_p": np.where(rest, np.nan, 0.0),
-            "theta_dot": np.where(rest, 0.0, np.sign(signed) * st[:, rk.DTHETA2]) * per_s,
-            "work_ground_hat": st[:, rk.WORK2],
+            "phi": np.where(flat, np.nan, np.where(signed >= 0, 0.5 * math.pi, -0.5 * math.pi)),
+            "theta": np.where(flat, 0.0, np.abs(signed)),
+            "x_p": px,
+            "y_p": np.where(np.isnan(px), np.nan, 0.0),
+            "x_b": bx,
+            "y_b": by,
+            "theta_dot": np.where(flat, 0.0, np.sign(signed) * st[:, rk.DTHETA2]) * per_s,
         }
-        ground_x, ground_y = diag[:, 5], np.zeros_like(diag[:, 5])
+        ground_x, ground_y = diag[:, hy.D_AX], np.zeros_like(diag[:, hy.D_AX])
     data.update({
-        "omega_zeta": diag[:, 0] * per_s,
-        "energy_hat": diag[:, 1],
-        "normal_force_hat": diag[:, 2],
-        "tangential_force_hat": diag[:, 3],
-        "mu_mob": diag[:, 4],
+        "omega_zeta": diag[:, hy.D_OMEGA] * per_s,
+        "energy_hat": diag[:, hy.D_ENERGY],
+        "normal_force_hat": diag[:, hy.D_NORMAL],
+        "tangential_force_hat": diag[:, hy.D_TANGENTIAL],
+        "mu_mob": diag[:, hy.D_MU],
+        "slip_velocity": diag[:, hy.D_SLIP] * math.sqrt(G * R),
         "ground_acc_x": ground_x * G,
         "ground_acc_y": ground_y * G,
-        "ground_acc_z": diag[:, 7] * G,
+        "ground_acc_z": diag[:, hy.D_AZ] * G,
     })
     if column.density is not None:
         weight = column.mass * G
@@ -477,7 +481,7 @@ def _histories(column, settings, raw, diag, excitation, motion):
         data["energy"] = data["energy_hat"] * weight * R
     time = raw.tau * ts
     variables = {k: ("time", np.asarray(v, dtype=np.float64)) for k, v in data.items()}
-    variables["phase"] = ("time", raw.phase.astype(np.int8))
+    variables["phase"] = ("time", phase.astype(np.int8))
     ds = xr.Dataset(variables, coords={"time": time, "tau": ("time", raw.tau)})
     ds.attrs.update(
         title="Response of a free-standing column (conical frustum) to ground motion",
@@ -487,6 +491,7 @@ def _histories(column, settings, raw, diag, excitation, motion):
         column_h_m=column.h,
         theta_crit_rad=column.critical_tilt,
         contact_tilt_rad=settings.contact_tilt,
+        friction=settings.friction,
         restitution="angular momentum" if settings.restitution is None else settings.restitution,
         damping=settings.damping,
         rtol=settings.rtol,
@@ -494,7 +499,7 @@ def _histories(column, settings, raw, diag, excitation, motion):
     )
     if motion is not None:
         ds.attrs.update(record_id=motion.record_id, record_sha256=motion.sha256(),
-                        incidence_angle_rad=excitation.angle, scale=excitation.scale)
+                        incidence_angle_rad=excitation.angle_rad, scale=excitation.scale)
     annotate(ds)
     append_history(ds, f"pipeline.simulate ({settings.model})")
     return ds

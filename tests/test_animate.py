@@ -26,7 +26,7 @@ T_REFERENCE = 1.0  # [s]: both columns tilted
 
 def _write_run(path):
     motion = one_sine_pulse(6.0, 0.6, dt=0.01, record_id="pulse")
-    runs = [simulate(Column(0.5, 0.4, 4.0), motion, Excitation(angle=math.radians(30)),
+    runs = [simulate(Column(0.5, 0.4, 4.0), motion, Excitation(angle=30.0),
                      ModelSettings(model=m, tail=0.9)).histories for m in ("3d", "2d")]
     write_netcdf(histories_file(runs, column="paper", record="pulse"), path)
     return path

@@ -46,7 +46,7 @@ def files(tmp_path_factory):
     folder = tmp_path_factory.mktemp("convention")
     motion = one_sine_pulse(6.0, 0.6, dt=0.01, record_id="pulse")
     column = Column(0.5, 0.4, 4.0)
-    runs = [simulate(column, motion, Excitation(angle=0.5), ModelSettings(model=m, tail=1.0)).histories
+    runs = [simulate(column, motion, Excitation(angle=30.0), ModelSettings(model=m, tail=1.0)).histories
             for m in ("3d", "2d")]
     write_netcdf(histories_file(runs, column="paper", record="pulse"), folder / "simulate.nc")
     (folder / "study.toml").write_text(STUDY, encoding="utf-8")
@@ -62,7 +62,7 @@ def test_simulate_file_selects_by_label_in_plain_xarray(files):
         assert run["theta"].dims == ("time",)
         np.testing.assert_allclose(run["theta_deg"].values, np.degrees(run["theta"].values))
         assert run["theta_deg"].attrs["units"] == "degree"
-        assert float(run["angle"]) == pytest.approx(np.degrees(0.5))
+        assert float(run["angle"]) == pytest.approx(30.0) and run["angle"].attrs["units"] == "degree"
         assert ds["time"].dtype == np.float64 and ds["time"].attrs["units"] == "s"
         assert "standard_name" not in ds["time"].attrs  # elapsed seconds, not a date
         assert float(ds["theta_crit_deg"].sel(column="paper")) == pytest.approx(15.10, abs=0.01)

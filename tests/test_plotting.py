@@ -18,7 +18,7 @@ COLUMN = Column(0.5, 0.4, 4.0)
 @pytest.fixture(scope="module")
 def overturning():
     motion = one_sine_pulse(8.0, 0.8, dt=0.01, record_id="pulse")
-    response = simulate(COLUMN, motion, Excitation(angle=math.radians(30), scale=2.0), ModelSettings(tail=2.0))
+    response = simulate(COLUMN, motion, Excitation(angle=30.0, scale=2.0), ModelSettings(tail=2.0))
     assert response.summary["overturned"]  # the premise
     return response
 
@@ -38,8 +38,9 @@ def test_nothing_is_drawn_after_overturning(overturning):
     n_drawn = len(mu_line.get_xdata())
     for line in path_ax.lines[:2]:  # contact point and base centre
         assert len(line.get_xdata()) == n_drawn
-    # and what is drawn is finite: no blow-up of mu_mob in the final fall
-    assert np.nanmax(mu_line.get_ydata()) == pytest.approx(summary["peak_mu_mob"], rel=1e-6)
+    # and what is drawn stays within the run's peak while in contact: no blow-up in the final fall
+    drawn = mu_line.get_ydata()
+    assert np.all(np.isfinite(drawn)) and np.max(drawn) <= summary["peak_mu_mob"] * (1 + 1e-12)
     plt.close(fig)
 
 
@@ -73,4 +74,4 @@ def test_records_plot_writes_svg_and_names_the_formats(tmp_path, capsys):
     assert b"<svg" in (tmp_path / "rec.svg").read_bytes()[:1000]
     assert main(["records", "plot", "FEMA-FF-01", "--out", str(tmp_path / "rec.xyz")]) == 2
     err = capsys.readouterr().err
-    assert "--out" in err and "'.xyz'" in err and ".svg" in err and ".png" in err
+    assert "--out" in err and "rec.xyz': not a figure format matplotlib writes" in err and ".svg" in err

@@ -6,7 +6,10 @@ import os
 
 import numpy as np
 
+from pipeline.cli.records import add_record_options, load_record
 from pipeline.errors import InputError
+from pipeline.limits import check_tolerance
+from pipeline.paths import check_output_file, check_plot_file
 from pipeline.units import MARBLE_DENSITY, deg_to_rad
 
 _EXAMPLES = """\
@@ -16,6 +19,11 @@ examples:
         --out response.nc --plot response.png
   a record file (MiniSEED here) whose header does not carry units:
     frustum simulate --column 0.5,0.4,4 --record quake.mseed --units m/s2 --out r.nc
+  a PEER pair, and a single component (y = 0):
+    frustum simulate --column 0.5,0.4,4 --record RSN6_ELC180.AT2,RSN6_ELC270.AT2 --out r.nc
+    frustum simulate --column 0.5,0.4,4 --record RSN6_ELC180.AT2 --missing-y zero --out r.nc
+  an OpenSees input: one column in g, 0.01 s apart:
+    frustum simulate --column 0.5,0.4,4 --record elcentro.g3 --units g --dt 0.01 --missing-y zero --out r.nc
   free motion released on the rim (the paper's Section 4 case, rates in rad/s):
     frustum simulate --column 0.5,0.4,4 --theta0 10 --phi-dot0 0.44 --psi-dot0 -0.89 \\
         --duration 20 --out free.nc
@@ -40,9 +48,9 @@ def register(subparsers):
                      f"(default {MARBLE_DENSITY:g}, marble)")
     quake = p.add_argument_group("ground motion (earthquake response, from rest)")
     quake.add_argument("--record", metavar="ID_OR_FILE",
-                       help="catalog id (frustum records list) or a record file; without it, free motion")
-    quake.add_argument("--units", default=None, metavar="UNITS",
-                       help="units of a record file that does not state them: m/s2, cm/s2, g")
+                       help="catalog id (frustum records list), a record file, or 2-3 files X,Y[,Z] "
+                       "(e.g. an AT2 pair); without it, free motion")
+    add_record_options(quake)
     quake.add_argument("--angle", type=float, default=0.0, metavar="DEG",
                        help="incidence angle: the horizontal pair is turned counter-clockwise [deg] (default 0)")
     quake.add_argument("--scale", type=float, default=1.0, help="factor on the record [1] (default 1)")
@@ -96,12 +104,15 @@ def run_simulate(args):
     from pipeline.dataset import append_history, histories_file, write_netcdf
     from pipeline.geometry import Column
 
+    # everything that can be refused is refused before computing
+    check_output_file(args.out, "--out")
+    if args.plot:
+        check_plot_file(args.plot, "--plot")
+    for name in ("rtol", "atol"):
+        if getattr(args, name) is not None:
+            check_tolerance(name, getattr(args, name), f"--{name}")
     column = Column.parse(args.column, density=args.density)
     models = _models(args.model)
-    if args.plot:
-        from pipeline.figfile import check_figure_path
-
-        check_figure_path(args.plot)
     if args.animate:
         from pipeline.animate import check_animation_path
 
@@ -113,7 +124,7 @@ def run_simulate(args):
             raise InputError(f"--model {args.model}: a free motion is the 3D rolling frustum only (drop --model)")
         runs = [_free(args, column)]
     label = f"R{column.R:g}-r{column.r:g}-h{column.h:g}"
-    ds = histories_file([h for h, _ in runs], column=label, record=args.record or "free-motion")
+    ds = histories_file([h for h, _ in runs], column=label, record=runs[0][0].attrs.get("record_id", "free-motion"))
     append_history(ds, "frustum simulate " + " ".join(_argv_echo(args)))
     write_netcdf(ds, args.out)
     print(column.describe())
@@ -154,18 +165,19 @@ def _suffixed(path, model):
 
 def _earthquake(args, column, models):
     """[(histories, summary)] of the record under each model."""
-    from pipeline.groundmotion import load
     from pipeline.simulate import Excitation, ModelSettings, simulate
 
     if args.theta0 is not None:
         raise InputError("--theta0 starts a free motion; an earthquake response starts at rest (drop --theta0)")
-    excitation = Excitation(angle=deg_to_rad(args.angle), scale=args.scale, vertical=not args.no_vertical)
-    motion = load(args.record, units=args.units)
+    excitation = Excitation(angle=args.angle, scale=args.scale, vertical=not args.no_vertical)
+    motion = load_record(args)
+    _check_history_memory(len(models) * (motion.duration + args.tail), args.output_step,
+                          "the record and --tail" + (" for each model" if len(models) > 1 else ""))
     runs = []
     for model in models:
         settings = ModelSettings(
             model=model, restitution=args.restitution, contact_tilt=args.contact_tilt, damping=args.damping,
-            friction=args.friction, tail=args.tail, rtol=args.rtol or 1e-9, atol=args.atol or 1e-12,
+            friction=args.friction, tail=args.tail, rtol=_given(args.rtol, 1e-9), atol=_given(args.atol, 1e-12),
             output_step=args.output_step,
         )
         response = simulate(column, motion, excitation, settings)
@@ -188,14 +200,32 @@ def _free(args, column):
         theta_dot=args.theta_dot0,
         psi_dot=args.psi_dot0,
     )
-    settings = ModelSettings(rtol=args.rtol or 1e-12, atol=args.atol or 1e-14, output_step=args.output_step,
-                             contact_tilt=0.0, damping=args.damping)
+    settings = ModelSettings(rtol=_given(args.rtol, 1e-12), atol=_given(args.atol, 1e-14),
+                             output_step=args.output_step, contact_tilt=0.0, damping=args.damping)
+    if not (math.isfinite(args.duration) and args.duration > 0):
+        raise InputError(f"--duration {args.duration!r}: give a positive number of seconds")
+    _check_history_memory(args.duration, settings.output_step, "--duration")
     ds = simulate_free(column, initial, args.duration, settings, restitution=args.restitution)
     return ds, {"peak_theta": float(np.nanmax(ds.theta.values))}
 
 
+def _given(value, default):
+    """An option's value, or its default when not given (0 is a value: it is refused, not replaced)."""
+    return default if value is None else value
+
+
+def _check_history_memory(duration, output_step, what):
+    """Refuse histories that cannot fit in memory, before computing."""
+    from pipeline.limits import check_fits, history_bytes
+
+    rows = math.floor(duration / output_step) + 1
+    check_fits(history_bytes(duration, output_step),
+               f"{duration:g} s of histories every {output_step:g} s ({rows:,} rows)",
+               f"shorten {what} or sample less often with a larger --output-step")
+
+
 def _argv_echo(args):
-    keys = ("column", "density", "record", "units", "angle", "scale", "model", "tail", "contact_tilt", "damping",
+    keys = ("column", "density", "record", "units", "components", "missing_y", "dt", "baseline", "angle", "scale", "model", "tail", "contact_tilt", "damping",
             "friction", "phi0", "theta0", "psi0", "phi_dot0", "theta_dot0", "psi_dot0",
             "duration", "output_step", "rtol", "atol", "restitution", "out")
     return [f"--{k.replace('_', '-')} {getattr(args, k)}" for k in keys if getattr(args, k, None) is not None]

@@ -28,7 +28,6 @@ every line either way.
 installation's ``frustum``.
 """
 
-import fcntl
 import os
 import sys
 import time
@@ -39,6 +38,8 @@ from pathlib import Path
 
 from pipeline import __version__
 from pipeline.errors import InputError
+from pipeline.locking import try_lock
+from pipeline.paths import check_plot_file
 
 #: Exit status when another run holds the workflow's lock (sysexits.h EX_TEMPFAIL).
 EXIT_LOCKED = 75
@@ -114,8 +115,15 @@ def load_workflow(path):
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         fail("execution.workers", f"must be a positive integer, got {workers!r}")
     scheduler = execution.get("scheduler")
-    if scheduler is not None and not isinstance(scheduler, str):
-        fail("execution.scheduler", "must be an address string such as tcp://host:8786")
+    if scheduler is not None:
+        if not isinstance(scheduler, str):
+            fail("execution.scheduler", "must be an address string such as tcp://host:8786")
+        from pipeline.sweep import scheduler_address
+
+        try:
+            scheduler_address(scheduler)
+        except InputError as exc:
+            fail("execution.scheduler", str(exc))
     steps = data.get("steps")
     if not isinstance(steps, list) or not steps:
         fail("steps", "give one or more [[steps]] with study = FILE")
@@ -139,8 +147,13 @@ def load_workflow(path):
         study = resolve(step["study"], f"steps[{i}].study")
         if not os.path.isfile(study):
             fail(f"steps[{i}].study", f"{study} does not exist")
-        out.append({"study": study, "output": resolve(step.get("output"), f"steps[{i}].output"),
-                    "plot": resolve(step.get("plot"), f"steps[{i}].plot")})
+        plot = resolve(step.get("plot"), f"steps[{i}].plot")
+        if plot is not None:
+            try:  # a plot matplotlib cannot write is refused before any step computes
+                check_plot_file(plot, "")
+            except InputError as exc:
+                fail(f"steps[{i}].plot", str(exc).strip())
+        out.append({"study": study, "output": resolve(step.get("output"), f"steps[{i}].output"), "plot": plot})
     log = resolve(data.get("log", f"{path.stem}.log"), "log")
     return {"title": data.get("title", path.stem), "log": log, "workers": workers, "scheduler": scheduler,
             "steps": out, "path": str(path)}
@@ -209,12 +222,10 @@ def run_workflow(path, workers=None, scheduler=None, force=False, quiet=False):
     workers = workers or wf["workers"]
     scheduler = scheduler or wf["scheduler"]
     log = _Log(wf["log"], quiet=quiet)
-    lock = open(wf["log"] + ".lock", "w")  # noqa: SIM115
+    lock = try_lock(wf["log"] + ".lock")
     status = 1
     try:
-        try:
-            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
+        if lock is None:
             log(f"workflow {wf['path']}: another run holds {wf['log']}.lock; not starting (exit {EXIT_LOCKED}: "
                 "try again later)")
             status = EXIT_LOCKED
@@ -227,7 +238,8 @@ def run_workflow(path, workers=None, scheduler=None, force=False, quiet=False):
     finally:
         if status != 0:
             log.flush_to_stderr()
-        lock.close()
+        if lock is not None:
+            lock.release()
         log.file.close()
 
 
@@ -298,7 +310,7 @@ def install_units(checkout, frustum, workflow="workflows/nightly.toml", folder=N
     list of str
         The files written (atomically: temporary name, then rename).
     """
-    from pipeline.atomic import atomic_path
+    from pipeline.atomic import atomic_open
 
     folder = folder or os.path.join(os.path.expanduser("~"), ".config", "systemd", "user")
     templates = Path(checkout) / "workflows" / "systemd"
@@ -313,7 +325,7 @@ def install_units(checkout, frustum, workflow="workflows/nightly.toml", folder=N
             raise InputError(f"{templates / name}: cannot read the unit template ({exc.strerror})") from None
         text = text.replace("{checkout}", checkout).replace("{frustum}", frustum).replace("{workflow}", workflow)
         target = os.path.join(folder, name[:-3])
-        with atomic_path(target) as tmp, open(tmp, "w", encoding="utf-8") as fh:
+        with atomic_open(target, "w", encoding="utf-8") as fh:
             fh.write(text)
         written.append(target)
     return written

@@ -112,12 +112,56 @@ def test_quiet_run_prints_nothing_on_success_and_the_log_on_failure(tmp_path, ca
 
 
 def test_a_run_that_finds_the_lock_held_exits_75(tmp_path, capsys):
-    import fcntl
+    from pipeline.locking import try_lock
 
     wf = _workflow(tmp_path)
     (tmp_path / "logs").mkdir()
-    with open(tmp_path / "logs" / "wf.log.lock", "w") as held:
-        fcntl.flock(held, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    held = try_lock(tmp_path / "logs" / "wf.log.lock")
+    try:
         assert main(["workflow", "run", "--quiet", str(wf)]) == 75
+    finally:
+        held.release()
     assert "another run holds" in capsys.readouterr().err
     assert not (tmp_path / "out" / "small.nc").exists()
+
+
+# Run in a fresh interpreter where `import fcntl` fails, as on Windows: every command must load,
+# the workflow lock must still keep a second run out, and a released lock lets the next run in.
+NO_FCNTL = textwrap.dedent("""\
+    import sys
+    sys.modules["fcntl"] = None  # `import fcntl` now raises ImportError
+    from pipeline.cli import build_parser
+    from pipeline.cli.workflow import run_workflow
+    from pipeline.locking import try_lock
+    build_parser()  # every command module imports
+    held = try_lock(sys.argv[2])
+    print(type(held).__name__)
+    print("held:", run_workflow(sys.argv[1]))
+    assert try_lock(sys.argv[2]) is None
+    held.release()
+    again = try_lock(sys.argv[2])
+    print("after release:", again is not None)
+""")
+
+
+def test_workflow_lock_works_without_fcntl(tmp_path):
+    import subprocess
+    import sys
+
+    wf = _workflow(tmp_path)
+    (tmp_path / "logs").mkdir()
+    lock = tmp_path / "logs" / "wf.log.lock"
+    proc = subprocess.run([sys.executable, "-c", NO_FCNTL, str(wf), str(lock)], capture_output=True, text=True,
+                          timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.splitlines() == ["SoftFileLock", "held: 75", "after release: True"]
+    assert "another run holds" in proc.stderr and str(lock) in proc.stderr
+
+
+def test_a_plot_format_matplotlib_lacks_is_refused_before_computing(tmp_path, capsys):
+    wf = _workflow(tmp_path)
+    wf.write_text(wf.read_text().replace('plot = "out/small.png"', 'plot = "out/small.txt"'))
+    assert main(["workflow", "run", str(wf)]) == 2
+    err = capsys.readouterr().err
+    assert "field steps[0].plot" in err and "small.txt': not a figure format matplotlib writes" in err
+    assert not (tmp_path / "out").exists()
