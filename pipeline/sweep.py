@@ -381,6 +381,89 @@ def warm_up(models=("3d", "2d")):
     return True
 
 
+#: What the first run on a machine is told: compiling both models' kernels took 40-70 s on
+#: the project's 2-core machines; later runs load them from numba's cache in about 2 s.
+COMPILE_NOTICE = ("frustum: compiling the simulation kernels for this machine, once (about a minute); "
+                  "later runs load them from the cache")
+#: Without a readable cache index (another numba version), a load this long [s] is taken for a compile.
+COMPILE_NOTICE_AFTER = 10.0
+
+# the compiled entry points of each model (their cache holds what they inline)
+_ENTRY_POINTS = {"3d": ("run_frustum", "diagnostics_rows"), "2d": ("run_rocking", "diagnostics_rows")}
+
+
+def kernels_cached(models):
+    """Whether numba's cache holds the compiled kernels of every model (None: cannot tell).
+
+    Reads the cache index of each model's entry points (numba's
+    ``FunctionCache``; an index of a changed source counts as missing).
+    """
+    from pipeline.dynamics import hybrid
+
+    try:
+        return all(bool(getattr(hybrid, name)._cache._cache_file._load_index())
+                   for model in models for name in _ENTRY_POINTS.get(model, ()))
+    except (AttributeError, OSError, EOFError, ValueError):
+        return None
+
+
+def prepare_kernels(models, stream=None):
+    """Load the compiled kernels in this process, compiling them first if numba's cache is cold or stale.
+
+    Called before any Dask worker starts, so that the compile happens once,
+    here, and the workers load the result from the cache. With a cold cache
+    the other models' kernels compile at the same time in a helper process
+    each (one per core), and, when ``stream`` is given, one line says that
+    the kernels compile once and about how long, and one when they are ready.
+
+    Parameters
+    ----------
+    models : sequence of str
+    stream : file, optional
+        Where to say it (e.g. ``sys.stderr``); None: silent.
+
+    Returns
+    -------
+    float
+        Seconds spent [s].
+    """
+    import subprocess
+    import threading
+
+    models = tuple(models)
+    t0 = time.monotonic()
+    cached = kernels_cached(models)
+    said = threading.Event()
+
+    def say():
+        said.set()
+        if stream is not None:
+            print(COMPILE_NOTICE, file=stream, flush=True)
+
+    helpers = []
+    if cached is False:
+        say()
+        helpers = [subprocess.Popen([sys.executable, "-c", f"from pipeline.sweep import warm_up; warm_up(({m!r},))"],
+                                    stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                   for m in models[1:] if os.cpu_count() and os.cpu_count() > 1]
+    notice = threading.Timer(COMPILE_NOTICE_AFTER, say) if cached is None else None
+    if notice is not None:
+        notice.daemon = True
+        notice.start()
+    try:
+        warm_up(models[:1])
+    finally:
+        if notice is not None:
+            notice.cancel()
+        for helper in helpers:
+            helper.wait()  # whatever a helper failed to cache, the next line compiles here
+    warm_up(models[1:])
+    seconds = time.monotonic() - t0
+    if said.is_set() and stream is not None:
+        print(f"frustum: kernels ready after {seconds:.0f} s", file=stream, flush=True)
+    return seconds
+
+
 # -- checkpoint ----------------------------------------------------------------------------------
 
 class Checkpoint:
@@ -507,6 +590,12 @@ class Progress:
         self.done += n
         self.show()
 
+    def restart(self):
+        """Start the clock again (the cluster is ready): elapsed and ETA count only computing."""
+        self.start = time.monotonic()
+        self.first = self.done
+        self.last_line = -1.0
+
     def show(self, final=False):
         if not self.enabled or (final and getattr(self, "shown_total", False)):
             return
@@ -612,8 +701,10 @@ def _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, clust
                 done.add(task.index)
     pending = [t for t in tasks if t.index not in done]
     report = RunReport(out, None, len(tasks), [], sorted(done), 0, study.n_simulations)
-    bar = Progress(len(tasks), len(done), enabled=progress)
     t0 = time.monotonic()
+    if pending:  # compiled once, here, before any worker starts and before the progress bar's clock
+        prepare_kernels(study.models, sys.stderr if progress else None)
+    bar = Progress(len(tasks), len(done), enabled=progress)
 
     def finish(result, save=True):
         if save:  # a failed task is not checkpointed: the next run tries it again
@@ -635,7 +726,6 @@ def _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, clust
         bar.advance()
 
     if pending:
-        warm_up(study.models)
         if serial:
             report.startup_seconds = time.monotonic() - t0
             for task in pending:
@@ -644,6 +734,7 @@ def _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, clust
             def started(n_workers):
                 report.startup_seconds = time.monotonic() - t0
                 report.n_workers = n_workers
+                bar.restart()  # the ETA counts computing, not starting the cluster
 
             _run_dask(pending, motions, finish, cluster, window, study.models, started)
     report.seconds = time.monotonic() - t0

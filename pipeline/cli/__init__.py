@@ -15,7 +15,7 @@ from pipeline.errors import InputError, RecordWarning
 
 # Modules that provide ``register(subparsers)``; a module missing in a partial
 # checkout is skipped so the rest of the command still works.
-_COMMAND_MODULES = ("simulate", "records", "study", "workflow", "fragility", "report")
+_COMMAND_MODULES = ("simulate", "records", "study", "workflow", "fragility", "report", "animate")
 
 
 def build_parser():

@@ -18,7 +18,8 @@ def register(subparsers):
     p_list.add_argument("--set", dest="set_id", help="list the records of one set")
     p_list.set_defaults(handler=_list)
 
-    for name, helptext in (("show", "metadata and intensity measures"), ("plot", "PNG of histories and spectrum")):
+    for name, helptext in (("show", "metadata and intensity measures"),
+                           ("plot", "figure of histories and spectrum (.png, .pdf, .svg, ...)")):
         p = sub.add_parser(name, help=helptext)
         p.add_argument("record", metavar="ID_OR_FILE",
                        help="catalog id (e.g. FEMA-FF-01), a record file, or 2-3 files X,Y[,Z] (e.g. an AT2 pair)")
@@ -27,7 +28,8 @@ def register(subparsers):
             p.add_argument("--json", action="store_true", help="one JSON object per component (JSON lines)")
             p.set_defaults(handler=_show)
         else:
-            p.add_argument("--out", required=True, help="PNG file to write")
+            p.add_argument("--out", required=True,
+                           help="figure file to write, any format matplotlib writes: .png, .pdf, .svg, ...")
             p.set_defaults(handler=_plot)
 
 
@@ -138,9 +140,9 @@ def _show(args):
 
 def _plot(args):
     from pipeline.groundmotion.plot import plot_motion
+    from pipeline.paths import check_plot_file
 
-    if not str(args.out).lower().endswith(".png"):
-        raise InputError(f"--out {args.out}: the plot is a PNG; give a file name ending in .png")
+    check_plot_file(args.out, "--out")  # before loading the record
     gm = load_record(args)
     plot_motion(gm, args.out)
     print(f"wrote {args.out}")

@@ -2,6 +2,7 @@
 
 import argparse
 import math
+import os
 
 import numpy as np
 
@@ -54,8 +55,9 @@ def register(subparsers):
                        help="incidence angle: the horizontal pair is turned counter-clockwise [deg] (default 0)")
     quake.add_argument("--scale", type=float, default=1.0, help="factor on the record [1] (default 1)")
     quake.add_argument("--no-vertical", action="store_true", help="ignore the record's vertical component")
-    quake.add_argument("--model", choices=("3d", "2d"), default="3d",
-                       help="3d: rolling frustum (the paper); 2d: planar rocking in the X plane (default 3d)")
+    quake.add_argument("--model", default="3d", metavar="3d|2d|3d,2d",
+                       help="3d: rolling frustum (the paper); 2d: planar rocking in the X plane; 3d,2d: both, "
+                       "in one file along the model dimension (default 3d)")
     quake.add_argument("--tail", type=float, default=5.0, metavar="S",
                        help="free motion after the record ends [s] (default 5)")
     quake.add_argument("--contact-tilt", type=float, default=1e-5, metavar="RAD",
@@ -64,7 +66,9 @@ def register(subparsers):
                        help="viscous contact couple per m g R sqrt(R/g) [1] (default 0: none)")
     quake.add_argument("--friction", type=float, default=0.7, metavar="MU",
                        help="friction coefficient compared with the mobilized friction [1] (default 0.7)")
-    quake.add_argument("--plot", metavar="FILE.png", help="also draw theta, contact path, mu_mob and excitation")
+    quake.add_argument("--plot", metavar="FILE.png",
+                       help="also draw theta, contact path, mu_mob and excitation (any format matplotlib writes: "
+                       ".png, .pdf, .svg, ...; with two models, one file per model: FILE_3d.png, FILE_2d.png)")
     free = p.add_argument_group("initial state (free motion)")
     for name, unit, default, text in [  # noqa: B007
         ("phi0", "deg", 0.0, "precession angle"),
@@ -89,12 +93,15 @@ def register(subparsers):
                      help="theta' after / before a planar landing [1] (default: angular momentum "
                      "conservation, 1 - 2 m R^2 / I_P)")
     run.add_argument("--out", required=True, metavar="FILE.nc", help="netCDF file to write")
+    run.add_argument("--animate", metavar="FILE.gif",
+                     help="also animate the motion, every model side by side in real time (.gif, or .mp4 with "
+                     "pip install -e '.[video]'); as 'frustum animate OUT --out FILE'")
     p.set_defaults(handler=run_simulate)
 
 
 def run_simulate(args):
     """Handler of ``frustum simulate``."""
-    from pipeline.dataset import append_history, write_netcdf
+    from pipeline.dataset import append_history, histories_file, write_netcdf
     from pipeline.geometry import Column
 
     # everything that can be refused is refused before computing
@@ -105,39 +112,77 @@ def run_simulate(args):
         if getattr(args, name) is not None:
             check_tolerance(name, getattr(args, name), f"--{name}")
     column = Column.parse(args.column, density=args.density)
-    ds, summary = _earthquake(args, column) if args.record else _free(args, column)
+    models = _models(args.model)
+    if args.animate:
+        from pipeline.animate import check_animation_path
+
+        check_animation_path(args.animate, "--animate")
+    if args.record:
+        runs = _earthquake(args, column, models)
+    else:
+        if models != ["3d"]:
+            raise InputError(f"--model {args.model}: a free motion is the 3D rolling frustum only (drop --model)")
+        runs = [_free(args, column)]
+    label = f"R{column.R:g}-r{column.r:g}-h{column.h:g}"
+    ds = histories_file([h for h, _ in runs], column=label, record=runs[0][0].attrs.get("record_id", "free-motion"))
     append_history(ds, "frustum simulate " + " ".join(_argv_echo(args)))
     write_netcdf(ds, args.out)
     print(column.describe())
-    line = f"peak theta = {math.degrees(summary['peak_theta']):.3f} deg"
-    if args.record:
-        line += (f" ({summary['peak_theta_ratio']:.2f} theta_crit), "
-                 f"{'overturned at %.2f s' % summary['overturn_time'] if summary['overturned'] else 'stands'}, "
-                 f"{summary['n_impacts']} impacts, peak mu_mob = {summary['peak_mu_mob']:.2f}")
-    print(f"{line}; wrote {args.out}")
+    for (histories, summary), model in zip(runs, models):
+        line = f"{model}: peak theta = {math.degrees(summary['peak_theta']):.3f} deg"
+        if args.record:
+            line += (f" ({summary['peak_theta_ratio']:.2f} theta_crit), "
+                     f"{'overturned at %.2f s' % summary['overturn_time'] if summary['overturned'] else 'stands'}, "
+                     f"{summary['n_impacts']} impacts, peak mu_mob = {summary['peak_mu_mob']:.2f}")
+        print(line)
+    print(f"wrote {args.out}")
     if args.plot:
         from pipeline.plotting import plot_response
 
-        plot_response(ds, summary, args.plot, friction=args.friction)
-        print(f"wrote {args.plot}")
+        for (histories, summary), model in zip(runs, models):
+            path = args.plot if len(runs) == 1 else _suffixed(args.plot, model)
+            plot_response(histories, summary, path, friction=args.friction)
+            print(f"wrote {path}")
+    if args.animate:
+        from pipeline.animate import animate_file
+
+        n = animate_file(args.out, args.animate)
+        print(f"wrote {args.animate} ({n} frames)")
     return 0
 
 
-def _earthquake(args, column):
+def _models(text):
+    models = [m.strip() for m in str(text).split(",") if m.strip()]
+    if not models or any(m not in ("3d", "2d") for m in models) or len(set(models)) != len(models):
+        raise InputError(f"--model {text}: give 3d, 2d or 3d,2d")
+    return models
+
+
+def _suffixed(path, model):
+    stem, ext = os.path.splitext(path)
+    return f"{stem}_{model}{ext}"
+
+
+def _earthquake(args, column, models):
+    """[(histories, summary)] of the record under each model."""
     from pipeline.simulate import Excitation, ModelSettings, simulate
 
     if args.theta0 is not None:
         raise InputError("--theta0 starts a free motion; an earthquake response starts at rest (drop --theta0)")
-    settings = ModelSettings(
-        model=args.model, restitution=args.restitution, contact_tilt=args.contact_tilt, damping=args.damping,
-        friction=args.friction, tail=args.tail, rtol=_given(args.rtol, 1e-9), atol=_given(args.atol, 1e-12),
-        output_step=args.output_step,
-    )
     excitation = Excitation(angle=args.angle, scale=args.scale, vertical=not args.no_vertical)
     motion = load_record(args)
-    _check_history_memory(motion.duration + settings.tail, settings.output_step, "the record and --tail")
-    response = simulate(column, motion, excitation, settings)
-    return response.histories, response.summary
+    _check_history_memory(len(models) * (motion.duration + args.tail), args.output_step,
+                          "the record and --tail" + (" for each model" if len(models) > 1 else ""))
+    runs = []
+    for model in models:
+        settings = ModelSettings(
+            model=model, restitution=args.restitution, contact_tilt=args.contact_tilt, damping=args.damping,
+            friction=args.friction, tail=args.tail, rtol=_given(args.rtol, 1e-9), atol=_given(args.atol, 1e-12),
+            output_step=args.output_step,
+        )
+        response = simulate(column, motion, excitation, settings)
+        runs.append((response.histories, response.summary))
+    return runs
 
 
 def _free(args, column):

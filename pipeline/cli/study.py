@@ -38,7 +38,8 @@ def register(subparsers):
     where.add_argument("--serial", action="store_true", help="run in this process without Dask (same numbers)")
     run.add_argument("--workers", type=int, default=None, metavar="N",
                      help="worker processes of the local cluster (default: number of cores)")
-    run.add_argument("--plot", metavar="FILE.png", help="also draw a summary plot of the results")
+    run.add_argument("--plot", metavar="FILE.png",
+                     help="also draw a summary plot of the results (.png, .pdf, .svg, ...)")
     run.add_argument("--keep-checkpoint", action="store_true",
                      help="keep the checkpoint folder OUT.checkpoint after writing the results")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
