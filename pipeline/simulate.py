@@ -31,7 +31,7 @@ from pipeline.dynamics import frustum as fk
 from pipeline.dynamics import hybrid as hy
 from pipeline.dynamics import rocking as rk
 from pipeline.errors import InputError
-from pipeline.units import G, deg_to_rad, time_scale
+from pipeline.units import MARBLE_DENSITY, G, deg_to_rad, time_scale
 
 MODELS = ("3d", "2d")
 
@@ -40,6 +40,11 @@ MODELS = ("3d", "2d")
 RADIUS_RANGE = (1e-3, 50.0)  # [m]
 SLENDERNESS_RANGE = (0.05, 200.0)  # h/R [1]
 BETA_RANGE = (0.05, 20.0)  # r/R [1]
+
+# The contact tilt of a rigid base (no compliance to set it): small enough to
+# change nothing measurable (studies/contact_tilt), large enough for the
+# integrator to resolve the landing.
+RIGID_CONTACT_TILT = 1e-7  # [rad]
 
 # Landings logged individually (time, theta' before/after, energy jump).
 MAX_LOGGED_IMPACTS = 10_000
@@ -86,10 +91,12 @@ class ModelSettings:
         theta' after / before a landing [1]. Default (None): the impact
         conserves angular momentum about the new pivot (for planar rocking
         ``1 - 2 m R^2 / I_P``).
-    contact_tilt : float
+    contact_tilt : float or None
         theta_c [rad]: below this inclination the base is in full contact;
-        rolling starts there after uplift and a landing happens there
-        (docs/model.md). 0 is allowed for planar motion only.
+        rolling starts there after uplift and a landing happens there, and a
+        passage through a minimum of theta near it slaps in part
+        (docs/model.md). None (default): theta_k of the compliant bed
+        (:func:`contact_tilt`). 0 is allowed for planar motion only.
     damping : float
         Viscous contact couple nu, per m g R sqrt(R/g) [1]; 0 is the paper's
         model without dissipation other than impacts.
@@ -102,6 +109,15 @@ class ModelSettings:
         The ground can only push: the column flies when the normal force
         would pull, and lands with an impact. False holds the rim on the
         ground whatever the force, as the paper's model does.
+    normal_stiffness : float
+        Normal stiffness of the bed joint per unit area, k_n [Pa/m]. The
+        rigid models take from it the contact patch under the rim
+        (:mod:`pipeline.dynamics.patch`: rolling damping and drilling
+        friction); ``math.inf`` is the paper's point contact.
+    contact_damping : float or None
+        Normal dashpots of the joint per unit area, c_n [Pa s/m]; None: the
+        critical damping of the column bouncing on its base,
+        ``2 sqrt(k_n m / A)``.
     tail : float
         Free motion after the record ends [s].
     rtol, atol : float
@@ -112,10 +128,12 @@ class ModelSettings:
 
     model: str = "3d"
     restitution: float | None = None
-    contact_tilt: float = 1e-5
+    contact_tilt: float | None = None
     damping: float = 0.0
     friction: float = 0.7
     lift_off: bool = True
+    normal_stiffness: float = 1.0e10
+    contact_damping: float | None = None
     tail: float = 5.0
     rtol: float = 1e-9
     atol: float = 1e-12
@@ -125,7 +143,6 @@ class ModelSettings:
         if self.model not in MODELS:
             raise InputError(f"model = {self.model!r} is unknown; choose one of {', '.join(MODELS)}")
         checks = {
-            "contact_tilt": (0.0, 0.01, "rad"),
             "damping": (0.0, 100.0, "(per m g R sqrt(R/g))"),
             "tail": (0.0, 3600.0, "s"),
         }
@@ -133,10 +150,20 @@ class ModelSettings:
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and lo <= value <= hi):
                 raise InputError(f"{name} = {value!r} {unit} must be a number in [{lo:g}, {hi:g}]")
+        if self.contact_tilt is not None and not (
+                isinstance(self.contact_tilt, (int, float)) and 0.0 <= self.contact_tilt <= 0.01):
+            raise InputError(f"contact_tilt = {self.contact_tilt!r} rad must be a number in [0, 0.01] "
+                             "(or omitted: the compliance of the bed sets it)")
         if not (isinstance(self.friction, (int, float)) and (self.friction == math.inf or
                                                               0.0 < self.friction <= 10.0)):
             raise InputError(f"friction = {self.friction!r} must be a number in (0, 10], or inf for rolling "
                              "without slip")
+        if not (isinstance(self.normal_stiffness, (int, float)) and 1e6 <= self.normal_stiffness <= math.inf):
+            raise InputError(f"normal_stiffness = {self.normal_stiffness!r} Pa/m must be a number in [1e6, inf]")
+        if self.contact_damping is not None and not (
+                isinstance(self.contact_damping, (int, float)) and 0.0 <= self.contact_damping < math.inf):
+            raise InputError(f"contact_damping = {self.contact_damping!r} Pa s/m must be a number >= 0 "
+                             "(or omitted for critical damping)")
         for name in ("rtol", "atol", "output_step"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
@@ -236,12 +263,46 @@ def check_column(column):
 
 def _options(column, settings):
     opts = np.zeros(fk.N_OPT)
-    opts[fk.OPT_THETA_C] = settings.contact_tilt
     opts[fk.OPT_THETA_LIE] = lying_tilt(column)
     opts[fk.OPT_NU] = settings.damping
     opts[fk.OPT_MU] = settings.friction
     opts[fk.OPT_UNILATERAL] = 1.0 if settings.lift_off else 0.0
+    opts[fk.OPT_THETA_K], opts[fk.OPT_PATCH_DAMPING] = patch_parameters(column, settings)
+    opts[fk.OPT_THETA_C] = contact_tilt(column, settings)
     return opts
+
+
+def contact_tilt(column, settings):
+    """Tilt theta_c [rad] below which the base is in full contact (landing, uplift).
+
+    ``settings.contact_tilt`` if given; otherwise theta_k, the tilt at which
+    the compliant bed under the column's weight loses full contact
+    (:func:`patch_parameters`), or for a rigid base (``normal_stiffness`` inf,
+    the paper's point contact) a numerical 1e-7 rad.
+    """
+    if settings.contact_tilt is not None:
+        return settings.contact_tilt
+    theta_k = patch_parameters(column, settings)[0]
+    return theta_k if theta_k > 0.0 else RIGID_CONTACT_TILT
+
+
+def patch_parameters(column, settings):
+    """Contact patch of the rigid models: (theta_k [rad], dashpots c_n R^3 / (m sqrt(g R)) [1]).
+
+    theta_k = m g / (k_n A R) is the tilt at which the base under the
+    column's weight just loses full contact (:mod:`pipeline.dynamics.patch`);
+    0 for a rigid base (``normal_stiffness`` inf), the paper's point contact.
+    """
+    kn = settings.normal_stiffness
+    if kn == math.inf:
+        return 0.0, 0.0
+    density = column.density if column.density is not None else MARBLE_DENSITY
+    mass = density * column.volume
+    area = math.pi * column.R**2
+    damping = settings.contact_damping
+    if damping is None:
+        damping = 2.0 * math.sqrt(kn * mass / area)
+    return mass * G / (kn * area * column.R), damping * column.R**3 / (mass * math.sqrt(G * column.R))
 
 
 def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), histories=True):
@@ -287,7 +348,7 @@ def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), 
 
 
 def simulate_free(column, initial, duration, settings=ModelSettings(rtol=1e-12, atol=1e-14, contact_tilt=0.0),
-                  restitution=None, friction=math.inf, lift_off=False):
+                  restitution=None, friction=math.inf, lift_off=False, normal_stiffness=math.inf):
     """Free motion (no ground motion) of the 3D column released on its rim.
 
     Parameters
@@ -301,9 +362,9 @@ def simulate_free(column, initial, duration, settings=ModelSettings(rtol=1e-12, 
         only planar motion reaches.
     restitution : float, optional
         Overrides ``settings.restitution``.
-    friction, lift_off : float, bool
-        Override ``settings``; the defaults (inf, False) are the paper's
-        free motion: rolling without slip, the rim held on the ground.
+    friction, lift_off, normal_stiffness : float, bool, float
+        Override ``settings``; the defaults (inf, False, inf) are the paper's
+        free motion: rolling without slip on a point, the rim held on the ground.
 
     Returns
     -------
@@ -314,7 +375,8 @@ def simulate_free(column, initial, duration, settings=ModelSettings(rtol=1e-12, 
         raise InputError(f"duration = {duration!r} s must be a positive number of seconds")
     if restitution is not None:
         settings = replace(settings, restitution=float(restitution))
-    settings = replace(settings, model="3d", friction=friction, lift_off=lift_off)
+    settings = replace(settings, model="3d", friction=friction, lift_off=lift_off,
+                       normal_stiffness=normal_stiffness)
     rate = time_scale(column.R)  # (rad/s) * rate = rad per tau
     y0 = np.zeros(fk.N_STATE)
     y0[fk.PHI], y0[fk.THETA], y0[fk.PSI] = initial.phi, initial.theta, initial.psi
@@ -490,7 +552,7 @@ def _histories(column, settings, raw, diag, excitation, motion):
         column_r_m=column.r,
         column_h_m=column.h,
         theta_crit_rad=column.critical_tilt,
-        contact_tilt_rad=settings.contact_tilt,
+        contact_tilt_rad=contact_tilt(column, settings),
         friction=settings.friction,
         restitution="angular momentum" if settings.restitution is None else settings.restitution,
         damping=settings.damping,

@@ -58,9 +58,15 @@ N_ROLLING = 10  # the slots rolling integrates
 # pipeline.dynamics.hybrid) and the precession angle when it was last set.
 # OPT_UNILATERAL is 1 when the ground can only push (the column flies when
 # the normal force would pull), 0 to hold the rim on the ground as the paper does.
-(OPT_THETA_C, OPT_THETA_LIE, OPT_NU, OPT_MU, OPT_PHASE, OPT_PIVOT, OPT_SIGN, OPT_ROLLING_RESISTANCE,
- OPT_SLAVED, OPT_PHI_REF, OPT_UNILATERAL) = range(11)
-N_OPT = 11
+# The contact patch (pipeline.dynamics.patch): the tilt theta_k of lost full
+# contact (0: a point contact, the paper's) and the dashpots per unit area,
+# c_n R^3 / (m sqrt(g R)); whether the patch's drilling friction holds the
+# pivot (no turning about the vertical through P) and, if not, the sense it
+# turns in.
+(OPT_THETA_C, OPT_THETA_LIE, OPT_NU, OPT_MU, OPT_PHASE, OPT_PIVOT, OPT_SIGN, OPT_UNUSED,
+ OPT_SLAVED, OPT_PHI_REF, OPT_UNILATERAL, OPT_THETA_K, OPT_PATCH_DAMPING, OPT_PIVOT_HELD,
+ OPT_DRILL_SIGN) = range(15)
+N_OPT = 15
 
 # Indices into the constants array.
 C_IY, C_IZ, C_ZC, C_DELTA, C_K, C_IZ1, C_A = range(7)
@@ -236,6 +242,37 @@ def damping_accelerations(theta, dphi, dtheta, omega, nu, c):
     domega = -nu * ((c[C_IY] - 1.0) * omega + zc * w_eta) / delta
     power = nu * (dtheta * dtheta + w_eta * w_eta + omega * omega)
     return ddphi, ddtheta, domega, power
+
+
+@njit(cache=True)
+def couple_accelerations(theta, m_xi, m_eta, m_zeta, c):
+    """Accelerations caused by a couple on the rolling body (any couple).
+
+    The couple's generalized forces ``(M.e_Z, M.e_xi, M.e_zeta)`` through the
+    inverse mass matrix of rolling (:func:`pipeline.dynamics.derivation.couple_accelerations`
+    gives the viscous case, ``M = -nu omega``, from which these follow by
+    linearity; ``tests/dynamics/test_derivation.py`` checks the general one).
+
+    Parameters
+    ----------
+    theta : float
+        Inclination [rad], != 0 unless ``m_eta = m_zeta = 0``.
+    m_xi, m_eta, m_zeta : float
+        The couple's body components [m g R].
+
+    Returns
+    -------
+    tuple of float
+        (d phi'', d theta'', d omega_zeta') [1/tau^2].
+    """
+    s = math.sin(theta)
+    delta = c[C_DELTA]
+    zc = c[C_ZC]
+    ddtheta = m_xi / c[C_IY]
+    top = c[C_IZ] * m_eta + zc * m_zeta
+    ddphi = top / (delta * s) if s != 0.0 else (0.0 if top == 0.0 else math.nan)
+    domega = ((c[C_IY] - 1.0) * m_zeta + zc * m_eta) / delta
+    return ddphi, ddtheta, domega
 
 
 _HALF_PI = 0.5 * math.pi

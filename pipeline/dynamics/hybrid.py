@@ -50,6 +50,7 @@ from numba import njit
 
 from pipeline.dynamics import contact
 from pipeline.dynamics import frustum as fk
+from pipeline.dynamics import patch
 from pipeline.dynamics import rim
 from pipeline.dynamics import rocking as rk
 from pipeline.dynamics.integrator import dop853_monitored
@@ -94,11 +95,12 @@ MAX_STALLS = 100
 STATUS_STALLED = -11
 STATUS_PAINLEVE = -12  # slip with no consistent normal force (never met for mu < 1)
 
-EV_LAND, EV_LIE, EV_TURN, EV_LIFT, EV_SLIP, EV_STICK, EV_MODE = range(7)
+EV_LAND, EV_LIE, EV_TURN, EV_LIFT, EV_SLIP, EV_STICK, EV_MODE, EV_PIVOT = range(8)
 # landing/touch-down falling, lying down rising, turning point of theta both
 # ways, normal force falling to 0, friction margin falling to 0, slip velocity
-# falling to 0, slip speed crossing the slaved-direction layer
-EVENT_DIRECTIONS = np.array([-1.0, 1.0, 0.0, -1.0, -1.0, -1.0, -1.0])
+# falling to 0, slip speed crossing the slaved-direction layer, the drilling
+# friction letting the pivot go (or its turning stopping)
+EVENT_DIRECTIONS = np.array([-1.0, 1.0, 0.0, -1.0, -1.0, -1.0, -1.0, -1.0])
 
 # The direction of a two-dimensional Coulomb slip relaxes towards the
 # consistent one (slip acceleration along the slip) at the rate k / s, k of
@@ -142,19 +144,102 @@ def _slip_friction(chi, sp_, cp, mu):
 
 
 @njit(cache=True)
-def _rolling_contact(t, y, params):
-    """Contact force of rolling (xi, n, N) [m g] and the ground acceleration [g]."""
+def _horizontal_spin(theta, dphi, dtheta, omega):
+    """Angular velocity in the contact point's frame: (xi, n) horizontal and vertical [1/tau]."""
+    s = math.sin(theta)
+    co = math.cos(theta)
+    w_eta = dphi * s
+    return dtheta, w_eta * co - omega * s, w_eta * s + omega * co
+
+
+@njit(cache=True)
+def _rolling_state(t, y, params):
+    """Accelerations and contact of rolling, with the contact patch's couples.
+
+    Rolling on P (the paper's equations, the optional viscous couple nu), plus
+    the patch of :mod:`pipeline.dynamics.patch` when ``theta_k > 0``: its
+    dashpots' rolling damping, and drilling friction about the vertical through
+    P, either holding the pivot (the couple that keeps omega_Z constant, while
+    it stays below the patch's capacity mu N r_d) or sliding against the turning
+    sense ``OPT_DRILL_SIGN`` with the full capacity.
+
+    Returns
+    -------
+    tuple
+        ``(ddphi, ddtheta, domega, f_xi, f_n, f_z, ax, ay, az, a_xi, a_n, damped, drill, capacity,
+        omega_z)``: accelerations [1/tau^2], contact force [m g], ground
+        acceleration [g] (plane and contact frames), the power of damping
+        [m g sqrt(g R)], the drilling couple and its limit [m g R], the
+        vertical angular velocity [1/tau].
+    """
     c, record, dt, opts = params[0], params[1], params[2], params[3]
     ax, ay, az = fk.ground_acceleration(t, record, dt)
     sp_, cp = fk.sincos(y[fk.PHI])
     a_xi = ax * cp + ay * sp_
     a_n = -ax * sp_ + ay * cp
-    theta = y[fk.THETA]
-    ddphi, ddtheta, domega = fk.accelerations(theta, y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA], a_xi, a_n, az, c)
-    d1, d2, d3, _power = fk.damping_accelerations(theta, y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA], opts[fk.OPT_NU], c)
-    f_xi, f_n, f_z = fk.contact_force(theta, y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA], ddphi + d1, ddtheta + d2,
-                                      domega + d3, a_xi, a_n, az, c[fk.C_ZC])
-    return f_xi, f_n, f_z, ax, ay, az
+    theta, dphi, dtheta, omega = y[fk.THETA], y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA]
+    zc = c[fk.C_ZC]
+    ddphi, ddtheta, domega = fk.accelerations(theta, dphi, dtheta, omega, a_xi, a_n, az, c)
+    d1, d2, d3, damped = fk.damping_accelerations(theta, dphi, dtheta, omega, opts[fk.OPT_NU], c)
+    ddphi += d1
+    ddtheta += d2
+    domega += d3
+    om_xi, om_n, om_z = _horizontal_spin(theta, dphi, dtheta, omega)
+    drill = 0.0
+    capacity = 0.0
+    theta_k = opts[fk.OPT_THETA_K]
+    if theta_k > 0.0:
+        # the patch carries the normal force of rolling without its own couples
+        # (a couple about the line of nodes changes it by a part in J / I_y)
+        f_z = fk.contact_force(theta, dphi, dtheta, omega, ddphi, ddtheta, domega, a_xi, a_n, az, zc)[2]
+        m_xi, m_n, capacity = patch.couples(f_z, theta, theta_k, opts[fk.OPT_PATCH_DAMPING], opts[fk.OPT_MU],
+                                            om_xi, om_n)
+        s = math.sin(theta)
+        co = math.cos(theta)
+        e1, e2, e3 = fk.couple_accelerations(theta, m_xi, m_n * co, -m_n * s, c)
+        ddphi += e1
+        ddtheta += e2
+        domega += e3
+        damped -= m_xi * om_xi + m_n * om_n
+        # a couple T about the vertical: body components (0, T s, T cos)
+        b1, _b2, b3 = fk.couple_accelerations(theta, 0.0, s, co, c)
+        if opts[fk.OPT_PIVOT_HELD] != 0.0:
+            # keep omega_Z = phi' s^2 + omega cos: its rate without T, over its rate per unit T
+            free = ddphi * s * s + domega * co + dtheta * (2.0 * dphi * s * co - omega * s)
+            drill = -free / (b1 * s * s + b3 * co)
+        else:
+            drill = -capacity * opts[fk.OPT_DRILL_SIGN]
+        ddphi += drill * b1
+        domega += drill * b3
+    f_xi, f_n, f_z = fk.contact_force(theta, dphi, dtheta, omega, ddphi, ddtheta, domega, a_xi, a_n, az, zc)
+    return ddphi, ddtheta, domega, f_xi, f_n, f_z, ax, ay, az, a_xi, a_n, damped, drill, capacity, om_z
+
+
+@njit(cache=True)
+def _rolling_contact(t, y, params):
+    """Contact force of rolling (xi, n, N) [m g] and the ground acceleration [g]."""
+    r = _rolling_state(t, y, params)
+    return r[3], r[4], r[5], r[6], r[7], r[8]
+
+
+@njit(cache=True)
+def _slip_patch(t, y, params, theta, f_xi, f_n, az):
+    """Rolling-damping couple of the patch while P slides (body components) and its power.
+
+    No drilling friction: a patch that slides as a whole does not also resist
+    turning about P (the friction it can give is already spent on the slip).
+    """
+    c, opts = params[0], params[3]
+    theta_k = opts[fk.OPT_THETA_K]
+    if theta_k <= 0.0:
+        return 0.0, 0.0, 0.0, 0.0
+    dphi, dtheta, omega = y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA]
+    load = rim.slip_normal_force(theta, dphi, dtheta, omega, f_xi, f_n, az, c)[0]
+    om_xi, om_n, _om_z = _horizontal_spin(theta, dphi, dtheta, omega)
+    m_xi, m_n, _cap = patch.couples(load, theta, theta_k, opts[fk.OPT_PATCH_DAMPING], opts[fk.OPT_MU], om_xi, om_n)
+    s = math.sin(theta)
+    co = math.cos(theta)
+    return m_xi, m_n * co, -m_n * s, -(m_xi * om_xi + m_n * om_n)
 
 
 @njit(cache=True)
@@ -162,7 +247,8 @@ def _slip_with(t, y, params, chi):
     """Normal force and accelerations of rim slip in the direction chi.
 
     Returns ``(N, den, ddphi, ddtheta, domega, dw_eta, f_xi, f_n, cx, sx, ax, ay, az, a_xi, a_n,
-    vx, vy)`` with ``(vx, vy)`` the rate of the slip velocity (horizontal, plane frame).
+    vx, vy, damped)`` with ``(vx, vy)`` the rate of the slip velocity (horizontal, plane frame) and
+    ``damped`` the power of the patch's rolling damping.
     """
     c, record, dt, opts = params[0], params[1], params[2], params[3]
     ax, ay, az = fk.ground_acceleration(t, record, dt)
@@ -171,14 +257,16 @@ def _slip_with(t, y, params, chi):
     a_n = -ax * sp_ + ay * cp
     f_xi, f_n, cx, sx = _slip_friction(chi, sp_, cp, opts[fk.OPT_MU])
     theta, dphi, dtheta, omega = y[fk.THETA], y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA]
-    normal, den = rim.slip_normal_force(theta, dphi, dtheta, omega, f_xi, f_n, az, c)
-    ddphi, ddtheta, domega, dw_eta = rim.rotation_accelerations(theta, dphi, dtheta, omega, f_xi, f_n, normal, c)
+    m_xi, m_eta, m_zeta, damped = _slip_patch(t, y, params, theta, f_xi, f_n, az)
+    normal, den = rim.slip_normal_force(theta, dphi, dtheta, omega, f_xi, f_n, az, c, m_xi)
+    ddphi, ddtheta, domega, dw_eta = rim.rotation_accelerations(theta, dphi, dtheta, omega, f_xi, f_n, normal, c,
+                                                                m_xi, m_eta, m_zeta)
     v_xi, v_n, _v_z = rim.material_point_acceleration(
         theta, dphi, dtheta, omega, ddtheta, dw_eta, domega,
         normal * f_xi - a_xi, normal * f_n - a_n, normal - 1.0 - az, c[fk.C_ZC])
     vx = v_xi * cp - v_n * sp_
     vy = v_xi * sp_ + v_n * cp
-    return normal, den, ddphi, ddtheta, domega, dw_eta, f_xi, f_n, cx, sx, ax, ay, az, a_xi, a_n, vx, vy
+    return normal, den, ddphi, ddtheta, domega, dw_eta, f_xi, f_n, cx, sx, ax, ay, az, a_xi, a_n, vx, vy, damped
 
 
 @njit(cache=True)
@@ -258,7 +346,7 @@ def _rhs_slipping(t, y, params, dydt):
     zc = c[fk.C_ZC]
     mu = opts[fk.OPT_MU]
     (normal, den, ddphi, ddtheta, domega, dw_eta, f_xi, f_n, cx, sx, ax, ay, az, a_xi, a_n,
-     vx, vy) = _slip_state(t, y, params)
+     vx, vy, damped) = _slip_state(t, y, params)
     theta = y[fk.THETA]
     dphi, dtheta, omega = y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA]
     speed = y[fk.SLIP_SPEED]
@@ -283,6 +371,7 @@ def _rhs_slipping(t, y, params, dydt):
     s_n = -f_n / mu if mu > 0.0 else 0.0
     dydt[fk.WORK] = -(a_xi * (r_xi + speed * s_xi) + a_n * (r_n + speed * s_n) + az * r_z)
     dydt[fk.FRICTION] = mu * normal * speed
+    dydt[fk.DISSIPATED] = damped
 
 
 @njit(cache=True)
@@ -332,9 +421,25 @@ def _rhs_sliding(t, y, params, dydt):
 
 @njit(cache=True)
 def _rhs_rolling(t, y, params, dydt):
-    fk.rhs(t, y, params, dydt)
-    for i in range(fk.N_ROLLING, dydt.shape[0]):
+    (ddphi, ddtheta, domega, _f_xi, _f_n, _f_z, _ax, _ay, az, a_xi, a_n, damped, drill, _cap,
+     om_z) = _rolling_state(t, y, params)
+    theta, dphi, omega = y[fk.THETA], y[fk.DPHI], y[fk.OMEGA]
+    sp_, cp = fk.sincos(y[fk.PHI])
+    dpsi = omega - dphi * math.cos(theta)
+    for i in range(dydt.shape[0]):
         dydt[i] = 0.0
+    dydt[fk.PHI] = dphi
+    dydt[fk.THETA] = y[fk.DTHETA]
+    dydt[fk.PSI] = dpsi
+    dydt[fk.DPHI] = ddphi
+    dydt[fk.DTHETA] = ddtheta
+    dydt[fk.OMEGA] = domega
+    # rolling without slip: the contact point moves along -xi at speed R psi'
+    dydt[fk.XP] = -dpsi * cp
+    dydt[fk.YP] = -dpsi * sp_
+    dydt[fk.WORK] = fk.ground_power(theta, dphi, y[fk.DTHETA], omega, a_xi, a_n, az, params[0][fk.C_ZC])
+    dydt[fk.DISSIPATED] = damped
+    dydt[fk.FRICTION] = -drill * om_z  # the drilling couple's work (0 while it holds the pivot)
 
 
 @njit(cache=True)
@@ -373,11 +478,15 @@ def events3d(t, y, params, g):
         return
     g[EV_LAND] = theta - (1.0 - LANDING_MARGIN) * opts[fk.OPT_THETA_C]
     if phase == PHASE_ROLLING:
-        f_xi, f_n, f_z, _ax, _ay, _az = _rolling_contact(t, y, params)
+        r = _rolling_state(t, y, params)
+        f_xi, f_n, f_z = r[3], r[4], r[5]
         if opts[fk.OPT_UNILATERAL] != 0.0:
             g[EV_LIFT] = f_z
         if opts[fk.OPT_MU] < math.inf:  # inf: rolling without slip, whatever the force
             g[EV_SLIP] = opts[fk.OPT_MU] * f_z - math.sqrt(f_xi * f_xi + f_n * f_n)
+            if opts[fk.OPT_THETA_K] > 0.0:
+                g[EV_PIVOT] = (r[13] - abs(r[12]) if opts[fk.OPT_PIVOT_HELD] != 0.0
+                               else opts[fk.OPT_DRILL_SIGN] * r[14])
     else:
         normal = _slip_state(t, y, params)[0]
         if opts[fk.OPT_UNILATERAL] != 0.0:
@@ -635,6 +744,47 @@ def _sync_direction(t, y, params, phase):
 
 
 @njit(cache=True)
+def _ahead(t, y, params):
+    """The rolling state LOOK_AHEAD later (one Euler step)."""
+    ahead = y.copy()
+    rate = np.empty(y.shape[0])
+    _rhs_rolling(t, y, params, rate)
+    for i in range(fk.N_ROLLING):
+        ahead[i] += LOOK_AHEAD * rate[i]
+    return ahead
+
+
+@njit(cache=True)
+def _pivot_mode(t, y, params):
+    """Whether the patch's drilling friction holds the pivot, or in which sense it turns.
+
+    A column turning about the vertical through P keeps turning (friction
+    against it) until the turning stops; then the pivot is held while the
+    couple that holds it stays within ``mu N r_d``, now and a moment later.
+    """
+    opts = params[3]
+    opts[fk.OPT_PIVOT_HELD] = 0.0
+    opts[fk.OPT_DRILL_SIGN] = 0.0
+    if opts[fk.OPT_THETA_K] <= 0.0:
+        return  # a point contact: no drilling friction (the paper's model)
+    om_z = _horizontal_spin(y[fk.THETA], y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA])[2]
+    scale = abs(y[fk.DPHI]) + abs(y[fk.OMEGA]) + abs(y[fk.DTHETA])
+    if abs(om_z) > 1e-12 * scale:
+        opts[fk.OPT_DRILL_SIGN] = math.copysign(1.0, om_z)
+        return
+    opts[fk.OPT_PIVOT_HELD] = 1.0
+    if opts[fk.OPT_MU] == math.inf:
+        return
+    r = _rolling_state(t, y, params)
+    q = _rolling_state(t + LOOK_AHEAD, _ahead(t, y, params), params)
+    if abs(r[12]) <= r[13] and abs(q[12]) <= q[13]:
+        return
+    # too strong a twist for the patch: it turns, against the couple that would hold it
+    opts[fk.OPT_PIVOT_HELD] = 0.0
+    opts[fk.OPT_DRILL_SIGN] = -math.copysign(1.0, q[12])
+
+
+@njit(cache=True)
 def _enter_contact(t, y, params):
     """Phase that a state in rim contact (P not sliding) continues in: rolling, slipping or flight.
 
@@ -643,14 +793,11 @@ def _enter_contact(t, y, params):
     """
     c, opts = params[0], params[3]
     mu = opts[fk.OPT_MU]
+    _pivot_mode(t, y, params)
     f_xi, f_n, f_z, _ax, _ay, _az = _rolling_contact(t, y, params)
     # a bound that holds now but is being left (N or the margin falling
     # through 0 within the integrator's restart window) would go unseen
-    ahead = y.copy()
-    rate = np.empty(y.shape[0])
-    fk.rhs(t, y, params, rate)
-    for i in range(fk.N_ROLLING):
-        ahead[i] += LOOK_AHEAD * rate[i]
+    ahead = _ahead(t, y, params)
     g_xi, g_n, g_z, _ax, _ay, _az = _rolling_contact(t + LOOK_AHEAD, ahead, params)
     unilateral = opts[fk.OPT_UNILATERAL] != 0.0
     pushes = (f_z >= 0.0 and g_z >= 0.0) or not unilateral
@@ -671,6 +818,53 @@ def _enter_contact(t, y, params):
         return PHASE_ROLLING
     _to_flight(y, c, False)
     return PHASE_FLIGHT
+
+
+# Passages whose lowest tilt stays above PASSAGE_REACH theta_c lose nothing to
+# a slap (exp(1 - 40) ~ 1e-17 of it).
+PASSAGE_REACH = 40.0
+
+
+@njit(cache=True)
+def passage_weight(ratio):
+    """Share of a full slap lost in a passage whose lowest tilt is ``ratio`` theta_c [1].
+
+    1 at theta_c, where the passage would land; ``exp(1 - ratio)`` above it:
+    the far side of the base comes within the compliance theta_k R of the
+    ground only when the lowest tilt is of that order, so the slap fades over
+    one theta_k. Continuous, so no threshold switches between a lossless
+    roll-through and a full impact.
+    """
+    if ratio <= 1.0:
+        return 1.0
+    return math.exp(1.0 - ratio) if ratio < PASSAGE_REACH else 0.0
+
+
+@njit(cache=True)
+def _near_contact_passage(t, y, params, phase, planar_e):
+    """A passage through a minimum of theta near full contact: a partial slap.
+
+    The base slaps the ground in part (:func:`passage_weight`): the rates are
+    scaled by ``1 - w (1 - e)``, e the planar restitution, so that a passage
+    that nearly lands loses what the planar impact would, and one that stays
+    well above theta_c loses nothing. Booked in the transitions' energy.
+    """
+    c, opts, summary = params[0], params[3], params[4]
+    if phase == PHASE_ROLLING:
+        ddtheta = _rolling_state(t, y, params)[1]
+    else:
+        ddtheta = _slip_state(t, y, params)[3]
+    if not ddtheta > 0.0:
+        return  # a maximum
+    w = passage_weight(y[fk.THETA] / opts[fk.OPT_THETA_C])
+    if w == 0.0:
+        return
+    scale = 1.0 - w * (1.0 - planar_e)
+    e_before = energy3d(phase, y, c)
+    y[fk.DPHI] *= scale
+    y[fk.OMEGA] *= scale
+    y[fk.SLIP_SPEED] *= scale
+    summary[S_TRANSITION] += energy3d(phase, y, c) - e_before
 
 
 @njit(cache=True)
@@ -795,6 +989,7 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
     mu = opts[fk.OPT_MU]
     theta_c = opts[fk.OPT_THETA_C]
     ratio = departure_ratio(zc, mu)
+    planar_e = restitution if restitution >= 0.0 else max(0.0, 1.0 - 2.0 / c[fk.C_IY])
     _init_summary(summary)
     y = y0.copy()  # at rest: XP, YP hold the base centre
     y_new = y0.copy()
@@ -861,9 +1056,19 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
             # round-off that could make the next call find this root again
             y[fk.DTHETA] = 0.0
             _peak(summary, t, y[fk.THETA])
+            if phase != PHASE_FLIGHT and opts[fk.OPT_THETA_K] > 0.0:
+                _near_contact_passage(t, y, p, phase, planar_e)
             continue
         if ev == EV_MODE:  # in or out of the slaved-direction layer (direction synced above)
             opts[fk.OPT_SLAVED] = 1.0 - opts[fk.OPT_SLAVED]
+            continue
+        if ev == EV_PIVOT:  # the pivot's turning stopped, or its hold gave way
+            if opts[fk.OPT_PIVOT_HELD] == 0.0:
+                # stopped: make it exact (the spin that cancels omega_Z at this tilt)
+                e_before = energy3d(phase, y, c)
+                y[fk.OMEGA] = -y[fk.DPHI] * math.sin(y[fk.THETA]) ** 2 / math.cos(y[fk.THETA])
+                summary[S_TRANSITION] += energy3d(phase, y, c) - e_before
+            _pivot_mode(t, y, p)
             continue
         if ev == EV_SLIP and phase == PHASE_FLIGHT:
             # the axis passes the vertical: the same orientation is (phi + pi, -theta, psi - pi)
@@ -1020,29 +1225,57 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
 
 
 @njit(cache=True)
-def _rocking_contact(theta, dtheta, a_u, a_z, c, nu):
-    """Contact force of planar rocking on a pivot that sticks, ``(F_u, N)`` per m g.
+def _rocking_couple(theta, dtheta, load, opts):
+    """Rolling-damping couple of the contact patch on planar rocking [m g R], and its power."""
+    theta_k = opts[fk.OPT_THETA_K]
+    if theta_k <= 0.0:
+        return 0.0, 0.0
+    m = patch.couples(load, abs(theta), theta_k, opts[fk.OPT_PATCH_DAMPING], opts[fk.OPT_MU], dtheta, 0.0)[0]
+    return m, -m * dtheta
 
-    The centre of mass relative to the pivot is ``(C_u, C_z)``
-    (:func:`pipeline.dynamics.rocking.cm_offset`); the contact force is
-    ``F = m (C'' + a_g + g e_z)``.
+
+@njit(cache=True)
+def _rocking_contact(theta, dtheta, a_u, a_z, c, opts):
+    """Planar rocking on a pivot that sticks: ``(F_u, N, theta'', damped)``.
+
+    Forces per m g; the centre of mass relative to the pivot is ``(C_u, C_z)``
+    (:func:`pipeline.dynamics.rocking.cm_offset`) and the contact force is
+    ``F = m (C'' + a_g + g e_z)``. theta'' includes the viscous couple nu and
+    the contact patch's rolling damping, whose power (with nu's) is ``damped``.
     """
     cu, cz = rk.cm_offset(theta, c[fk.C_ZC])
+    nu = opts[fk.OPT_NU]
     ddtheta = rk.angular_acceleration(theta, a_u, a_z, c) - nu * dtheta / c[fk.C_IY]
+    damped = nu * dtheta * dtheta
     w2 = dtheta * dtheta
+    if opts[fk.OPT_THETA_K] > 0.0:
+        m, power = _rocking_couple(theta, dtheta, -cu * ddtheta - cz * w2 + 1.0 + a_z, opts)
+        ddtheta += m / c[fk.C_IY]
+        damped += power
     f_u = cz * ddtheta - cu * w2 + a_u
     f_z = -cu * ddtheta - cz * w2 + 1.0 + a_z
-    return f_u, f_z
+    return f_u, f_z, ddtheta, damped
+
+
+@njit(cache=True)
+def _rocking_slip(theta, dtheta, sigma, a_u, a_z, c, opts):
+    """Planar rocking on a slipping pivot with the patch's couple: ``(theta'', x'', N, damped)``."""
+    mu = opts[fk.OPT_MU]
+    ddtheta, ddx, normal, _den = rk.slip_accelerations(theta, dtheta, sigma, mu, a_u, a_z, c)
+    if opts[fk.OPT_THETA_K] <= 0.0:
+        return ddtheta, ddx, normal, 0.0
+    m, power = _rocking_couple(theta, dtheta, normal, opts)
+    ddtheta, ddx, normal, _den = rk.slip_accelerations(theta, dtheta, sigma, mu, a_u, a_z, c, m)
+    return ddtheta, ddx, normal, power
 
 
 @njit(cache=True)
 def _rhs2d_slipping(t, y, params, dydt):
     c, record, dt, opts = params[0], params[1], params[2], params[3]
     a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
-    sigma = opts[fk.OPT_SIGN]
     mu = opts[fk.OPT_MU]
     theta, dtheta = y[rk.THETA2], y[rk.DTHETA2]
-    ddtheta, ddx, normal, _den = rk.slip_accelerations(theta, dtheta, sigma, mu, a_u, a_z, c)
+    ddtheta, ddx, normal, damped = _rocking_slip(theta, dtheta, opts[fk.OPT_SIGN], a_u, a_z, c, opts)
     v_u, v_z = rk.cm_velocity(theta, dtheta, y[rk.V2], c[fk.C_ZC])
     for i in range(dydt.shape[0]):
         dydt[i] = 0.0
@@ -1051,7 +1284,23 @@ def _rhs2d_slipping(t, y, params, dydt):
     dydt[rk.X2] = y[rk.V2]
     dydt[rk.V2] = ddx
     dydt[rk.WORK2] = -a_u * v_u - a_z * v_z
+    dydt[rk.DISSIPATED2] = damped
     dydt[rk.FRICTION2] = mu * normal * abs(y[rk.V2])
+
+
+@njit(cache=True)
+def _rhs2d_rolling(t, y, params, dydt):
+    c, record, dt, opts = params[0], params[1], params[2], params[3]
+    a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
+    theta, dtheta = y[rk.THETA2], y[rk.DTHETA2]
+    _f_u, _f_z, ddtheta, damped = _rocking_contact(theta, dtheta, a_u, a_z, c, opts)
+    v_u, v_z = rk.cm_velocity(theta, dtheta, 0.0, c[fk.C_ZC])
+    for i in range(dydt.shape[0]):
+        dydt[i] = 0.0
+    dydt[rk.THETA2] = dtheta
+    dydt[rk.DTHETA2] = ddtheta
+    dydt[rk.WORK2] = -a_u * v_u - a_z * v_z
+    dydt[rk.DISSIPATED2] = damped
 
 
 @njit(cache=True)
@@ -1060,9 +1309,7 @@ def rhs2d(t, y, params, dydt):
     record, dt, opts = params[1], params[2], params[3]
     phase = opts[fk.OPT_PHASE]
     if phase == PHASE_ROLLING:
-        rk.rhs(t, y, params, dydt)
-        for i in range(rk.FRICTION2, dydt.shape[0]):
-            dydt[i] = 0.0
+        _rhs2d_rolling(t, y, params, dydt)
         return
     if phase == PHASE_SLIPPING:
         _rhs2d_slipping(t, y, params, dydt)
@@ -1106,15 +1353,14 @@ def events2d(t, y, params, g):
     g[EV_LAND] = opts[fk.OPT_PIVOT] * theta - (1.0 - LANDING_MARGIN) * opts[fk.OPT_THETA_C]
     unilateral = opts[fk.OPT_UNILATERAL] != 0.0
     if phase == PHASE_ROLLING:
-        f_u, f_z = _rocking_contact(theta, y[rk.DTHETA2], a_u, a_z, c, opts[fk.OPT_NU])
+        f_u, f_z, _dd, _p = _rocking_contact(theta, y[rk.DTHETA2], a_u, a_z, c, opts)
         if unilateral:
             g[EV_LIFT] = f_z
         if opts[fk.OPT_MU] < math.inf:
             g[EV_SLIP] = opts[fk.OPT_MU] * f_z - abs(f_u)
     else:
         if unilateral:
-            g[EV_LIFT] = rk.slip_accelerations(theta, y[rk.DTHETA2], opts[fk.OPT_SIGN], opts[fk.OPT_MU],
-                                               a_u, a_z, c)[2]
+            g[EV_LIFT] = _rocking_slip(theta, y[rk.DTHETA2], opts[fk.OPT_SIGN], a_u, a_z, c, opts)[2]
         g[EV_STICK] = opts[fk.OPT_SIGN] * y[rk.V2]
 
 
@@ -1134,7 +1380,7 @@ def monitor2d(t, y, params, g):
             f_t = mu * normal - g[EV_SLIP]
         else:
             a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
-            f_u, normal = _rocking_contact(y[rk.THETA2], y[rk.DTHETA2], a_u, a_z, c, opts[fk.OPT_NU])
+            f_u, normal, _dd, _p = _rocking_contact(y[rk.THETA2], y[rk.DTHETA2], a_u, a_z, c, opts)
             f_t = abs(f_u)
         _watch(summary, f_t / normal if normal > 0.0 else 0.0, normal)
     elif phase == PHASE_SLIPPING:
@@ -1142,7 +1388,7 @@ def monitor2d(t, y, params, g):
             normal = g[EV_LIFT]
         else:
             a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
-            normal = rk.slip_accelerations(y[rk.THETA2], y[rk.DTHETA2], opts[fk.OPT_SIGN], mu, a_u, a_z, c)[2]
+            normal = _rocking_slip(y[rk.THETA2], y[rk.DTHETA2], opts[fk.OPT_SIGN], a_u, a_z, c, opts)[2]
         _watch(summary, mu, normal)
     elif phase == PHASE_SLIDING:
         _watch(summary, mu, g[EV_LIFT])
@@ -1188,11 +1434,11 @@ def _enter_contact2d(t, y, params):
     """
     c, record, dt, opts = params[0], params[1], params[2], params[3]
     a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
-    f_u, f_z = _rocking_contact(y[rk.THETA2], y[rk.DTHETA2], a_u, a_z, c, opts[fk.OPT_NU])
+    f_u, f_z, ddtheta, _p = _rocking_contact(y[rk.THETA2], y[rk.DTHETA2], a_u, a_z, c, opts)
     b_u, _unused, b_z = fk.ground_acceleration(t + LOOK_AHEAD, record, dt)
     theta_ahead = y[rk.THETA2] + LOOK_AHEAD * y[rk.DTHETA2]
-    rate_ahead = y[rk.DTHETA2] + LOOK_AHEAD * rk.angular_acceleration(y[rk.THETA2], a_u, a_z, c)
-    g_u, g_z = _rocking_contact(theta_ahead, rate_ahead, b_u, b_z, c, opts[fk.OPT_NU])
+    rate_ahead = y[rk.DTHETA2] + LOOK_AHEAD * ddtheta
+    g_u, g_z, _dd, _p = _rocking_contact(theta_ahead, rate_ahead, b_u, b_z, c, opts)
     unilateral = opts[fk.OPT_UNILATERAL] != 0.0
     mu = opts[fk.OPT_MU]
     y[rk.V2] = 0.0
@@ -1202,7 +1448,7 @@ def _enter_contact2d(t, y, params):
     if mu < math.inf:
         # sticking fails: slipping against the friction it would need, if the plane then pushes
         sigma = -1.0 if f_u > 0.0 else 1.0
-        normal = rk.slip_accelerations(y[rk.THETA2], y[rk.DTHETA2], sigma, mu, a_u, a_z, c)[2]
+        normal = _rocking_slip(y[rk.THETA2], y[rk.DTHETA2], sigma, a_u, a_z, c, opts)[2]
         if normal >= 0.0 or not unilateral:
             opts[fk.OPT_SIGN] = sigma
             return PHASE_SLIPPING
@@ -1511,6 +1757,16 @@ def diagnostics_rows(tau, states, phase, params, model_3d, out):
 
 
 @njit(cache=True)
+def _pivot_from_row(y, opts):
+    """The drilling state of an output row, from its turning about the vertical through P."""
+    om_z = _horizontal_spin(y[fk.THETA], y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA])[2]
+    scale = abs(y[fk.DPHI]) + abs(y[fk.OMEGA]) + abs(y[fk.DTHETA])
+    held = opts[fk.OPT_THETA_K] > 0.0 and abs(om_z) <= 1e-9 * scale
+    opts[fk.OPT_PIVOT_HELD] = 1.0 if held else 0.0
+    opts[fk.OPT_DRILL_SIGN] = 0.0 if held or opts[fk.OPT_THETA_K] <= 0.0 else math.copysign(1.0, om_z)
+
+
+@njit(cache=True)
 def _row_direction(t, y, params):
     """Slip direction of an output row: stored, or slaved (consistent) inside the slow layer."""
     normal = _slip_with(t, y, params, y[fk.SLIP_DIR])[0]
@@ -1544,6 +1800,8 @@ def _diagnose3d(t, y, ph, params, row):
     row[D_CONTACT_X] = y[fk.XP]
     row[D_CONTACT_Y] = y[fk.YP]
     if ph == PHASE_ROLLING:
+        # the pivot was held where the column does not turn about the vertical through P
+        _pivot_from_row(y, params[3])
         f_xi, f_n, f_z, _ax, _ay, _az = _rolling_contact(t, y, params)
         f_t = math.sqrt(f_xi * f_xi + f_n * f_n)
     else:
@@ -1574,11 +1832,10 @@ def _diagnose2d(t, y, ph, params, row):
     row[D_CONTACT_Y] = 0.0
     a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
     if ph == PHASE_ROLLING:
-        f_u, f_z = _rocking_contact(theta, y[rk.DTHETA2], a_u, a_z, c, opts[fk.OPT_NU])
+        f_u, f_z, _dd, _p = _rocking_contact(theta, y[rk.DTHETA2], a_u, a_z, c, opts)
         f_t = abs(f_u)
     else:
-        f_z = rk.slip_accelerations(theta, y[rk.DTHETA2], math.copysign(1.0, y[rk.V2]), opts[fk.OPT_MU],
-                                    a_u, a_z, c)[2]
+        f_z = _rocking_slip(theta, y[rk.DTHETA2], math.copysign(1.0, y[rk.V2]), a_u, a_z, c, opts)[2]
         f_t = opts[fk.OPT_MU] * f_z
         row[D_SLIP] = abs(y[rk.V2])
     row[D_NORMAL] = f_z

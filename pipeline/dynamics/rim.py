@@ -56,8 +56,8 @@ def _to_horizontal(u_eta, u_zeta, s, co):
 
 
 @njit(cache=True)
-def rotation_accelerations(theta, dphi, dtheta, omega, f_xi, f_n, normal, c):
-    """Euler angle accelerations under a force at P (any N and friction).
+def rotation_accelerations(theta, dphi, dtheta, omega, f_xi, f_n, normal, c, m_xi=0.0, m_eta=0.0, m_zeta=0.0):
+    """Euler angle accelerations under a force at P (any N and friction) and a couple.
 
     Parameters
     ----------
@@ -69,6 +69,8 @@ def rotation_accelerations(theta, dphi, dtheta, omega, f_xi, f_n, normal, c):
         Normal force N [m g].
     c : numpy.ndarray
         Column constants (:func:`pipeline.dynamics.frustum.column_constants`).
+    m_xi, m_eta, m_zeta : float
+        A couple on the body, body components [m g R] (the contact patch's).
 
     Returns
     -------
@@ -87,13 +89,13 @@ def rotation_accelerations(theta, dphi, dtheta, omega, f_xi, f_n, normal, c):
     F_xi = normal * f_xi
     F_eta = normal * (f_n * co + s)
     F_zeta = normal * (-f_n * s + co)
-    m_xi = zc * F_eta - F_zeta
-    m_eta = -zc * F_xi
+    m_xi = zc * F_eta - F_zeta + m_xi
+    m_eta = -zc * F_xi + m_eta
     w_eta = dphi * s
     # A theta'' + (Omega_eta C w_zeta - Omega_zeta A w_eta) = M_xi, ...
     ddtheta = (m_xi - w_eta * C * omega + dphi * co * A * w_eta) / A
     dw_eta = (m_eta - dphi * co * A * dtheta + dtheta * C * omega) / A
-    domega = F_xi / C
+    domega = (F_xi + m_zeta) / C
     if s != 0.0:
         ddphi = (dw_eta - dphi * dtheta * co) / s
     elif dw_eta == 0.0 and dphi * dtheta == 0.0:
@@ -104,8 +106,8 @@ def rotation_accelerations(theta, dphi, dtheta, omega, f_xi, f_n, normal, c):
 
 
 @njit(cache=True)
-def slip_normal_force(theta, dphi, dtheta, omega, f_xi, f_n, a_z, c):
-    """Normal force [m g] while P slides with friction ``N (f_xi, f_n)``.
+def slip_normal_force(theta, dphi, dtheta, omega, f_xi, f_n, a_z, c, m_xi=0.0):
+    """Normal force [m g] while P slides with friction ``N (f_xi, f_n)`` (and a couple's m_xi).
 
     From the height constraint ``Z_C = lever(theta)``: ``N - 1 - a_z = Z_C''``
     with ``theta''`` linear in N. Returns ``(N, denominator)``; a denominator
@@ -120,7 +122,7 @@ def slip_normal_force(theta, dphi, dtheta, omega, f_xi, f_n, a_z, c):
     lv = zc * co + s
     dh = co - zc * s
     # theta'' = (N (f_n lv - dh) + G) / A
-    G = dphi * dphi * s * co * A - dphi * s * C * omega
+    G = dphi * dphi * s * co * A - dphi * s * C * omega + m_xi
     den = 1.0 + dh * (dh - f_n * lv) / A
     num = 1.0 + a_z + dh * G / A - lv * dtheta * dtheta
     return num / den, den

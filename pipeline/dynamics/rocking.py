@@ -99,13 +99,14 @@ def cm_offset(theta, zc):
 
 
 @njit(cache=True)
-def slip_accelerations(theta, dtheta, sigma, mu, a_u, a_z, c):
+def slip_accelerations(theta, dtheta, sigma, mu, a_u, a_z, c, couple=0.0):
     """Rocking on a pivot that slips in the direction ``sigma`` (+1 or -1) along u.
 
     Lagrange's equations in (x_P, theta) with the friction ``F_u = -mu sigma N``
     on x_P and ``N = Z_C'' + 1 + a_z``:
     ``theta'' (A + C_u^2 + mu sigma C_z C_u) = (C_u + mu sigma C_z)(1 + a_z - C_z theta'^2)``
-    (A the central inertia; a denominator <= 0 would be Painleve's paradox).
+    (A the central inertia; a denominator <= 0 would be Painleve's paradox);
+    a ``couple`` [m g R] on theta adds to the right-hand side.
 
     Returns
     -------
@@ -116,7 +117,7 @@ def slip_accelerations(theta, dtheta, sigma, mu, a_u, a_z, c):
     ms = mu * sigma
     den = c[fk.C_A] + cu * cu + ms * cz * cu
     w2 = dtheta * dtheta
-    ddtheta = (cu + ms * cz) * (1.0 + a_z - cz * w2) / den
+    ddtheta = ((cu + ms * cz) * (1.0 + a_z - cz * w2) + couple) / den
     normal = 1.0 + a_z - cu * ddtheta - cz * w2
     ddx = -ms * normal - a_u - cz * ddtheta + cu * w2
     return ddtheta, ddx, normal, den
