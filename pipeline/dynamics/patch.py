@@ -88,14 +88,28 @@ def depth(load, theta, theta_k):
     target = math.pi * load * theta_k / theta
     if target >= math.pi:  # F(2) = 2 pi - pi
         return FULL
-    w = min(FULL, (target / (8.0 * math.sqrt(2.0) / 15.0)) ** 0.4)
+    w = min(FULL, (target / _SMALL) ** 0.4)
     for _i in range(_NEWTON_STEPS):
-        area, s1, _jn, _jx, _lever = segment(w)
-        f = w * area - s1 - target
+        area, s1 = _area_moment(w)
         if area <= 0.0:
             break
-        w = min(FULL, max(0.5 * w, w - f / area))
+        step = (w * area - s1 - target) / area
+        w = min(FULL, max(0.5 * w, w - step))
+        if abs(step) <= 1e-13 * w:
+            break
     return w
+
+
+_SMALL = 8.0 * math.sqrt(2.0) / 15.0  # F(w) ~ _SMALL w^(5/2) for a shallow segment
+
+
+@njit(cache=True)
+def _area_moment(w):
+    """Area and first moment about the tangent of the segment of height w (see :func:`segment`)."""
+    c = 1.0 - w
+    s = math.sqrt(max(0.0, 1.0 - c * c))
+    area = math.acos(c) - s * c
+    return area, area - 2.0 / 3.0 * s**3
 
 
 @njit(cache=True)
