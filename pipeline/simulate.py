@@ -52,7 +52,11 @@ MAX_LOGGED_IMPACTS = 10_000
 
 @dataclass(frozen=True)
 class InitialState:
-    """Euler angles [rad] and their rates [rad/s] at t = 0 (the paper's Figure 2)."""
+    """Euler angles [deg] and their rates [rad/s] at t = 0 (the paper's Figure 2).
+
+    Angles in degrees, as on the command line; :meth:`from_dimensionless`
+    takes the paper's own radians and rates per tau.
+    """
 
     phi: float = 0.0
     theta: float = 0.0
@@ -66,17 +70,22 @@ class InitialState:
             value = getattr(self, name)
             if not math.isfinite(value):
                 raise InputError(f"initial {name} = {value!r} must be a finite number")
-        if not 0.0 < self.theta < math.pi / 2:
+        if not 0.0 < self.theta < 90.0:
             raise InputError(
-                f"initial theta = {math.degrees(self.theta):g} deg: a free motion starts tilted on its rim, "
-                "0 < theta < 90 deg"
+                f"initial theta = {self.theta:g} deg: a free motion starts tilted on its rim, 0 < theta < 90 deg"
             )
+
+    @property
+    def angles_rad(self):
+        """(phi, theta, psi) [rad]."""
+        return deg_to_rad(self.phi), deg_to_rad(self.theta), deg_to_rad(self.psi)
 
     @classmethod
     def from_dimensionless(cls, radius, phi, theta, psi, dphi, dtheta, dpsi):
-        """Build from rates in the paper's dimensionless time (per tau), for a base radius [m]."""
+        """Build from the paper's dimensionless values: angles [rad], rates per tau, for a base radius [m]."""
         rate = math.sqrt(G / radius)
-        return cls(phi, theta, psi, dphi * rate, dtheta * rate, dpsi * rate)
+        return cls(math.degrees(phi), math.degrees(theta), math.degrees(psi), dphi * rate, dtheta * rate,
+                   dpsi * rate)
 
 
 @dataclass(frozen=True)
@@ -92,7 +101,7 @@ class ModelSettings:
         conserves angular momentum about the new pivot (for planar rocking
         ``1 - 2 m R^2 / I_P``).
     contact_tilt : float or None
-        theta_c [rad]: below this inclination the base is in full contact;
+        theta_c [deg]: below this inclination the base is in full contact;
         rolling starts there after uplift and a landing happens there, and a
         passage through a minimum of theta near it slaps in part
         (docs/model.md). None (default): theta_k of the compliant bed
@@ -151,8 +160,8 @@ class ModelSettings:
             if not (isinstance(value, (int, float)) and math.isfinite(value) and lo <= value <= hi):
                 raise InputError(f"{name} = {value!r} {unit} must be a number in [{lo:g}, {hi:g}]")
         if self.contact_tilt is not None and not (
-                isinstance(self.contact_tilt, (int, float)) and 0.0 <= self.contact_tilt <= 0.01):
-            raise InputError(f"contact_tilt = {self.contact_tilt!r} rad must be a number in [0, 0.01] "
+                isinstance(self.contact_tilt, (int, float)) and 0.0 <= self.contact_tilt <= 0.5):
+            raise InputError(f"contact_tilt = {self.contact_tilt!r} deg must be a number in [0, 0.5] "
                              "(or omitted: the compliance of the bed sets it)")
         if not (isinstance(self.friction, (int, float)) and (self.friction == math.inf or
                                                               0.0 < self.friction <= 10.0)):
@@ -275,13 +284,13 @@ def _options(column, settings):
 def contact_tilt(column, settings):
     """Tilt theta_c [rad] below which the base is in full contact (landing, uplift).
 
-    ``settings.contact_tilt`` if given; otherwise theta_k, the tilt at which
+    ``settings.contact_tilt`` [deg] if given; otherwise theta_k, the tilt at which
     the compliant bed under the column's weight loses full contact
     (:func:`patch_parameters`), or for a rigid base (``normal_stiffness`` inf,
     the paper's point contact) a numerical 1e-7 rad.
     """
     if settings.contact_tilt is not None:
-        return settings.contact_tilt
+        return deg_to_rad(settings.contact_tilt)
     theta_k = patch_parameters(column, settings)[0]
     return theta_k if theta_k > 0.0 else RIGID_CONTACT_TILT
 
@@ -379,10 +388,11 @@ def simulate_free(column, initial, duration, settings=ModelSettings(rtol=1e-12, 
                        normal_stiffness=normal_stiffness)
     rate = time_scale(column.R)  # (rad/s) * rate = rad per tau
     y0 = np.zeros(fk.N_STATE)
-    y0[fk.PHI], y0[fk.THETA], y0[fk.PSI] = initial.phi, initial.theta, initial.psi
+    phi, theta, psi = initial.angles_rad
+    y0[fk.PHI], y0[fk.THETA], y0[fk.PSI] = phi, theta, psi
     y0[fk.DPHI] = initial.phi_dot * rate
     y0[fk.DTHETA] = initial.theta_dot * rate
-    y0[fk.OMEGA] = (initial.phi_dot * math.cos(initial.theta) + initial.psi_dot) * rate
+    y0[fk.OMEGA] = (initial.phi_dot * math.cos(theta) + initial.psi_dot) * rate
     raw = _run(column, settings, np.zeros((0, 3)), 1.0, y0, duration)
     ds = _histories(column, settings, raw, _diagnostics(raw, settings), Excitation(), None)
     ds.attrs["title"] = "Free motion of a conical frustum rolling on its rim"

@@ -53,7 +53,7 @@ def test_title_names_record_angle_and_scale(overturning):
 
 
 def test_free_motion_has_no_empty_excitation_panel():
-    ds = simulate_free(COLUMN, InitialState(theta=math.radians(10), phi_dot=0.44, psi_dot=-0.89), 2.0)
+    ds = simulate_free(COLUMN, InitialState(theta=10, phi_dot=0.44, psi_dot=-0.89), 2.0)
     fig = response_figure(ds, {"peak_theta": float(np.nanmax(ds.theta.values))})
     assert len(fig.axes) == 3
     assert all(ax.lines for ax in fig.axes)

@@ -67,13 +67,13 @@ def test_cylinder_in_one_direction_reproduces_planar_rocking(fema1, scale):
 def test_free_planar_rocking_restitution_at_every_landing(slenderness):
     col = Column(0.5, 0.45, 0.5 * slenderness)
     e = housner_restitution(col)
-    init = InitialState(theta=0.5 * col.critical_tilt)
+    init = InitialState(theta=math.degrees(0.5 * col.critical_tilt))
     # a rigid base: the impact map alone, no patch damping on the way down
-    settings = ModelSettings(contact_tilt=1e-5, rtol=1e-11, atol=1e-13, normal_stiffness=math.inf)
+    settings = ModelSettings(contact_tilt=math.degrees(1e-5), rtol=1e-11, atol=1e-13, normal_stiffness=math.inf)
     from pipeline.simulate import _run  # the landing log of the kernel
     import pipeline.dynamics.frustum as fk
     y0 = np.zeros(fk.N_STATE)
-    y0[fk.THETA] = init.theta
+    y0[fk.THETA] = math.radians(init.theta)
     raw = _run(col, settings, np.zeros((0, 3)), 1.0, y0, 8.0)
     log = raw.impacts
     assert len(log) >= 5

@@ -60,12 +60,14 @@ def register(subparsers):
                        "in one file along the model dimension (default 3d)")
     quake.add_argument("--tail", type=float, default=5.0, metavar="S",
                        help="free motion after the record ends [s] (default 5)")
-    quake.add_argument("--contact-tilt", type=float, default=1e-5, metavar="RAD",
-                       help="tilt below which the base is in full contact [rad] (default 1e-5)")
+    quake.add_argument("--contact-tilt", type=float, default=None, metavar="DEG",
+                       help="tilt below which the base is in full contact [deg] (default: where the bed's "
+                       "compliance loses full contact under the weight, theta_k)")
     quake.add_argument("--damping", type=float, default=0.0, metavar="NU",
                        help="viscous contact couple per m g R sqrt(R/g) [1] (default 0: none)")
     quake.add_argument("--friction", type=float, default=0.7, metavar="MU",
-                       help="friction coefficient compared with the mobilized friction [1] (default 0.7)")
+                       help="Coulomb friction of the base on the ground [1]: it slides, or its rim slips, "
+                       "beyond it (default 0.7)")
     quake.add_argument("--plot", metavar="FILE.png",
                        help="also draw theta, contact path, mu_mob and excitation (any format matplotlib writes: "
                        ".png, .pdf, .svg, ...; with two models, one file per model: FILE_3d.png, FILE_2d.png)")
@@ -193,9 +195,9 @@ def _free(args, column):
     if args.duration is None:
         raise InputError("a free motion needs --duration (seconds)")
     initial = InitialState(
-        phi=deg_to_rad(args.phi0),
-        theta=deg_to_rad(args.theta0),
-        psi=deg_to_rad(args.psi0),
+        phi=args.phi0,
+        theta=args.theta0,
+        psi=args.psi0,
         phi_dot=args.phi_dot0,
         theta_dot=args.theta_dot0,
         psi_dot=args.psi_dot0,

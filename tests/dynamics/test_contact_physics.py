@@ -157,7 +157,7 @@ def test_2d_contact_tilt_zero_lands_like_a_tiny_one(fema1):
     # a rigid base: only the numerical contact tilt sets where it lands
     runs = [simulate(PAPER, fema1, Excitation(),
                      ModelSettings(model="2d", contact_tilt=tilt, normal_stiffness=math.inf), histories=False)
-            for tilt in (0.0, 1e-9)]
+            for tilt in (0.0, math.degrees(1e-9))]
     a, b = (r.summary for r in runs)
     assert a["n_impacts"] > 10
     assert a["n_impacts"] == b["n_impacts"]
