@@ -127,6 +127,11 @@ class ModelSettings:
         Normal dashpots of the joint per unit area, c_n [Pa s/m]; None: the
         critical damping of the column bouncing on its base,
         ``2 sqrt(k_n m / A)``.
+    numerics : tuple of (str, float)
+        Overrides of the rigid kernels' numerical thresholds
+        (:data:`pipeline.dynamics.hybrid.NUMERICS`: ``landing_margin``,
+        ``min_rebound``, ``slave_time``, ``look_ahead``), for studies that
+        show no result depends on them; e.g. ``(("slave_time", 1e-5),)``.
     tail : float
         Free motion after the record ends [s].
     rtol, atol : float
@@ -143,6 +148,7 @@ class ModelSettings:
     lift_off: bool = True
     normal_stiffness: float = 1.0e10
     contact_damping: float | None = None
+    numerics: tuple = ()
     tail: float = 5.0
     rtol: float = 1e-9
     atol: float = 1e-12
@@ -173,6 +179,12 @@ class ModelSettings:
                 isinstance(self.contact_damping, (int, float)) and 0.0 <= self.contact_damping < math.inf):
             raise InputError(f"contact_damping = {self.contact_damping!r} Pa s/m must be a number >= 0 "
                              "(or omitted for critical damping)")
+        numerics = dict(self.numerics)
+        for name, value in numerics.items():
+            if name not in hy.NUMERICS:
+                raise InputError(f"numerics: {name!r} is unknown; choose from {', '.join(hy.NUMERICS)}")
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+                raise InputError(f"numerics: {name} = {value!r} must be a positive number")
         for name in ("rtol", "atol", "output_step"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
@@ -278,6 +290,11 @@ def _options(column, settings):
     opts[fk.OPT_UNILATERAL] = 1.0 if settings.lift_off else 0.0
     opts[fk.OPT_THETA_K], opts[fk.OPT_PATCH_DAMPING] = patch_parameters(column, settings)
     opts[fk.OPT_THETA_C] = contact_tilt(column, settings)
+    numerics = {**hy.NUMERICS, **dict(settings.numerics)}
+    opts[fk.OPT_LANDING_MARGIN] = numerics["landing_margin"]
+    opts[fk.OPT_MIN_REBOUND] = numerics["min_rebound"]
+    opts[fk.OPT_SLAVE_TIME] = numerics["slave_time"]
+    opts[fk.OPT_LOOK_AHEAD] = numerics["look_ahead"]
     return opts
 
 

@@ -63,10 +63,13 @@ N_ROLLING = 10  # the slots rolling integrates
 # c_n R^3 / (m sqrt(g R)); whether the patch's drilling friction holds the
 # pivot (no turning about the vertical through P) and, if not, the sense it
 # turns in.
+# The last four are the numerical thresholds of pipeline.dynamics.hybrid
+# (defaults there, in NUMERICS), carried at run time so that a study can vary
+# them without recompiling.
 (OPT_THETA_C, OPT_THETA_LIE, OPT_NU, OPT_MU, OPT_PHASE, OPT_PIVOT, OPT_SIGN, OPT_UNUSED,
  OPT_SLAVED, OPT_PHI_REF, OPT_UNILATERAL, OPT_THETA_K, OPT_PATCH_DAMPING, OPT_PIVOT_HELD,
- OPT_DRILL_SIGN) = range(15)
-N_OPT = 15
+ OPT_DRILL_SIGN, OPT_LANDING_MARGIN, OPT_MIN_REBOUND, OPT_SLAVE_TIME, OPT_LOOK_AHEAD) = range(19)
+N_OPT = 19
 
 # Indices into the constants array.
 C_IY, C_IZ, C_ZC, C_DELTA, C_K, C_IZ1, C_A = range(7)

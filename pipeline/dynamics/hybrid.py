@@ -102,33 +102,36 @@ EV_LAND, EV_LIE, EV_TURN, EV_LIFT, EV_SLIP, EV_STICK, EV_MODE, EV_PIVOT = range(
 # friction letting the pivot go (or its turning stopping)
 EVENT_DIRECTIONS = np.array([-1.0, 1.0, 0.0, -1.0, -1.0, -1.0, -1.0, -1.0])
 
-# The direction of a two-dimensional Coulomb slip relaxes towards the
-# consistent one (slip acceleration along the slip) at the rate k / s, k of
-# order mu N: at slip onset and stop (s -> 0) that is infinitely fast, and no
-# explicit step survives it. Below s = SLAVE_TIME mu N the direction is
-# therefore slaved: taken as the consistent direction, solved at every
-# evaluation (an error of the order of the lag SLAVE_TIME x the turning rate
-# of that direction, 1e-4 rad per rad/tau); above it the direction is a state.
-# The layer is left at SLAVE_TIME mu N and entered again below half of it.
-SLAVE_TIME = 1e-6  # [tau]
+# Numerical thresholds (defaults; carried in the options array, OPT_*, so that
+# studies/thresholds can vary them). No physical result may depend on them:
+# studies/thresholds/results.md shows that none does.
+#
+# slave_time [tau]: the direction of a two-dimensional Coulomb slip relaxes
+# towards the consistent one (slip acceleration along the slip) at the rate
+# k / s, k of order mu N: at slip onset and stop (s -> 0) that is infinitely
+# fast, and no explicit step survives it. Below s = slave_time mu N the
+# direction is therefore slaved: taken as the consistent direction, solved at
+# every evaluation (an error of the order of the lag slave_time x the turning
+# rate of that direction); above it the direction is a state. The layer is
+# left at slave_time mu N and entered again below half of it.
+#
+# look_ahead [tau]: a phase that starts on a bound (stick after a slip stops,
+# say) is checked a little ahead as well: the integrator reads the event signs
+# only after a restart window of 1e-7 of its first step, and a bound left
+# within it would not be seen (the phase would then violate it until the next
+# crossing).
+#
+# landing_margin [1]: rolling starts at theta_c; the landing surface lies a
+# hair below it, (1 - landing_margin) theta_c, so a column that uplifts on the
+# verge of the threshold (theta'' ~ 0) does not start on the landing surface,
+# where round-off would trip the event at once.
+#
+# min_rebound [rad]: a rebound that would rise less than this above theta_c is
+# a settling: shorter excursions than an integration step could slip past the
+# landing event (and with theta_c = 0 the column would never settle otherwise).
+NUMERICS = {"landing_margin": 1e-3, "min_rebound": 1e-8, "slave_time": 1e-6, "look_ahead": 1e-7}
 
-# A phase that starts on a bound (stick after a slip stops, say) is checked a
-# little ahead as well: the integrator reads the event signs only after a
-# restart window of 1e-7 of its first step, and a bound left within it would
-# not be seen (the phase would then violate it until the next crossing).
-LOOK_AHEAD = 1e-7  # [tau]
 _TWO_PI = 2.0 * math.pi
-
-# Rolling starts at theta_c; the landing surface lies a hair below it, so a
-# column that uplifts on the verge of the threshold (theta'' ~ 0) does not
-# start on the landing surface, where round-off would trip the event at once
-# and the uplift-landing-settle cycle could repeat without time advancing.
-LANDING_MARGIN = 1e-3
-
-# A rebound that would rise less than this above theta_c is a settling:
-# shorter excursions than an integration step could slip past the landing
-# event (and with theta_c = 0 the column would never settle otherwise).
-MIN_REBOUND_TILT = 1e-8  # [rad]
 
 
 # --- the three-dimensional frustum ----------------------------------------------------------
@@ -476,7 +479,7 @@ def events3d(t, y, params, g):
         g[EV_LAND] = y[fk.ZC] - rim.lever(theta, c[fk.C_ZC])
         g[EV_SLIP] = theta  # the axis passes the vertical (planar flight): Euler angles flip
         return
-    g[EV_LAND] = theta - (1.0 - LANDING_MARGIN) * opts[fk.OPT_THETA_C]
+    g[EV_LAND] = theta - (1.0 - opts[fk.OPT_LANDING_MARGIN]) * opts[fk.OPT_THETA_C]
     if phase == PHASE_ROLLING:
         r = _rolling_state(t, y, params)
         f_xi, f_n, f_z = r[3], r[4], r[5]
@@ -498,7 +501,7 @@ def events3d(t, y, params, g):
 @njit(cache=True)
 def _layer_event(speed, opts, normal):
     """Leaving (slaved) or entering (free) the slaved-direction layer: falls through 0."""
-    edge = SLAVE_TIME * opts[fk.OPT_MU] * max(normal, 0.0)
+    edge = opts[fk.OPT_SLAVE_TIME] * opts[fk.OPT_MU] * max(normal, 0.0)
     if opts[fk.OPT_SLAVED] != 0.0:
         return edge - speed
     return speed - 0.5 * edge
@@ -590,9 +593,9 @@ def _first(summary, k, t):
 
 
 @njit(cache=True)
-def _settle_kinetic(theta_c, zc):
+def _settle_kinetic(theta_c, zc, min_rebound):
     """Kinetic energy [m g R] below which a landing column settles to rest."""
-    top = theta_c + max(theta_c, MIN_REBOUND_TILT)
+    top = theta_c + max(theta_c, min_rebound)
     return (math.sin(top) + zc * math.cos(top)) - (math.sin(theta_c) + zc * math.cos(theta_c))
 
 
@@ -727,7 +730,8 @@ def _start_slip(y, opts, chi, normal):
     """Begin a slip with speed ``y[SLIP_SPEED]`` in direction chi, slaved if it is slow."""
     y[fk.SLIP_DIR] = chi
     opts[fk.OPT_PHI_REF] = y[fk.PHI]
-    opts[fk.OPT_SLAVED] = 1.0 if y[fk.SLIP_SPEED] < SLAVE_TIME * opts[fk.OPT_MU] * max(normal, 0.0) else 0.0
+    edge = opts[fk.OPT_SLAVE_TIME] * opts[fk.OPT_MU] * max(normal, 0.0)
+    opts[fk.OPT_SLAVED] = 1.0 if y[fk.SLIP_SPEED] < edge else 0.0
 
 
 @njit(cache=True)
@@ -745,12 +749,13 @@ def _sync_direction(t, y, params, phase):
 
 @njit(cache=True)
 def _ahead(t, y, params):
-    """The rolling state LOOK_AHEAD later (one Euler step)."""
+    """The rolling state a look-ahead later (one Euler step, ``OPT_LOOK_AHEAD``)."""
     ahead = y.copy()
     rate = np.empty(y.shape[0])
     _rhs_rolling(t, y, params, rate)
+    step = params[3][fk.OPT_LOOK_AHEAD]
     for i in range(fk.N_ROLLING):
-        ahead[i] += LOOK_AHEAD * rate[i]
+        ahead[i] += step * rate[i]
     return ahead
 
 
@@ -776,7 +781,7 @@ def _pivot_mode(t, y, params):
     if opts[fk.OPT_MU] == math.inf:
         return
     r = _rolling_state(t, y, params)
-    q = _rolling_state(t + LOOK_AHEAD, _ahead(t, y, params), params)
+    q = _rolling_state(t + opts[fk.OPT_LOOK_AHEAD], _ahead(t, y, params), params)
     if abs(r[12]) <= r[13] and abs(q[12]) <= q[13]:
         return
     # too strong a twist for the patch: it turns, against the couple that would hold it
@@ -798,7 +803,7 @@ def _enter_contact(t, y, params):
     # a bound that holds now but is being left (N or the margin falling
     # through 0 within the integrator's restart window) would go unseen
     ahead = _ahead(t, y, params)
-    g_xi, g_n, g_z, _ax, _ay, _az = _rolling_contact(t + LOOK_AHEAD, ahead, params)
+    g_xi, g_n, g_z, _ax, _ay, _az = _rolling_contact(t + opts[fk.OPT_LOOK_AHEAD], ahead, params)
     unilateral = opts[fk.OPT_UNILATERAL] != 0.0
     pushes = (f_z >= 0.0 and g_z >= 0.0) or not unilateral
     if pushes and (mu == math.inf or (math.sqrt(f_xi * f_xi + f_n * f_n) <= mu * f_z
@@ -995,7 +1000,7 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
     y_new = y0.copy()
     rotation = y0[fk.PHI] + y0[fk.PSI]  # body rotation about the vertical while at rest
     rest_energy = zc  # V at theta = 0
-    settle_kinetic = _settle_kinetic(theta_c, zc)
+    settle_kinetic = _settle_kinetic(theta_c, zc, opts[fk.OPT_MIN_REBOUND])
     phase = PHASE_ROLLING if y0[fk.THETA] > 0.0 else PHASE_REST
     summary[S_ENERGY_START] = energy3d(phase, y, c)
     moving = phase  # the phase the column lies down from
@@ -1350,7 +1355,7 @@ def events2d(t, y, params, g):
         g[EV_LAND] = y[rk.Z2] - rk.cm_offset(theta, c[fk.C_ZC])[1]
         return
     # signed with the pivot side, so that theta_c = 0 is a crossing too
-    g[EV_LAND] = opts[fk.OPT_PIVOT] * theta - (1.0 - LANDING_MARGIN) * opts[fk.OPT_THETA_C]
+    g[EV_LAND] = opts[fk.OPT_PIVOT] * theta - (1.0 - opts[fk.OPT_LANDING_MARGIN]) * opts[fk.OPT_THETA_C]
     unilateral = opts[fk.OPT_UNILATERAL] != 0.0
     if phase == PHASE_ROLLING:
         f_u, f_z, _dd, _p = _rocking_contact(theta, y[rk.DTHETA2], a_u, a_z, c, opts)
@@ -1435,9 +1440,10 @@ def _enter_contact2d(t, y, params):
     c, record, dt, opts = params[0], params[1], params[2], params[3]
     a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
     f_u, f_z, ddtheta, _p = _rocking_contact(y[rk.THETA2], y[rk.DTHETA2], a_u, a_z, c, opts)
-    b_u, _unused, b_z = fk.ground_acceleration(t + LOOK_AHEAD, record, dt)
-    theta_ahead = y[rk.THETA2] + LOOK_AHEAD * y[rk.DTHETA2]
-    rate_ahead = y[rk.DTHETA2] + LOOK_AHEAD * ddtheta
+    step = opts[fk.OPT_LOOK_AHEAD]
+    b_u, _unused, b_z = fk.ground_acceleration(t + step, record, dt)
+    theta_ahead = y[rk.THETA2] + step * y[rk.DTHETA2]
+    rate_ahead = y[rk.DTHETA2] + step * ddtheta
     g_u, g_z, _dd, _p = _rocking_contact(theta_ahead, rate_ahead, b_u, b_z, c, opts)
     unilateral = opts[fk.OPT_UNILATERAL] != 0.0
     mu = opts[fk.OPT_MU]
@@ -1522,7 +1528,7 @@ def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
     _init_summary(summary)
     y = y0.copy()
     rest_energy = zc
-    settle_kinetic = _settle_kinetic(theta_c, zc)
+    settle_kinetic = _settle_kinetic(theta_c, zc, opts[fk.OPT_MIN_REBOUND])
     phase = PHASE_REST
     if y0[rk.THETA2] != 0.0:
         phase = PHASE_ROLLING
@@ -1770,7 +1776,7 @@ def _pivot_from_row(y, opts):
 def _row_direction(t, y, params):
     """Slip direction of an output row: stored, or slaved (consistent) inside the slow layer."""
     normal = _slip_with(t, y, params, y[fk.SLIP_DIR])[0]
-    if y[fk.SLIP_SPEED] >= SLAVE_TIME * params[3][fk.OPT_MU] * max(normal, 0.0):
+    if y[fk.SLIP_SPEED] >= params[3][fk.OPT_SLAVE_TIME] * params[3][fk.OPT_MU] * max(normal, 0.0):
         return y[fk.SLIP_DIR]
     return consistent_direction(t, y, params, y[fk.SLIP_DIR])
 
