@@ -791,6 +791,26 @@ def scheduler_address(address):
     return full
 
 
+def _probe_tcp(address, full, timeout, fix):
+    """InputError at once if nothing listens on a tcp scheduler address.
+
+    Dask's own connect retries a refused port until its timeout, which on a
+    loaded machine turns "nothing there" into "no answer in time"; a plain
+    socket tells the two apart.
+    """
+    import socket
+    from urllib.parse import urlsplit
+
+    parts = urlsplit(full)
+    if parts.scheme != "tcp":
+        return
+    try:
+        socket.create_connection((parts.hostname, parts.port), timeout=timeout).close()
+    except OSError as exc:
+        reason = exc.strerror or str(exc) or type(exc).__name__
+        raise InputError(f"--scheduler {address}: cannot connect ({reason}); {fix}") from None
+
+
 def check_scheduler(address, timeout=SCHEDULER_TIMEOUT):
     """Refuse, within ``timeout`` [s], a scheduler address that is malformed, unreachable or not Dask's.
 
@@ -808,6 +828,7 @@ def check_scheduler(address, timeout=SCHEDULER_TIMEOUT):
 
     fix = "start one with `dask scheduler`, or drop --scheduler for a local cluster"
     full = scheduler_address(address)
+    _probe_tcp(address, full, timeout, fix)
     pool = concurrent.futures.ThreadPoolExecutor(1)  # its own event loop, whatever the caller runs
     try:
         reply = pool.submit(asyncio.run, _identity(full, timeout)).result(timeout + 1.0)
