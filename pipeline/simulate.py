@@ -7,7 +7,9 @@ a :class:`Response`: a summary (peaks, overturning, energy budget, ...) and,
 on request, an ``xarray.Dataset`` of time histories named as in
 :mod:`pipeline.dataset`.
 
-Two models share this interface (``ModelSettings.model``):
+Three models share this interface (``ModelSettings.model``); the third,
+``"3d-compliant"`` (rigid drums on joints of contact points, monolith or
+multi-drum, :mod:`pipeline.compliant`), is dispatched to its own module:
 
 * ``"3d"``: the rolling frustum of the paper. The column is axisymmetric, so
   its response to a record turned by the incidence angle is its response to
@@ -31,9 +33,11 @@ from pipeline.dynamics import frustum as fk
 from pipeline.dynamics import hybrid as hy
 from pipeline.dynamics import rocking as rk
 from pipeline.errors import InputError
+from pipeline.geometry import Column
 from pipeline.units import G, time_scale
 
-MODELS = ("3d", "2d")
+MODELS = ("3d", "2d", "3d-compliant")
+COMPLIANT_MODELS = ("3d-compliant",)  # pipeline.compliant: rigid drums on compliant joints
 
 # Geometry the model is meant for: free-standing columns and drums, from
 # squat drums to slender monoliths, from pebbles to the largest monoliths.
@@ -102,6 +106,11 @@ class ModelSettings:
         Integration tolerances (dimensionless state).
     output_step : float
         Sampling interval of the time histories [s].
+    normal_stiffness, stiffness_ratio, contact_damping, contact_rings, contact_sectors, \
+joint_friction, anathyrosis, base_anathyrosis, monitor_step
+        Options of the compliant-contact model ``"3d-compliant"`` (there
+        ``friction`` is the base's friction coefficient and ``restitution`` the
+        target of the damping calibration); see :mod:`pipeline.compliant`.
     """
 
     model: str = "3d"
@@ -113,6 +122,15 @@ class ModelSettings:
     rtol: float = 1e-9
     atol: float = 1e-12
     output_step: float = 0.01
+    normal_stiffness: float = 1.0e10
+    stiffness_ratio: float = 0.5
+    contact_damping: float | None = None
+    contact_rings: int = 3
+    contact_sectors: int = 24
+    joint_friction: float | tuple | None = None
+    anathyrosis: float | tuple = 0.0
+    base_anathyrosis: float = 0.0
+    monitor_step: float = 0.001
 
     def __post_init__(self):
         if self.model not in MODELS:
@@ -133,6 +151,9 @@ class ModelSettings:
                 raise InputError(f"{name} = {value!r} must be a positive number")
         if self.restitution is not None and not (0.0 <= self.restitution <= 1.0):
             raise InputError(f"restitution = {self.restitution!r} must be between 0 and 1 (or omitted)")
+        from pipeline.compliant import check_settings
+
+        check_settings(self)
 
 
 @dataclass(frozen=True)
@@ -222,7 +243,8 @@ def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), 
 
     Parameters
     ----------
-    column : pipeline.geometry.Column
+    column : pipeline.geometry.Column or pipeline.drums.DrumColumn
+        A multi-drum column needs the model ``"3d-compliant"``.
     motion : pipeline.groundmotion.GroundMotion
     excitation : Excitation
         Incidence angle, scale and whether to use the vertical component.
@@ -234,6 +256,10 @@ def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), 
     -------
     Response
     """
+    if settings.model in COMPLIANT_MODELS or not isinstance(column, Column):
+        from pipeline.compliant import simulate_compliant
+
+        return simulate_compliant(column, motion, excitation, settings, histories)
     check_column(column)
     if not isinstance(excitation, Excitation):
         raise InputError(f"excitation must be an Excitation, got {type(excitation).__name__}")
