@@ -19,7 +19,10 @@ contact points, each standing for a patch of area A of the upper body's bed face
   to mu times the normal force, unloading elastic at once). Its state is the shear
   displacement ``u`` (two components in the face plane). Inside the cone,
   ``k_s A |u| < mu f_el``, the point sticks: ``u' = v_t`` and the force on the upper body is
-  ``-k_s A u``. On the cone it slips: the force is ``-mu f_el n`` with ``n = u/|u|``, exactly
+  ``-k_s A u - c_s A v_t``, a spring-dashpot as in the normal direction (the shear dashpot
+  has the normal one's ratio to the stiffness, as stiffness-proportional damping in DEM
+  codes; without it the column rattles on its undamped shear springs while it sticks, and
+  enters a slip with the rattle's velocity). On the cone it slips: the force is ``-mu f_el n`` with ``n = u/|u|``, exactly
   Coulomb's, and ``u' = v_t - lambda n`` with the slip rate ``lambda`` taking up the outward
   push ``g = n.v_t - (mu f_el)'/(k_s A)`` (the consistency condition of
   elastic-perfectly plastic friction). The cap uses the elastic normal force
@@ -41,7 +44,8 @@ contact points, each standing for a patch of area A of the upper body's bed face
 
 Energy: the elastic energy of a point is ``1/2 k_n A s d^2`` plus ``1/2 F^2 / (k_s A)`` for
 its shear force F. The damping and friction dissipation rates returned here are exactly what
-the forces take out of kinetic plus elastic energy (``(f_n - f_el) d'`` and ``mu f_el g``),
+the forces take out of kinetic plus elastic energy (``(f_n - f_el) d'``, ``c_s A |v_t|^2`` and
+``mu f_el g``),
 whatever the state does inside the dead band; this is what makes the energy budget of the
 models close to the integration error. (Inside the dead band, while the slip reverses, the
 friction rate can be slightly negative: the dead band's own energy, microjoules.)
@@ -131,7 +135,7 @@ EPS = 1e-3
 
 
 @njit(cache=True)
-def shear_law(ux, uy, vx, vy, cap, cap_rate, k_area, tau, u_floor):
+def shear_law(ux, uy, vx, vy, cap, cap_rate, k_area, c_area, tau, u_floor):
     """Shear force of one point, the rate of its state, its energy and dissipation.
 
     Parameters
@@ -146,6 +150,9 @@ def shear_law(ux, uy, vx, vy, cap, cap_rate, k_area, tau, u_floor):
         Its time derivative [force/time].
     k_area : float
         Shear stiffness of the point, ``k_s A`` [force/length].
+    c_area : float
+        Shear dashpot of the point while it sticks [force time/length] (the caller gives it
+        the normal dashpot's ratio to the stiffness, engaged as the normal one).
     tau : float
         Time of the return to the cone and of the relaxation of an unloaded spring [time].
     u_floor : float
@@ -154,15 +161,17 @@ def shear_law(ux, uy, vx, vy, cap, cap_rate, k_area, tau, u_floor):
     Returns
     -------
     tuple of float
-        ``(ux', uy', fx, fy, energy, dissipation, slip rate)``: the force on the upper body
-        (fx, fy) [force], the elastic energy ``F^2/(2 k_s A)``, the power friction takes out
-        ``mu f_el g`` and the slip rate ``lambda`` [length/time].
+        ``(ux', uy', fx, fy, energy, friction, damping, slip rate)``: the force on the upper
+        body (fx, fy) [force], the elastic energy ``F^2/(2 k_s A)`` of the spring, the power
+        friction takes out ``mu f_el g``, the power of the dashpot ``c A |v_t|^2`` and the
+        slip rate ``lambda`` [length/time].
     """
     if cap <= 0.0:
-        return -ux / tau, -uy / tau, 0.0, 0.0, 0.0, 0.0, 0.0
+        return -ux / tau, -uy / tau, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     ur = math.sqrt(ux * ux + uy * uy)
     if k_area * ur < cap:  # stick (and elastic unloading)
-        return vx, vy, -k_area * ux, -k_area * uy, 0.5 * k_area * ur * ur, 0.0, 0.0
+        return (vx, vy, -k_area * ux - c_area * vx, -k_area * uy - c_area * vy, 0.5 * k_area * ur * ur, 0.0,
+                c_area * (vx * vx + vy * vy), 0.0)
     nx = ux / ur
     ny = uy / ur
     vn = nx * vx + ny * vy
@@ -171,7 +180,7 @@ def shear_law(ux, uy, vx, vy, cap, cap_rate, k_area, tau, u_floor):
     turn = min(1.0, ur / u_floor)
     dux = vn * nx + turn * (vx - vn * nx) - lam * nx
     duy = vn * ny + turn * (vy - vn * ny) - lam * ny
-    return dux, duy, -cap * nx, -cap * ny, 0.5 * cap * cap / k_area, cap * g, lam
+    return dux, duy, -cap * nx, -cap * ny, 0.5 * cap * cap / k_area, cap * g, 0.0, lam
 
 
 def lobatto_nodes(n):

@@ -250,8 +250,10 @@ def _contacts(y, params, dydt, rates, monitor):
                 rho_dot = (xi_x * vtx + xi_y * vty) / rho if ds != 0.0 else 0.0
                 cap_rate = mu * area * kn * (s * d_dot + d * ds * rho_dot)
             ux, uy = y[sh + 2 * p], y[sh + 2 * p + 1]
-            dux, duy, fx, fy, e_shear, p_fric, lam = jl.shear_law(
-                ux, uy, vtx, vty, cap, cap_rate, ks * area, tau, joints[j, J_UFLOOR])
+            # the shear dashpot: the normal one's ratio to the stiffness, engaged as it is
+            c_shear = ks / kn * cn * area * s * min(1.0, d / joints[j, J_DELTA])
+            dux, duy, fx, fy, e_shear, p_fric, p_visc, lam = jl.shear_law(
+                ux, uy, vtx, vty, cap, cap_rate, ks * area, c_shear, tau, joints[j, J_UFLOOR])
             # the pull of a patch running off the edge of the face below (from 1/2 k A s d^2)
             if ds != 0.0 and d > 0.0:
                 rho = math.sqrt(xi_x * xi_x + xi_y * xi_y)
@@ -262,7 +264,7 @@ def _contacts(y, params, dydt, rates, monitor):
                 dydt[sh + 2 * p] = dux
                 dydt[sh + 2 * p + 1] = duy
                 d_fric += p_fric
-                d_damp += p_damp
+                d_damp += p_damp + p_visc
                 slip_rate += area * lam
             if monitor:
                 mon[j, M_NORMAL] += f_n
