@@ -168,9 +168,10 @@ def assemble(column, settings, damping):
         # the rim patch runs off the face below over half the spacing of the outer rings
         joints[b, sk.J_BAND] = 0.5 * (ring_radii[-1] - ring_radii[-2]) if len(ring_radii) > 1 else 0.5 * radius
         joints[b, sk.J_AREA] = area
-        # rocking on the rim: the centre of pressure beyond the circle inscribed in the rim
-        # polygon; landed again: back inside half the radius
-        joints[b, sk.J_RIM] = radius * math.cos(math.pi / settings.contact_sectors)
+        # rocking on the rim: the centre of pressure beyond the chord joining the neighbours
+        # of a rim point (any share of the load among a pivot point and its two neighbours,
+        # which a compliant pivot presses in too); landed again: back inside half the radius
+        joints[b, sk.J_RIM] = radius * math.cos(2.0 * math.pi / settings.contact_sectors)
         joints[b, sk.J_LAND] = 0.5 * radius
         joints[b, sk.J_DELTA] = above[b] / (kn * area)  # the static penetration
         # the elastic shear displacement at the cap under the joint's mean pressure

@@ -431,8 +431,8 @@ def _unwrap(previous, angle):
 
 @njit(cache=True)
 def _on_rim(mon, joints, j):
-    """Joint j rocks on its rim: its centre of pressure lies beyond the circle inscribed in the
-    rim polygon (only rim points carry it), or it carries nothing (flight)."""
+    """Joint j rocks on its rim: its centre of pressure lies beyond ``J_RIM`` from the axis
+    (only a rim point and its neighbours carry it), or it carries nothing (flight)."""
     if mon[j, M_NORMAL] <= 0.0:
         return True
     return _cop_radius(mon, j) >= joints[j, J_RIM]
