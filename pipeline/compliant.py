@@ -105,7 +105,8 @@ def assemble(column, settings, damping):
     settings : pipeline.simulate.ModelSettings
         Joint stiffness, ratio, friction, contact points, anathyrosis.
     damping : float
-        Normal damping per unit area c_n [Pa s/m], the same at every joint.
+        Normal damping per unit area c_n [Pa s/m] of the base; a bed joint of another
+        stiffness gets the same damping ratio, c_n sqrt(k_joint / k_n).
 
     Returns
     -------
@@ -143,14 +144,17 @@ def assemble(column, settings, damping):
     friction = [settings.friction] + _per_joint(settings.joint_friction, n - 1, "joint_friction", settings.friction)
     inner = [settings.base_anathyrosis] + _per_joint(settings.anathyrosis, n - 1, "anathyrosis", 0.0)
     force = M * G  # force unit
-    kn = settings.normal_stiffness * L**3 / force
-    ks = settings.stiffness_ratio * kn
-    cn = damping * L**3 / (force * T)
+    # the base on the ground, then the bed joints (their own stiffness if given); the damping
+    # keeps its ratio to the stiffness, as the calibrated c_n has at the base
+    stiffness = [settings.normal_stiffness] + [settings.joint_stiffness or settings.normal_stiffness] * (n - 1)
     points, starts = [], [0]
     joints = np.zeros((n, sk.N_JOINT_COLS))
     above = np.cumsum(bodies[::-1, sk.B_MASS])[::-1]
     for b, row in enumerate(rows):
         radius = row[6] / L
+        kn = stiffness[b] * L**3 / force
+        ks = settings.stiffness_ratio * kn
+        cn = damping * math.sqrt(stiffness[b] / settings.normal_stiffness) * L**3 / (force * T)
         pts = jl.contact_points(radius, inner[b] * radius, settings.contact_rings, settings.contact_sectors)
         table = np.zeros((len(pts), sk.N_POINT_COLS))
         table[:, sk.P_X], table[:, sk.P_Y], table[:, sk.P_AREA] = pts[:, 0], pts[:, 1], pts[:, 2]
@@ -158,7 +162,7 @@ def assemble(column, settings, damping):
         points.append(table)
         starts.append(starts[-1] + len(pts))
         area = float(np.sum(pts[:, 2]))
-        ring_radii = np.unique(np.hypot(pts[:, 0], pts[:, 1]))
+        ring_radii = np.unique(np.round(np.hypot(pts[:, 0], pts[:, 1]), 9))  # one radius per ring
         joints[b, sk.J_KN] = kn
         joints[b, sk.J_KS] = ks
         joints[b, sk.J_MU] = friction[b]
@@ -229,6 +233,10 @@ def check_settings(settings):
         object.__setattr__(settings, name, _number(getattr(settings, name), name, lo, hi, unit, what))
     _whole(settings, "contact_rings", 2, 8)
     _whole(settings, "contact_sectors", 4, 256, even=True)
+    if settings.joint_stiffness is not None:
+        lo, hi, unit, _ = _RANGES["normal_stiffness"]
+        object.__setattr__(settings, "joint_stiffness", _number(
+            settings.joint_stiffness, "joint_stiffness", lo, hi, unit, "normal stiffness of the bed joints per unit area"))
     if settings.contact_damping is not None:
         object.__setattr__(settings, "contact_damping", _number(
             settings.contact_damping, "contact_damping", 0.0, 1e12, "Pa s/m",

@@ -106,8 +106,8 @@ class ModelSettings:
         Integration tolerances (dimensionless state).
     output_step : float
         Sampling interval of the time histories [s].
-    normal_stiffness, stiffness_ratio, contact_damping, contact_rings, contact_sectors, \
-joint_friction, anathyrosis, base_anathyrosis, monitor_step
+    normal_stiffness, joint_stiffness, stiffness_ratio, contact_damping, contact_rings, \
+contact_sectors, joint_friction, anathyrosis, base_anathyrosis, monitor_step
         Options of the compliant-contact model ``"3d-compliant"`` (there
         ``friction`` is the base's friction coefficient and ``restitution`` the
         target of the damping calibration); see :mod:`pipeline.compliant`.
@@ -123,6 +123,7 @@ joint_friction, anathyrosis, base_anathyrosis, monitor_step
     atol: float = 1e-12
     output_step: float = 0.01
     normal_stiffness: float = 1.0e10
+    joint_stiffness: float | None = None
     stiffness_ratio: float = 0.5
     contact_damping: float | None = None
     contact_rings: int = 3
