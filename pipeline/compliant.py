@@ -161,7 +161,7 @@ def assemble(column, settings, damping):
         table[:, sk.P_Z] = -bodies[b, sk.B_ZC]
         points.append(table)
         starts.append(starts[-1] + len(pts))
-        area = float(np.sum(pts[:, 2]))
+        area = sum(pts[:, 2].tolist())  # summed in the kernel's order: full contact is exactly 1
         ring_radii = np.unique(np.round(np.hypot(pts[:, 0], pts[:, 1]), 9))  # one radius per ring
         joints[b, sk.J_KN] = kn
         joints[b, sk.J_KS] = ks

@@ -48,6 +48,14 @@ VARIABLES = {
     "ground_acc_x": ("m s-2", "ground acceleration, X component", None),
     "ground_acc_y": ("m s-2", "ground acceleration, Y component", None),
     "ground_acc_z": ("m s-2", "ground acceleration, vertical component (upwards)", None),
+    # compliant-contact model (pipeline.compliant): the base's joint, and per drum
+    "slip": ("m", "slip path of the base: area-weighted mean plastic slip of its contact points", None),
+    "contact_area_fraction": ("1", "fraction of the base's contact area that carries load", None),
+    "drum": ("1", "drum index, 0 at the bottom (a capital is the last)", None),
+    "drum_dx": ("m", "X displacement of the drum's centre of mass relative to the ground", None),
+    "drum_dy": ("m", "Y displacement of the drum's centre of mass relative to the ground", None),
+    "drum_theta": ("rad", "inclination of the drum's axis from the vertical", None),
+    "drum_rotation": ("rad", "rotation of the drum about the vertical (phi + psi), unwrapped", None),
     # study results (pipeline.sweep): one value per column, record, angle, scale, model
     "peak_theta": ("rad", "peak inclination of the column axis from the vertical", None),
     "peak_theta_ratio": ("1", "peak inclination over the critical (static overturning) inclination", None),
@@ -73,7 +81,7 @@ VARIABLES = {
     "longitude": ("degree_east", "longitude of the column", "longitude"),
     "column_label": ("1", "label of the column", None),
     "record_label": ("1", "identifier of the ground-motion record", None),
-    "model_label": ("1", "model: 3d rolling frustum or 2d planar rocking", None),
+    "model_label": ("1", "model: 3d rolling frustum, 2d planar rocking or 3d-compliant drums on joints", None),
     "earthquake": ("1", "earthquake (event) of the record", None),
     "station": ("1", "recording station", None),
     "year": ("1", "year of the earthquake (-1: unknown)", None),
@@ -92,7 +100,9 @@ STUDY_VARIABLES.update({
 })
 
 FLAGS = {
-    "phase": ([0, 1, 2], "at_rest rolling_on_rim overturned", "motion phase of the column"),
+    "phase": ([0, 1, 2], "at_rest rolling_on_rim overturned",
+              "motion phase of the column (compliant model: base in contact / rocking on its rim or in "
+              "flight / overturned)"),
     "overturned": ([0, 1], "stands overturned", "the column overturned"),
     "uplifted": ([0, 1], "never_uplifted uplifted", "the base left full contact with the ground"),
     "sliding_onset": ([0, 1], "no_sliding sliding_onset",

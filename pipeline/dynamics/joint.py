@@ -22,7 +22,8 @@ contact points, each standing for a patch of area A of the upper body's bed face
   ``-k_s A u - c_s A v_t``, a spring-dashpot as in the normal direction (the shear dashpot
   has the normal one's ratio to the stiffness, as stiffness-proportional damping in DEM
   codes; without it the column rattles on its undamped shear springs while it sticks, and
-  enters a slip with the rattle's velocity). On the cone it slips: the force is ``-mu f_el n`` with ``n = u/|u|``, exactly
+  enters a slip with the rattle's velocity). The dashpot gives no more than keeps the whole
+  shear force within ``mu f_el``. On the cone it slips: the force is ``-mu f_el n`` with ``n = u/|u|``, exactly
   Coulomb's, and ``u' = v_t - lambda n`` with the slip rate ``lambda`` taking up the outward
   push ``g = n.v_t - (mu f_el)'/(k_s A)`` (the consistency condition of
   elastic-perfectly plastic friction). The cap uses the elastic normal force
@@ -128,6 +129,24 @@ def normal_force(area, kn, cn, delta, s, d, d_dot):
     return f, f_el, (f - f_el) * d_dot
 
 
+@njit(cache=True)
+def _viscous_share(ax, ay, bx, by, cap):
+    """Largest share in [0, 1] of the dashpot force b that keeps |a + share b| <= cap.
+
+    Friction limits the joint's whole shear resistance, spring and dashpot: a sudden load on
+    a sticking point must not draw more than mu N from its dashpot. At the cone (|a| = cap,
+    b outwards) the share is 0, so the force does not jump when the point starts to slip.
+    """
+    bb = bx * bx + by * by
+    if bb == 0.0:
+        return 1.0
+    ab = ax * bx + ay * by
+    room = cap * cap - (ax * ax + ay * ay)  # > 0 inside the cone
+    if (ax + bx) ** 2 + (ay + by) ** 2 <= cap * cap:
+        return 1.0
+    return max(0.0, (-ab + math.sqrt(ab * ab + bb * room)) / bb)
+
+
 # Slip on the cone: the share of the outward push that the state keeps (it leaves the cone),
 # and the relative distance beyond the cone at which the return holds it.
 ETA = 0.05
@@ -170,8 +189,9 @@ def shear_law(ux, uy, vx, vy, cap, cap_rate, k_area, c_area, tau, u_floor):
         return -ux / tau, -uy / tau, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     ur = math.sqrt(ux * ux + uy * uy)
     if k_area * ur < cap:  # stick (and elastic unloading)
-        return (vx, vy, -k_area * ux - c_area * vx, -k_area * uy - c_area * vy, 0.5 * k_area * ur * ur, 0.0,
-                c_area * (vx * vx + vy * vy), 0.0)
+        c = c_area * _viscous_share(k_area * ux, k_area * uy, c_area * vx, c_area * vy, cap)
+        return (vx, vy, -k_area * ux - c * vx, -k_area * uy - c * vy, 0.5 * k_area * ur * ur, 0.0,
+                c * (vx * vx + vy * vy), 0.0)
     nx = ux / ur
     ny = uy / ur
     vn = nx * vx + ny * vy
