@@ -145,3 +145,22 @@ class DrumColumn:
         if self.capital is not None:
             text += f", capital {self.capital.side:g} x {self.capital.side:g} x {self.capital.height:g} m"
         return text
+
+
+def named_drum_column(key):
+    """A named column of ``pipeline/data/columns.toml`` as drums (and capital) where it has them.
+
+    Entries with ``drums`` (a number of equal drums) or ``drum_heights`` [m], and optionally
+    ``capital_side`` and ``capital_height`` [m]; other entries give the monolith.
+    """
+    from pipeline.study import named_columns
+
+    presets = named_columns()
+    if key not in presets:
+        raise InputError(f"{key!r} is not a named column; known: {', '.join(sorted(presets))}")
+    p = presets[key]
+    column = Column(p["R"], p["r"], p["h"], name=key)
+    capital = Capital(p["capital_side"], p["capital_height"]) if "capital_side" in p else None
+    if "drum_heights" in p:
+        return DrumColumn.from_heights(column, p["drum_heights"], capital, key)
+    return DrumColumn.equal(column, int(p.get("drums", 1)), capital, key)

@@ -11,7 +11,7 @@ see docs/studies.md for the full reference)::
 
     title = "Quickstart"
     output = "out/quickstart.nc"     # relative to the study file's folder
-    models = ["3d", "2d"]            # default ["3d"]
+    models = ["3d", "2d"]            # default ["3d"]; also "3d-compliant" (run at every angle)
 
     [[columns]]                      # explicit dimensions ...
     name = "paper"
@@ -68,7 +68,10 @@ _RECORDS = {"ids", "sets", "files", "synthetic"}
 _FILE = {"path", "units", "id"}
 _EXCITATION = {"angles", "scales", "intensity", "vertical", "sa_period"}
 _INTENSITY = {"measure", "values"}
-_OPTIONS = {"restitution", "contact_tilt", "damping", "friction", "tail", "rtol", "atol"}
+_OPTIONS = {"restitution", "contact_tilt", "damping", "friction", "tail", "rtol", "atol",
+            # the compliant-contact model (models = ["3d-compliant"]); the rigid models ignore them
+            "normal_stiffness", "joint_stiffness", "stiffness_ratio", "contact_damping", "contact_rings",
+            "contact_sectors", "joint_friction", "anathyrosis", "base_anathyrosis", "monitor_step"}
 _EXECUTION = {"block_columns"}
 _GENERATORS = ("one_sine_pulse", "cycloidal_pulse", "rectangular_pulse", "ricker_wavelet",
                "mavroeidis_papageorgiou", "harmonic", "kanai_tajimi", "clough_penzien")
