@@ -3,17 +3,32 @@ PYTHON ?= python3
 VENV ?= .venv
 BIN := $(VENV)/bin
 
-.PHONY: main test setup setup-test clean
+.PHONY: main test setup setup-test udunits clean
+
+# --no-compile: byte-compiling every installed module (sympy, obspy, dask, ...) took longer than
+# downloading them; Python compiles the few it imports on first use.
+PIP_INSTALL := $(BIN)/python -m pip install --quiet --no-compile
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
-	$(BIN)/python -m pip install --quiet --upgrade pip
+	$(PIP_INSTALL) --upgrade pip
 
 setup: $(BIN)/python
-	$(BIN)/python -m pip install --quiet -e ".[records]"
+	$(PIP_INSTALL) -e ".[records]"
 
-setup-test: $(BIN)/python
-	$(BIN)/python -m pip install --quiet -e ".[records,test]"
+setup-test: $(BIN)/python udunits
+	$(PIP_INSTALL) -e ".[records,test]"
+
+# The CF check of the tests (cfchecks, in the test extra) loads the UDUNITS-2 C library:
+# Debian's libudunits2-0, installed here when missing (as root, as in CI); otherwise the
+# command to run is printed and the CF test fails naming it.
+udunits:
+	@ldconfig -p 2>/dev/null | grep -q libudunits2 || { \
+	  if [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
+	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends libudunits2-0 >/dev/null; \
+	  else \
+	    echo "make: the CF check needs libudunits2: sudo apt-get install libudunits2-0" >&2; \
+	  fi; }
 
 # The main job: the default study (the paper's column, FEMA far-field pairs, several
 # angles and scales, both models) on a local Dask cluster of processes; writes

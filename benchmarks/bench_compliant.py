@@ -79,7 +79,7 @@ def bench_fragility(stripes):
     costs, over = [], 0
     for motion in motions:
         for scale in stripes:
-            seconds, s = _simulate(column, motion, scale, angle=0.3)
+            seconds, s = _simulate(column, motion, scale, angle=17.0)
             costs.append(seconds)
             over += s["overturned"]
     mean = statistics.mean(costs)

@@ -186,8 +186,8 @@ def assemble(column, settings, damping):
 
 # -- settings --------------------------------------------------------------------------------
 
+_STIFFNESS = (1e6, 1e14, "Pa/m", "normal stiffness of the joints per unit area")
 _RANGES = {  # name: (low, high, unit, what)
-    "normal_stiffness": (1e6, 1e14, "Pa/m", "normal stiffness of the joints per unit area"),
     "stiffness_ratio": (1e-3, 10.0, "", "shear/normal stiffness ratio of the joints"),
     "base_anathyrosis": (0.0, 0.95, "", "inner/outer radius of the base's contact ring (0: full disc)"),
     "monitor_step": (1e-5, 1.0, "s", "sampling interval of the peak and contact statistics"),
@@ -234,7 +234,7 @@ def check_settings(settings):
     _whole(settings, "contact_rings", 2, 8)
     _whole(settings, "contact_sectors", 4, 256, even=True)
     if settings.joint_stiffness is not None:
-        lo, hi, unit, _ = _RANGES["normal_stiffness"]
+        lo, hi, unit, _ = _STIFFNESS
         object.__setattr__(settings, "joint_stiffness", _number(
             settings.joint_stiffness, "joint_stiffness", lo, hi, unit, "normal stiffness of the bed joints per unit area"))
     if settings.contact_damping is not None:
@@ -243,9 +243,13 @@ def check_settings(settings):
             "normal damping of the joints per unit area (omit it to calibrate it to the restitution)"))
     _number_or_list(settings, "joint_friction", 1e-3, 100.0, "friction coefficient of the bed joints")
     _number_or_list(settings, "anathyrosis", 0.0, 0.95, "inner/outer radius of the bed joints' contact ring")
-    if settings.model in ("3d-compliant",) and settings.friction <= 0.0:
-        raise InputError("friction = 0: the compliant model needs a friction coefficient > 0 at the base "
-                         "(its shear springs are capped by mu N)")
+    if settings.model == "3d-compliant":
+        # the rigid models also take an infinite stiffness and friction (the paper's point contact
+        # rolling without slip); the joints of contact points need finite ones
+        _number(settings.normal_stiffness, "normal_stiffness", *_STIFFNESS)
+        if not math.isfinite(settings.friction):
+            raise InputError("friction = inf is the rigid models' rolling without slip; the compliant model "
+                             "needs a finite friction coefficient at the base (e.g. 10 for no sliding)")
 
 
 # -- damping from a coefficient of restitution -------------------------------------------------
@@ -465,7 +469,7 @@ def turned_record(motion, excitation):
     feels the direction of the motion: the pair is turned counter-clockwise as
     :meth:`pipeline.groundmotion.GroundMotion.rotated` does.
     """
-    gamma = excitation.angle
+    gamma = excitation.angle_rad
     ax = np.asarray(motion.acc_x, dtype=np.float64) * excitation.scale
     ay = np.asarray(motion.acc_y, dtype=np.float64) * excitation.scale
     az = motion.acc_z
@@ -535,7 +539,9 @@ def _summary(stack, asm, params, settings, raw, damping, restitution):
         "peak_mu_mob": float(stats[0, sk.JS_PEAK_MU]),
         "sliding_onset": bool(math.isfinite(stats[0, sk.JS_SLIDE_TIME])),
         "sliding_time": float(raw.joint_stats[0, sk.JS_SLIDE_TIME] * T),
-        "lift_off": bool(stats[0, sk.JS_MIN_NORMAL] <= 0.0),
+        "min_normal_force_hat": float(stats[0, sk.JS_MIN_NORMAL]),
+        "lift_off": bool(math.isfinite(stats[0, sk.JS_FLIGHT_TIME])),
+        "lift_off_time": float(stats[0, sk.JS_FLIGHT_TIME] * T),
         "residual_rotation": float(raw.body_stats[0, sk.BS_ROTATION]),
         "residual_displacement": float(math.hypot(dislocation[0, 0], dislocation[0, 1]) * L),
         "slip": float(raw.y_end[-n] * L),
@@ -589,8 +595,12 @@ def _histories(stack, asm, settings, raw, motion, excitation, damping):
     _, _, e13, e23 = _euler_zxz(raw.hist_y[:, sk.QW:sk.QZ + 1])
     zc = asm.bodies[0, sk.B_ZC]
     diag = raw.hist_diag
-    overturned = raw.summary[sk.S_OVERTURN_TIME]
-    phase = np.where(tau >= overturned, 2, diag[:, sk.D_ON_RIM]).astype(np.int8)
+    # the phase flags of the rigid models (pipeline.dataset.FLAGS): in contact 0, on the rim 1,
+    # overturned 2, sliding flat 3, slipping on the rim 4, in flight 5
+    sliding = diag[:, sk.D_MU] >= sk.SLIDE_FRACTION * settings.friction
+    on_rim = diag[:, sk.D_ON_RIM] > 0.0
+    phase = np.select([tau >= raw.summary[sk.S_OVERTURN_TIME], diag[:, sk.D_NORMAL] <= 0.0, on_rim & sliding,
+                       on_rim, sliding], [2, 5, 4, 1, 3], 0).astype(np.int8)
     weight = asm.mass * G
     data = {
         "theta": raw.hist_body[:, -1, sk.H_TILT],
@@ -642,7 +652,7 @@ def _histories(stack, asm, settings, raw, motion, excitation, damping):
         atol=settings.atol,
         record_id=motion.record_id,
         record_sha256=motion.sha256(),
-        incidence_angle_rad=excitation.angle,
+        incidence_angle_rad=excitation.angle_rad,
         scale=excitation.scale,
     )
     annotate(ds)

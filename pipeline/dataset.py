@@ -1,121 +1,166 @@
-"""CF metadata from one variable catalog, and safe netCDF writing.
+"""CF metadata from one variable catalog, and the one netCDF convention of every results file.
 
-Every variable the pipeline writes is described once, here: its units,
-long name and (where the CF standard-name table has one) standard name.
-:func:`annotate` applies the catalog to a Dataset; :func:`write_netcdf` writes
-it compressed and atomically (temporary name, then rename), so an interrupted
-run never leaves a half-written file behind.
+Every variable the pipeline writes is described once, here: its units, long
+name, (where the CF standard-name table has one) standard name and whether
+people read it in degrees. :func:`annotate` applies the catalog to a Dataset;
+:func:`write_netcdf` writes any results Dataset (one simulation, a study, a
+fragility fit) in the one convention below, compressed and atomically
+(temporary name, then rename), so an interrupted run never leaves a
+half-written file behind.
+
+The convention
+--------------
+* Label dimensions (``column``, ``record``, ``model``, ``state``, any
+  dimension whose coordinate holds strings) keep their labels as the
+  dimension's own coordinate, so plain xarray selects by name::
+
+      xr.open_dataset(f).sel(column="paper", model="3d", record="FEMA-FF-01")
+
+  In the file the labels are character arrays (CF 2.2) named like their
+  dimension and declared in every data variable's ``coordinates`` attribute:
+  CF coordinate variables must be numeric, so for CF they are string-valued
+  auxiliary coordinates (CF 6.1), which xarray reads back as the index.
+* Every string variable is a character array; numbers are compressed.
+* A catalog entry with ``degrees=True`` is also written in degrees as
+  ``NAME_deg`` (units ``degree``).
+
+A new output variable is one entry of :data:`VARIABLES`.
 """
 
 import os
-import tempfile
+import shutil
 from datetime import datetime, timezone
+from typing import NamedTuple
 
 import numpy as np
 
 from pipeline import __version__
+from pipeline.atomic import atomic_path
+from pipeline.citation import REFERENCE
+from pipeline.errors import OutputError
 
 CONVENTIONS = "CF-1.10"
-REFERENCE = (
-    "Stefanou I., Psycharis I., Georgopoulos I.-O., Dynamic motion of a conical frustum "
-    "over a rough horizontal plane, International Journal of Non-Linear Mechanics 46 (2011) 114-124"
-)
 
-# name: (units, long_name, standard_name or None)
+
+class Var(NamedTuple):
+    """One catalog entry.
+
+    Attributes
+    ----------
+    units : str
+        UDUNITS string (CF ``units``).
+    long_name : str
+    standard_name : str or None
+        A name of the CF standard-name table, where one fits.
+    degrees : bool
+        An angle [rad] people read: also written in degrees as ``NAME_deg``.
+    """
+
+    units: str
+    long_name: str
+    standard_name: str | None = None
+    degrees: bool = False
+
+
 VARIABLES = {
-    "time": ("s", "time since the start of the simulation", "time"),
-    "tau": ("1", "dimensionless time t sqrt(g/R)", None),
-    "phi": ("rad", "precession angle of the column axis", None),
-    "theta": ("rad", "inclination of the column axis from the vertical", None),
-    "psi": ("rad", "rotation of the column about its own axis (Euler spin angle)", None),
-    "x_p": ("m", "X coordinate of the contact point on the base plane", None),
-    "y_p": ("m", "Y coordinate of the contact point on the base plane", None),
-    "x_b": ("m", "X coordinate of the centre of the base on the base plane", None),
-    "y_b": ("m", "Y coordinate of the centre of the base on the base plane", None),
-    "phi_dot": ("rad s-1", "precession rate", None),
-    "theta_dot": ("rad s-1", "inclination rate", None),
-    "psi_dot": ("rad s-1", "spin angle rate", None),
-    "omega_zeta": ("rad s-1", "spin: angular velocity component along the column axis", None),
-    "energy": ("J", "mechanical energy relative to the base plane", None),
-    "energy_hat": ("1", "mechanical energy relative to the base plane per m g R", None),
-    "work_ground": ("J", "work done on the column by the ground motion", None),
-    "work_ground_hat": ("1", "work done on the column by the ground motion per m g R", None),
-    "normal_force": ("N", "normal contact force", None),
-    "normal_force_hat": ("1", "normal contact force per weight m g", None),
-    "tangential_force": ("N", "magnitude of the tangential contact force", None),
-    "tangential_force_hat": ("1", "magnitude of the tangential contact force per weight m g", None),
-    "mu_mob": ("1", "mobilized friction coefficient |F_t|/N", None),
-    "ground_acc_x": ("m s-2", "ground acceleration, X component", None),
-    "ground_acc_y": ("m s-2", "ground acceleration, Y component", None),
-    "ground_acc_z": ("m s-2", "ground acceleration, vertical component (upwards)", None),
+    # elapsed time, not a date: no standard_name "time" (CF 4.4 would want "s since <date>")
+    "time": Var("s", "time since the start of the simulation (start of the record)"),
+    "tau": Var("1", "dimensionless time t sqrt(g/R)"),
+    "phi": Var("rad", "precession angle of the column axis"),
+    "theta": Var("rad", "inclination of the column axis from the vertical", degrees=True),
+    "psi": Var("rad", "rotation of the column about its own axis (Euler spin angle)"),
+    "x_p": Var("m", "X coordinate of the contact point on the base plane"),
+    "y_p": Var("m", "Y coordinate of the contact point on the base plane"),
+    "x_b": Var("m", "X coordinate of the centre of the base on the base plane"),
+    "y_b": Var("m", "Y coordinate of the centre of the base on the base plane"),
+    "phi_dot": Var("rad s-1", "precession rate"),
+    "theta_dot": Var("rad s-1", "inclination rate"),
+    "psi_dot": Var("rad s-1", "spin angle rate"),
+    "omega_zeta": Var("rad s-1", "spin: angular velocity component along the column axis"),
+    "energy": Var("J", "mechanical energy relative to the base plane"),
+    "energy_hat": Var("1", "mechanical energy relative to the base plane per m g R"),
+    "work_ground": Var("J", "work done on the column by the ground motion"),
+    "work_ground_hat": Var("1", "work done on the column by the ground motion per m g R"),
+    "normal_force": Var("N", "normal contact force"),
+    "normal_force_hat": Var("1", "normal contact force per weight m g"),
+    "tangential_force": Var("N", "magnitude of the tangential contact force"),
+    "tangential_force_hat": Var("1", "magnitude of the tangential contact force per weight m g"),
+    "mu_mob": Var("1", "mobilized friction coefficient |F_t|/N"),
+    "slip_velocity": Var("m s-1", "speed of the sliding base or rim point relative to the ground"),
+    "ground_acc_x": Var("m s-2", "ground acceleration, X component"),
+    "ground_acc_y": Var("m s-2", "ground acceleration, Y component"),
+    "ground_acc_z": Var("m s-2", "ground acceleration, vertical component (upwards)"),
     # compliant-contact model (pipeline.compliant): the base's joint, and per drum
-    "slip": ("m", "slip path of the base: area-weighted mean plastic slip of its contact points", None),
-    "contact_area_fraction": ("1", "fraction of the base's contact area that carries load", None),
-    "drum": ("1", "drum index, 0 at the bottom (a capital is the last)", None),
-    "drum_dx": ("m", "X displacement of the drum's centre of mass relative to the ground", None),
-    "drum_dy": ("m", "Y displacement of the drum's centre of mass relative to the ground", None),
-    "drum_theta": ("rad", "inclination of the drum's axis from the vertical", None),
-    "drum_rotation": ("rad", "rotation of the drum about the vertical (phi + psi), unwrapped", None),
+    "slip": Var("m", "slip path of the base: area-weighted mean plastic slip of its contact points"),
+    "contact_area_fraction": Var("1", "fraction of the base's contact area that carries load"),
+    "drum": Var("1", "drum index, 0 at the bottom (a capital is the last)"),
+    "drum_dx": Var("m", "X displacement of the drum's centre of mass relative to the ground"),
+    "drum_dy": Var("m", "Y displacement of the drum's centre of mass relative to the ground"),
+    "drum_theta": Var("rad", "inclination of the drum's axis from the vertical", degrees=True),
+    "drum_rotation": Var("rad", "rotation of the drum about the vertical (phi + psi), unwrapped"),
     # study results (pipeline.sweep): one value per column, record, angle, scale, model
-    "peak_theta": ("rad", "peak inclination of the column axis from the vertical", None),
-    "peak_theta_ratio": ("1", "peak inclination over the critical (static overturning) inclination", None),
-    "peak_time": ("s", "time of the peak inclination", None),
-    "overturn_time": ("s", "time of overturning (NaN if the column stands)", None),
-    "uplift_time": ("s", "time of the first uplift (NaN if the base never leaves the ground)", None),
-    "n_impacts": ("1", "number of landings (impacts of the base on the ground)", None),
-    "peak_mu_mob": ("1", "peak mobilized friction coefficient |F_t|/N", None),
-    "residual_rotation": ("rad", "residual rotation of the column about the vertical at the end", None),
-    "residual_displacement": ("m", "residual horizontal displacement of the centre of the base", None),
-    "energy_balance_error": ("m", "error of the energy balance per unit weight, E/(m g)", None),
+    "peak_theta": Var("rad", "peak inclination of the column axis from the vertical", degrees=True),
+    "peak_theta_ratio": Var("1", "peak inclination over the critical (static overturning) inclination"),
+    "peak_time": Var("s", "time of the peak inclination"),
+    "overturn_time": Var("s", "time of overturning (NaN if the column stands)"),
+    "uplift_time": Var("s", "time of the first uplift (NaN if the base never leaves the ground)"),
+    "n_impacts": Var("1", "number of landings (impacts of the base on the ground)"),
+    "peak_mu_mob": Var("1", "peak mobilized friction coefficient |F_t|/N while in contact"),
+    "min_normal_force_hat": Var("1", "lowest normal contact force per weight m g while in contact"),
+    "sliding_time": Var("s", "time the base or the rim first slides (NaN if it never does)"),
+    "lift_off_time": Var("s", "time the column first lifts off into flight (NaN if it never does)"),
+    "energy_friction": Var("m", "energy removed by sliding friction per unit weight, E/(m g)"),
+    "residual_rotation": Var("rad", "residual rotation of the column about the vertical at the end", degrees=True),
+    "residual_displacement": Var("m", "residual horizontal displacement of the centre of the base"),
+    "energy_balance_error": Var("m", "error of the energy balance per unit weight, E/(m g)"),
     # study coordinates
-    "angle": ("degree", "incidence angle: counter-clockwise turn of the horizontal record pair", None),
-    "scale": ("1", "factor on the record (all components)", None),
-    "scale_factor": ("1", "factor applied to the record (all components)", None),
-    "column_R": ("m", "radius of the base of the column", None),
-    "column_r": ("m", "radius of the top of the column", None),
-    "column_h": ("m", "height of the column", None),
-    "slenderness": ("1", "slenderness h/R of the column", None),
-    "beta": ("1", "conicity r/R of the column", None),
-    "theta_crit": ("rad", "critical (static overturning) inclination atan(R/z_cm)", None),
-    "latitude": ("degree_north", "latitude of the column", "latitude"),
-    "longitude": ("degree_east", "longitude of the column", "longitude"),
-    "column_label": ("1", "label of the column", None),
-    "record_label": ("1", "identifier of the ground-motion record", None),
-    "model_label": ("1", "model: 3d rolling frustum, 2d planar rocking or 3d-compliant drums on joints", None),
-    "earthquake": ("1", "earthquake (event) of the record", None),
-    "station": ("1", "recording station", None),
-    "year": ("1", "year of the earthquake (-1: unknown)", None),
-    "magnitude": ("1", "moment magnitude of the earthquake (NaN: unknown)", None),
-    "record_sha256": ("1", "SHA-256 digest of the record samples and time step (GroundMotion.sha256)", None),
-    "pga": ("m s-2", "peak ground acceleration of the scaled record: peak of the horizontal vector", None),
-    "pgv": ("m s-1", "peak ground velocity of the scaled record: peak of the horizontal vector", None),
-    "sa": ("m s-2", "5%-damped spectral acceleration RotD50 of the scaled record at the study period", None),
+    "angle": Var("degree", "incidence angle: counter-clockwise turn of the horizontal record pair"),
+    "scale": Var("1", "factor on the record (all components)"),
+    "scale_factor": Var("1", "factor applied to the record (all components)"),
+    "column_R": Var("m", "radius of the base of the column"),
+    "column_r": Var("m", "radius of the top of the column"),
+    "column_h": Var("m", "height of the column"),
+    "slenderness": Var("1", "slenderness h/R of the column"),
+    "beta": Var("1", "conicity r/R of the column"),
+    "theta_crit": Var("rad", "critical (static overturning) inclination atan(R/z_cm)", degrees=True),
+    "latitude": Var("degree_north", "latitude of the column", "latitude"),
+    "longitude": Var("degree_east", "longitude of the column", "longitude"),
+    # label dimensions: strings on the dimension itself (module docstring)
+    "column": Var("1", "label of the column"),
+    "record": Var("1", "identifier of the ground-motion record"),
+    "model": Var("1", "model: 3d rolling frustum, 2d planar rocking or 3d-compliant drums on joints"),
+    "earthquake": Var("1", "earthquake (event) of the record"),
+    "station": Var("1", "recording station"),
+    "year": Var("1", "year of the earthquake (-1: unknown)"),
+    "magnitude": Var("1", "moment magnitude of the earthquake (NaN: unknown)"),
+    "record_sha256": Var("1", "SHA-256 digest of the record samples and time step (GroundMotion.sha256)"),
+    "pga": Var("m s-2", "peak ground acceleration of the scaled record: peak of the horizontal vector"),
+    "pgv": Var("m s-1", "peak ground velocity of the scaled record: peak of the horizontal vector"),
+    "sa": Var("m s-2", "5%-damped spectral acceleration RotD50 of the scaled record at the study period"),
 }
 
 # Names whose meaning in a study Dataset differs from the time-history one:
 # study energies are per unit weight (summary of pipeline.simulate) [m].
 STUDY_VARIABLES = dict(VARIABLES)
 STUDY_VARIABLES.update({
-    "work_ground": ("m", "work done on the column by the ground motion per unit weight, W/(m g)", None),
+    "work_ground": Var("m", "work done on the column by the ground motion per unit weight, W/(m g)"),
 })
 
 FLAGS = {
-    "phase": ([0, 1, 2], "at_rest rolling_on_rim overturned",
-              "motion phase of the column (compliant model: base in contact / rocking on its rim or in "
-              "flight / overturned)"),
+    "phase": ([0, 1, 2, 3, 4, 5], "at_rest rolling_on_rim overturned sliding_flat slipping_on_rim flight",
+              "motion phase of the column"),
     "overturned": ([0, 1], "stands overturned", "the column overturned"),
     "uplifted": ([0, 1], "never_uplifted uplifted", "the base left full contact with the ground"),
     "sliding_onset": ([0, 1], "no_sliding sliding_onset",
-                      "the peak mobilized friction exceeded the study's friction coefficient "
-                      "(before any final fall past theta_crit)"),
+                      "the base or the rim slid on the ground (friction reached mu N)"),
     "lift_off": ([0, 1], "no_lift_off lift_off",
-                 "the normal contact force fell below zero, free flight (before any final fall past theta_crit)"),
+                 "the normal contact force reached zero and the column flew"),
     "status": ([0, 1], "ok failed", "status of the simulation (failed: values are NaN or 0)"),
 }
 
 
 def annotate(ds, catalog=None):
-    """Attach units, long names and standard names from the catalog (in place).
+    """Attach units, long names and standard names from the catalog, add the degree twins (in place).
 
     Parameters
     ----------
@@ -127,15 +172,19 @@ def annotate(ds, catalog=None):
     Returns
     -------
     xarray.Dataset
-        The same dataset, for chaining.
+        The same dataset, for chaining: every catalogued variable carries
+        ``units`` and ``long_name``; every one marked ``degrees`` has a twin
+        ``NAME_deg`` [degree] (a coordinate if it is one).
     """
     catalog = VARIABLES if catalog is None else catalog
     for name in list(ds.variables):
         if name in catalog:
-            units, long_name, standard_name = catalog[name]
-            ds[name].attrs.update(units=units, long_name=long_name)
-            if standard_name:
-                ds[name].attrs["standard_name"] = standard_name
+            entry = catalog[name]
+            ds[name].attrs.update(units=entry.units, long_name=entry.long_name)
+            if entry.standard_name:
+                ds[name].attrs["standard_name"] = entry.standard_name
+            if entry.degrees:
+                _add_degrees(ds, name, entry)
         elif name in FLAGS:
             values, meanings, long_name = FLAGS[name]
             ds[name].attrs.update(
@@ -149,6 +198,21 @@ def annotate(ds, catalog=None):
     return ds
 
 
+def _add_degrees(ds, name, entry):
+    twin = f"{name}_deg"
+    values = ds[name].copy(data=np.degrees(ds[name].values))
+    values.attrs = {"units": "degree", "long_name": f"{entry.long_name}, in degrees"}
+    if name in ds.coords:
+        ds.coords[twin] = values
+    else:
+        ds[twin] = values
+
+
+def label_dims(ds):
+    """Dimensions of ``ds`` whose coordinate holds string labels (``column``, ``record``, ``model``, ...)."""
+    return [d for d in ds.dims if d in ds.coords and ds[d].dtype.kind in "UOS"]
+
+
 def append_history(ds, line):
     """Add a time-stamped line to the global ``history`` attribute (CF)."""
     stamp = datetime.now(timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
@@ -157,54 +221,79 @@ def append_history(ds, line):
     return ds
 
 
+def _encoding(ds, extra=None):
+    """Per-variable netCDF encoding of the convention (module docstring)."""
+    encoding = {}
+    for name, var in ds.variables.items():
+        if var.dtype.kind in "UOS":
+            encoding[name] = {"dtype": "S1"}  # character array (CF 2.2)
+        elif var.dtype.kind in "fiub" and name in ds.data_vars:
+            encoding[name] = {"zlib": True, "complevel": 4}
+    for name, more in (extra or {}).items():
+        encoding[name] = {**encoding.get(name, {}), **more}
+    return encoding
+
+
+def _declare_coordinates(ds):
+    """Set each data variable's ``coordinates``: its auxiliary coordinates and the labels of its dimensions.
+
+    With the labels declared, CF sees them as string-valued auxiliary
+    coordinates rather than misdeclared coordinate variables (in place).
+    """
+    labels = label_dims(ds)
+    for name, var in ds.data_vars.items():
+        aux = [c for c in ds.coords if c not in ds.dims and set(ds[c].dims) <= set(var.dims)]
+        declared = [d for d in var.dims if d in labels] + aux
+        var.attrs.pop("coordinates", None)
+        if declared:
+            var.encoding["coordinates"] = " ".join(declared)
+        else:
+            var.encoding.pop("coordinates", None)
+
+
 def write_netcdf(ds, path, encoding=None):
-    """Write a dataset to netCDF4, compressed, atomically.
+    """Write a results Dataset in the project's convention, compressed, atomically.
 
     Parameters
     ----------
     ds : xarray.Dataset
+        Any results Dataset (histories, study results, fragility). String
+        labels on dimensions stay the dimensions' coordinates (module
+        docstring).
     path : str or os.PathLike
         Destination; its folder is created if needed. The file appears only
         once it is complete.
     encoding : dict, optional
-        Extra per-variable encodings, merged over the default compression.
+        Extra per-variable encodings, merged over the convention's.
+
+    Returns
+    -------
+    str
+        ``path``.
     """
+    out = ds.copy()
+    for name in label_dims(out):  # numpy unicode or object -> plain str labels
+        out.coords[name] = out[name].copy(data=np.asarray(out[name].values).astype(str).astype(object))
+    _declare_coordinates(out)
     path = os.fspath(path)
     folder = os.path.dirname(os.path.abspath(path))
     os.makedirs(folder, exist_ok=True)
-    extra_encoding = encoding or {}
-    encoding = {
-        name: {"zlib": True, "complevel": 4}
-        for name, var in ds.data_vars.items()
-        if var.dtype.kind in "fiub"
-    }
-    for name, extra in extra_encoding.items():
-        encoding[name] = {**encoding.get(name, {}), **extra}
-    fd, tmp = tempfile.mkstemp(prefix=".partial-", suffix=".nc", dir=folder)
-    os.close(fd)
     try:
-        ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=encoding)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+        with atomic_path(path) as tmp:  # permissions from the umask, not mkstemp's 0600
+            out.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=_encoding(out, encoding))
+    except OSError as exc:  # read-only, no permission, disk full: one clear line
+        raise OutputError(f"{path}: cannot write ({exc.strerror or exc})") from None
+    except RuntimeError as exc:  # the HDF5 library reports a full disk as "NetCDF: HDF error"
+        if "NetCDF" not in str(exc):
+            raise
+        free = shutil.disk_usage(folder).free
+        raise OutputError(f"{path}: the netCDF library could not write ({exc}); {free / 2**20:.0f} MiB free "
+                          "on that disk") from None
     return path
 
 
-# Study results keep string labels on the dimensions column, record and model in
-# memory; CF wants coordinate variables numeric and monotonic, so in the file the
-# labels are auxiliary character coordinates and the dimensions have none.
-RESULT_LABELS = {"column": "column_label", "record": "record_label", "model": "model_label"}
-
-
 def write_results(ds, path):
-    """Write a study results Dataset as CF netCDF (compressed, atomic).
-
-    The string labels of the dimensions ``column``, ``record`` and ``model``
-    are written as auxiliary coordinates ``column_label``, ``record_label``
-    and ``model_label`` (character arrays); every string variable is stored as
-    characters (CF 2.2). :func:`open_results` restores the in-memory layout.
+    """Write a study results Dataset as CF netCDF (:func:`write_netcdf`), catalog attributes filled in.
 
     Parameters
     ----------
@@ -213,36 +302,104 @@ def write_results(ds, path):
     path : str or os.PathLike
     """
     out = ds.copy()
-    for dim, label in RESULT_LABELS.items():
-        if dim in out.coords:
-            values = np.asarray(out[dim].values).astype(str)
-            attrs = dict(out[dim].attrs)
-            out = out.drop_vars(dim).assign_coords({label: (dim, values, attrs)})
     # attributes set by the caller (e.g. a target-level ``scale``) win over the catalog
     annotate(out, {k: v for k, v in STUDY_VARIABLES.items() if k not in out.variables or "long_name" not in out[k].attrs})
-    encoding = {name: {"dtype": "S1"} for name, var in out.variables.items() if var.dtype.kind in "UO"}
-    return write_netcdf(out, path, encoding=encoding)
+    return write_netcdf(out, path)
 
 
 def open_results(path):
-    """Open a study results file written by :func:`write_results`.
+    """Open a results file (any kind) into memory; the file is closed afterwards.
+
+    Plain ``xarray.open_dataset`` reads the same layout; this only loads the
+    values and gives the labels as ``str``.
 
     Returns
     -------
     xarray.Dataset
-        Loaded into memory (the file is closed), with string coordinates
-        ``column``, ``record`` and ``model`` on their dimensions again.
     """
     import xarray as xr
 
     with xr.open_dataset(path, engine="netcdf4") as f:
         ds = f.load()
-    for dim, label in RESULT_LABELS.items():
-        if label in ds.variables:
-            attrs = dict(ds[label].attrs)
-            values = np.asarray(ds[label].values).astype(str)
-            ds = ds.drop_vars(label).assign_coords({dim: (dim, values, attrs)})
+    for name in label_dims(ds):
+        ds.coords[name] = ds[name].copy(data=np.asarray(ds[name].values).astype(str))
     return ds
+
+
+def histories_file(runs, column, record):
+    """The histories of one column under one record, one or more models, as one Dataset of the convention.
+
+    Parameters
+    ----------
+    runs : list of xarray.Dataset
+        Histories from :func:`pipeline.simulate.simulate` or
+        :func:`pipeline.simulate.simulate_free` (same time grid), one per model.
+    column : str
+        Label of the column.
+    record : str
+        Identifier of the record (``free-motion`` for a free motion).
+
+    Returns
+    -------
+    xarray.Dataset
+        Dims ``column``, ``record``, ``model`` (string labels) and ``time``;
+        the geometry as coordinates on ``column`` (``column_R``, ``column_r``,
+        ``column_h``, ``theta_crit`` and ``theta_crit_deg``); incidence angle
+        [degree] and scale factor as scalar coordinates.
+    """
+    import xarray as xr
+
+    first = runs[0].attrs
+    names = list(dict.fromkeys(n for run in runs for n in run.data_vars))
+    shapes = {n: run[n] for run in reversed(runs) for n in run.data_vars}  # a run that has each variable
+    stacked = []
+    for run in runs:
+        run = run.copy()
+        for name in names:  # 2D has no spin or base-centre path, the rigid models no drums: NaN there
+            if name not in run:
+                like = shapes[name]
+                run[name] = (like.dims, np.full((run.sizes["time"],) + like.shape[1:], np.nan))
+                run = run.assign_coords({d: like[d] for d in like.dims[1:] if d in like.coords})
+        stacked.append(run.expand_dims(model=[str(run.attrs["model"])]))
+    ds = xr.concat(stacked, dim="model", join="exact", combine_attrs="drop_conflicts")
+    for name in ("model", "column_R_m", "column_r_m", "column_h_m", "theta_crit_rad", "incidence_angle_rad", "scale"):
+        ds.attrs.pop(name, None)
+    ds = ds.expand_dims(column=[column], record=[record]).transpose("column", "record", "model", "time", ...)
+    ds = ds.assign_coords(
+        column_R=("column", [first["column_R_m"]]),
+        column_r=("column", [first["column_r_m"]]),
+        column_h=("column", [first["column_h_m"]]),
+        theta_crit=("column", [first["theta_crit_rad"]]),
+        angle=float(np.degrees(first.get("incidence_angle_rad", 0.0))),
+        scale=float(first.get("scale", 1.0)),
+    )
+    if "phase" in ds:
+        ds["phase"] = ds["phase"].fillna(0).astype(np.int8)
+    return annotate(ds)
+
+
+def one_run(ds, column=None, record=None, model=None):
+    """One simulation of a histories file (:func:`histories_file`): histories over ``time`` alone.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+    column, record, model : str, optional
+        Labels; default the first of each.
+
+    Returns
+    -------
+    xarray.Dataset
+        With the attributes the plotting code reads (``model``,
+        ``column_R_m``, ``column_r_m``, ``column_h_m``, ``theta_crit_rad``).
+    """
+    pick = {d: (str(ds[d].values[0]) if v is None else v)
+            for d, v in (("column", column), ("record", record), ("model", model))}
+    run = ds.sel(pick)
+    run.attrs = dict(ds.attrs, model=pick["model"], record_id=pick["record"],
+                     column_R_m=float(run["column_R"]), column_r_m=float(run["column_r"]),
+                     column_h_m=float(run["column_h"]), theta_crit_rad=float(run["theta_crit"]))
+    return run
 
 
 def catalog_markdown():
@@ -255,11 +412,20 @@ def catalog_markdown():
         "keeps this page equal to the catalog). Study results: `docs/studies.md`; fragility",
         "datasets: `docs/fragility.md`.",
         "",
+        "Every file has its labels on its dimensions (`column`, `record`, `model`; `state` in a",
+        "fragility file), so `xr.open_dataset(f).sel(column=..., model=...)` works. The histories of",
+        "`frustum simulate` have dims (column, record, model, time), both models in one file when",
+        "both were run (`--model 3d,2d`), the geometry as coordinates on `column` and the incidence",
+        "angle [degree] and scale as scalar coordinates; `time` is seconds since the start of the",
+        "record (elapsed time, hence no CF `standard_name` time).",
+        "",
         "| name | units | long name | CF standard name |",
         "|---|---|---|---|",
     ]
-    for name, (units, long_name, standard) in STUDY_VARIABLES.items():
-        lines.append(f"| `{name}` | {units} | {long_name} | {standard or ''} |")
+    for name, entry in STUDY_VARIABLES.items():
+        lines.append(f"| `{name}` | {entry.units} | {entry.long_name} | {entry.standard_name or ''} |")
+        if entry.degrees:
+            lines.append(f"| `{name}_deg` | degree | {entry.long_name}, in degrees | |")
     lines += ["", "Flags (integer, with `flag_values` and `flag_meanings`):", "",
               "| name | values | meanings | long name |", "|---|---|---|---|"]
     for name, (values, meanings, long_name) in FLAGS.items():

@@ -571,7 +571,7 @@ def fragility(results, im="pga", states=DEFAULT_STATES, bootstrap=0, seed=0, con
     own = {name: dict(var.attrs) for name, var in ds.variables.items()}
     annotate(ds)
     for name, attrs in own.items():  # the catalog must not relabel IM-dependent units
-        ds[name].attrs = attrs
+        ds[name].attrs = {**ds[name].attrs, **attrs}
     append_history(ds, f"pipeline.fragility im={im} states={','.join(f'{s:g}' for s in states)} "
                        f"bootstrap={bootstrap} seed={seed}")
     return ds
@@ -670,11 +670,7 @@ def ida(results, im="pga", model=None, column=None, angle="max"):
 
 
 def write(ds, path):
-    """Write a fragility dataset to netCDF atomically (:func:`pipeline.dataset.write_netcdf`)."""
-    ds = ds.copy()
-    for name in ("state", "column", "model"):
-        if name in ds.coords:
-            ds.coords[name] = ds[name].astype(str)
+    """Write a fragility dataset to netCDF atomically, in the convention of :func:`pipeline.dataset.write_netcdf`."""
     return write_netcdf(ds, path)
 
 

@@ -15,81 +15,126 @@ from pipeline.units import G  # noqa: E402
 
 
 def plot_response(ds, summary, path, friction=0.7):
-    """Four panels of one simulation, saved to ``path`` (PNG or PDF by suffix).
+    """The panels of one simulation, saved to ``path`` (any format matplotlib writes, by suffix).
 
     theta(t) against theta_crit, the path of the contact point and of the base
     centre on the ground, the mobilized friction coefficient against the
-    friction coefficient, and the ground acceleration.
+    friction coefficient, and the ground acceleration (a free motion has
+    none: three panels then). Nothing is drawn after the column overturned
+    (a dotted line marks the time); the title names the record, the
+    incidence angle and the scale factor.
 
     Parameters
     ----------
     ds : xarray.Dataset
-        Histories from :func:`pipeline.simulate.simulate`.
+        Histories of one run: :func:`pipeline.simulate.simulate`, or
+        :func:`pipeline.dataset.one_run` of a histories file.
     summary : dict
-        Its summary.
+        Its summary (``peak_theta``; ``overturned`` and ``overturn_time`` when
+        it has a record).
     path : str or os.PathLike
     friction : float
         Friction coefficient drawn on the mu_mob panel [1].
     """
+    from pipeline.figfile import save_figure
+
+    return save_figure(response_figure(ds, summary, friction), path, dpi=110)
+
+
+def response_figure(ds, summary, friction=0.7):
+    """The figure of :func:`plot_response`, not saved (a ``matplotlib.figure.Figure``)."""
     t = ds.time.values
-    fig, axes = plt.subplots(2, 2, figsize=(12, 8), constrained_layout=True)
-    ax = axes[0, 0]
+    until_over, upright = _before_overturning(ds, summary)
+    ground = [(name, label) for name, label in (("ground_acc_x", "X"), ("ground_acc_y", "Y"), ("ground_acc_z", "Z"))
+              if name in ds and np.any(np.nan_to_num(ds[name].values))]
+    shape = (2, 2) if ground else (1, 3)
+    fig, axes = plt.subplots(*shape, figsize=(12, 8) if ground else (16, 4.8), constrained_layout=True)
+    axes = axes.ravel()
+    over = bool(summary.get("overturned"))
+
+    ax = axes[0]
     theta_crit = math.degrees(ds.attrs["theta_crit_rad"])
-    ax.plot(t, np.degrees(ds.theta.values), lw=0.8, label=r"$\theta$")
+    ax.plot(t[until_over], np.degrees(ds.theta.values[until_over]), lw=0.8, label=r"$\theta$")
     ax.axhline(theta_crit, color="C3", ls="--", lw=1, label=rf"$\theta_{{crit}}$ = {theta_crit:.1f}°")
-    if summary.get("overturned"):
+    if over:
         ax.axvline(summary["overturn_time"], color="k", lw=0.8, ls=":", label="overturned")
         ax.set_ylim(0, 1.5 * theta_crit)
+    ax.set_xlim(t[0], t[-1])
     ax.set_xlabel("time [s]")
     ax.set_ylabel("inclination θ [deg]")
     ax.set_title("Inclination of the column axis")
     ax.legend(loc="upper right")
 
-    ax = axes[0, 1]
-    ax.plot(ds.x_p.values * 100, ds.y_p.values * 100, lw=0.5, label="contact point")
-    if "x_b" in ds:
-        ax.plot(ds.x_b.values * 100, ds.y_b.values * 100, lw=1.2, color="C1", label="base centre")
+    ax = axes[1]
+    ax.plot(ds.x_p.values[upright] * 100, ds.y_p.values[upright] * 100, lw=0.5, label="contact point")
+    if "x_b" in ds and np.any(np.isfinite(ds.x_b.values)):
+        ax.plot(ds.x_b.values[upright] * 100, ds.y_b.values[upright] * 100, lw=1.2, color="C1", label="base centre")
     R = ds.attrs["column_R_m"] * 100
     circle = np.linspace(0, 2 * np.pi, 200)
     ax.plot(R * np.cos(circle), R * np.sin(circle), color="0.6", lw=0.8, ls="--", label="base at start")
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("X [cm]")
     ax.set_ylabel("Y [cm]")
-    ax.set_title("Paths on the ground (plane of the base)")
+    ax.set_title("Paths on the ground (plane of the base)" + (", until the final fall" if over else ""))
     ax.legend(loc="upper right", fontsize="small")
 
-    ax = axes[1, 0]
-    ax.semilogy(t, np.clip(ds.mu_mob.values, 1e-4, None), lw=0.6, label=r"$\mu_{mob}$")
+    ax = axes[2]
+    ax.semilogy(t[upright], np.clip(ds.mu_mob.values[upright], 1e-4, None), lw=0.6, label=r"$\mu_{mob}$")
     ax.axhline(friction, color="C3", ls="--", lw=1, label=f"friction coefficient {friction:g}")
+    if over:
+        ax.axvline(summary["overturn_time"], color="k", lw=0.8, ls=":", label="overturned")
+    ax.set_xlim(t[0], t[-1])
     ax.set_xlabel("time [s]")
     ax.set_ylabel(r"mobilized friction $|F_t|/N$ [1]")
     ax.set_title("Friction the contact must supply")
     ax.legend(loc="upper right")
 
-    ax = axes[1, 1]
-    for name, label in (("ground_acc_x", "X"), ("ground_acc_y", "Y"), ("ground_acc_z", "Z")):
-        values = ds[name].values / G
-        if np.any(values):
-            ax.plot(t, values, lw=0.6, label=label)
-    ax.set_xlabel("time [s]")
-    ax.set_ylabel("ground acceleration [g]")
-    ax.set_title("Excitation")
-    ax.legend(loc="upper right")
+    if ground:
+        ax = axes[3]
+        for name, label in ground:
+            ax.plot(t, ds[name].values / G, lw=0.6, label=label)
+        ax.set_xlabel("time [s]")
+        ax.set_ylabel("ground acceleration [g]")
+        ax.set_title("Excitation")
+        ax.legend(loc="upper right")
 
-    title = ds.attrs.get("record_id", "free motion")
-    fig.suptitle(
-        f"{title}, {ds.attrs.get('model', '3d')} model, column R = {ds.attrs['column_R_m']:g} m, "
-        f"r = {ds.attrs['column_r_m']:g} m, h = {ds.attrs['column_h_m']:g} m: "
-        f"peak θ = {math.degrees(summary['peak_theta']):.2f}° "
-        f"({'overturned' if summary.get('overturned') else 'stands'})"
-    )
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    outcome = f" ({'overturned' if over else 'stands'})" if "overturned" in summary else ""
+    fig.suptitle(f"{run_title(ds)}: peak θ = {math.degrees(summary['peak_theta']):.2f}°{outcome}")
+    return fig
+
+
+def run_title(ds):
+    """What one run is, for titles: record, incidence angle, scale, model and column."""
+    model = {"3d": "3D rolling", "2d": "2D rocking"}.get(ds.attrs.get("model", "3d"), ds.attrs.get("model"))
+    column = (f"column R = {ds.attrs['column_R_m']:g} m, r = {ds.attrs['column_r_m']:g} m, "
+              f"h = {ds.attrs['column_h_m']:g} m")
+    if "record_id" not in ds.attrs or ds.attrs["record_id"] == "free-motion":
+        return f"free motion, {model}, {column}"
+    angle = math.degrees(float(ds.attrs.get("incidence_angle_rad", 0.0))) if "angle" not in ds.coords \
+        else float(ds["angle"])
+    scale = float(ds.attrs.get("scale", 1.0)) if "scale" not in ds.coords else float(ds["scale"])
+    return f"{ds.attrs['record_id']} at {angle:g}°, × {scale:g}, {model}, {column}"
+
+
+def _before_overturning(ds, summary):
+    """Rows to draw: (up to the overturning time, up to the start of the final fall).
+
+    The final fall starts when the column passes theta_crit for the last time
+    (as the summary's peaks count it): friction and the contact path after
+    that describe a column going over, not one standing. Both masks are all
+    True when the column stands.
+    """
+    t = ds.time.values
+    everything = np.ones(t.shape, dtype=bool)
+    if not (summary.get("overturned") and math.isfinite(summary.get("overturn_time", math.nan))):
+        return everything, everything
+    until = t <= summary["overturn_time"]
+    below = np.flatnonzero(until & (np.nan_to_num(ds.theta.values) <= ds.attrs["theta_crit_rad"]))
+    return until, np.arange(t.size) <= (below[-1] if below.size else -1)
 
 
 def plot_study(ds, path):
-    """Summary of a study's results, saved to ``path`` (PNG or PDF by suffix).
+    """Summary of a study's results, saved to ``path`` (any format matplotlib writes, by suffix).
 
     Left: peak inclination over theta_crit against the PGA of the scaled
     record (peak of the horizontal vector), one marker per record, angle and
@@ -142,6 +187,6 @@ def plot_study(ds, path):
     ax2.set_ylim(-0.03, 1.03)
     ax2.legend(fontsize=8)
     fig.suptitle(ds.attrs.get("title", "study"), fontsize=11)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    from pipeline.figfile import save_figure
+
+    return save_figure(fig, path, dpi=120)

@@ -26,14 +26,11 @@ _STATE_COLORS = ["k", "C2", "C1", "C4", "C5", "C6"]
 
 
 def _save(fig, stem):
-    stem = os.fspath(stem)
-    os.makedirs(os.path.dirname(os.path.abspath(stem)), exist_ok=True)
-    paths = []
-    for ext in ("png", "pdf"):
-        path = f"{stem}.{ext}"
-        fig.savefig(path, dpi=130)
-        paths.append(path)
-    plt.close(fig)
+    from pipeline.figfile import save_figure
+
+    paths = [f"{os.fspath(stem)}.png", f"{os.fspath(stem)}.pdf"]
+    for i, path in enumerate(paths):
+        save_figure(fig, path, dpi=130, close=i == len(paths) - 1)
     return paths
 
 
@@ -302,6 +299,8 @@ def plot_model_comparison(frag, stem, state="overturning", title=None):
     sub = frag.sel(state=state)
     m3 = sub["median"].sel(model="3d").values * factor
     m2 = sub["median"].sel(model="2d").values * factor
+    if not np.any(np.isfinite(m3) & np.isfinite(m2) & (m3 > 0) & (m2 > 0)):
+        return []  # no column has a median under both models (e.g. nothing overturned): nothing to draw
     fig, ax = plt.subplots(figsize=(7.0, 6.0), constrained_layout=True)
     many = m3.size > 5 and "slenderness" in frag.coords and "column_beta" in frag.coords
     if "median_lower" in frag:

@@ -4,16 +4,20 @@
 
     DIR/report.md            what was simulated, the model's assumptions, the probability of
                              overturning at stated PGA levels, 2D against 3D, the figures
+    DIR/report.html          the same, one self-contained file (figures embedded)
     DIR/summary.csv          one row per column and model (opens in a spreadsheet)
     DIR/columns.geojson      the columns that carry latitude/longitude (opens in a GIS)
     DIR/fragility.nc         the fitted curves (pipeline.fragility)
     DIR/figures/*.png|pdf
 
 Every number in the report and the CSV is read from the results Dataset or
-from the fragility Dataset fitted to it here; nothing is typed in.
+from the fragility Dataset fitted to it here; nothing is typed in. The report
+says what the data support: a median beyond the strongest (or below the
+weakest) shaking simulated is marked *extrapolated*, a fit on fewer than
+:data:`MIN_RECORDS` records is flagged as too few for a fragility, and
+probabilities carry their bootstrap bounds.
 """
 
-import contextlib
 import csv
 import json
 import math
@@ -23,18 +27,27 @@ import numpy as np
 
 from pipeline import fragility as F
 from pipeline import plotting_fragility as P
+from pipeline.atomic import atomic_open
+from pipeline.citation import CITE, REFERENCE
 from pipeline.errors import InputError
 from pipeline.units import G
 
 #: PGA levels [g] at which the report states the probability of overturning.
 DEFAULT_PGA_LEVELS_G = (0.1, 0.2, 0.3, 0.5, 0.8)
 
+#: Fewest records for which the report treats a fitted curve as a fragility: the smallest record
+#: set whose mean response ASCE/SEI 7-10 (16.1.3.2) accepts for response-history analysis.
+MIN_RECORDS = 7
+
+#: Significant digits of the numbers in summary.csv (records, bootstrap and fit carry no more).
+CSV_DIGITS = 4
+
 ASSUMPTIONS = """\
 - Each column is one rigid, homogeneous block shaped as a conical frustum (a cone with its tip cut off):
   bottom radius R, top radius r, height h. It does not bend, crack or break; flutes are ignored.
 - It stands free on a rigid, horizontal ground that moves with the recorded earthquake (both horizontal
   components{vertical}).
-- **3D model** (Stefanou, Psycharis & Georgopoulos 2011): when the shaking is strong enough the column tips
+- **3D model** ({cite}): when the shaking is strong enough the column tips
   onto the rim of its base and *rolls on the rim without slipping*: it rocks and wobbles (the contact point
   travels around the rim) and spins about its axis. Friction is assumed large enough that the base never
   slides; the report counts the runs in which the friction needed would have exceeded the friction
@@ -57,7 +70,21 @@ def _fmt(value, digits=3):
 
 
 def _pct(p):
-    return "n/a" if not np.isfinite(p) else f"{100 * p:.1f} %"
+    """A probability as the report prints it: one decimal, never rounded to a certainty it is not."""
+    if not np.isfinite(p):
+        return "n/a"
+    if 0.0 < p < 0.0005:
+        return "< 0.1 %"
+    if 0.9995 <= p < 1.0:
+        return "> 99.9 %"
+    return f"{100 * p:.1f} %"
+
+
+def _pct_bounds(p, lower=math.nan, upper=math.nan):
+    """``12.2 % (9.1 to 15.0)``: the probability and its bootstrap bounds [%] when they are known."""
+    if not (np.isfinite(lower) and np.isfinite(upper)):
+        return _pct(p)
+    return f"{_pct(p)} ({_pct(lower).replace(' %', '')} to {_pct(upper)})"
 
 
 def _g_and_ms2(x):
@@ -91,6 +118,42 @@ def overturning_probabilities(frag, pga_levels_g=DEFAULT_PGA_LEVELS_G):
     return out
 
 
+def probability_bounds(frag, column, model, pga_levels_g=DEFAULT_PGA_LEVELS_G, state="overturning"):
+    """Pointwise bootstrap bounds of the probability at the stated PGA levels (NaN without a bootstrap).
+
+    Read from the bands ``probability_lower``/``probability_upper`` of the
+    fragility Dataset, interpolated in log PGA on its ``im_level`` grid (NaN
+    outside the grid).
+
+    Returns
+    -------
+    (numpy.ndarray, numpy.ndarray)
+        Lower and upper bounds [1], one per level.
+    """
+    levels = np.asarray(pga_levels_g, float) * G
+    if "probability_lower" not in frag:
+        return np.full(levels.shape, np.nan), np.full(levels.shape, np.nan)
+    grid = np.log(frag["im_level"].values)
+    cell = frag.sel(state=state, column=column, model=model)
+    return tuple(np.interp(np.log(levels), grid, cell[name].values, left=np.nan, right=np.nan)
+                 for name in ("probability_lower", "probability_upper"))
+
+
+def simulated_pga_range(results, column, model):
+    """Weakest and strongest PGA [m/s^2] of the valid runs of a column and model."""
+    one = results.sel(column=column, model=model)
+    pga = F.intensity(one, "pga").where(F._valid(one))
+    return float(pga.min()), float(pga.max())
+
+
+def extrapolation(median, pga_range):
+    """``"above"`` or ``"below"`` when a median [m/s^2] lies outside the PGA range simulated, else ``""``."""
+    lo, hi = pga_range
+    if not np.isfinite(median):
+        return ""
+    return "above" if median > hi else "below" if median < lo else ""
+
+
 def model_comparison(results, frag, pga_levels_g=DEFAULT_PGA_LEVELS_G):
     """Where and by how much the 2D analysis is unconservative, per column.
 
@@ -120,6 +183,8 @@ def model_comparison(results, frag, pga_levels_g=DEFAULT_PGA_LEVELS_G):
             "column": c,
             "median_3d": m3,
             "median_2d": m2,
+            "extrapolated_3d": extrapolation(m3, simulated_pga_range(results, c, "3d")),
+            "extrapolated_2d": extrapolation(m2, simulated_pga_range(results, c, "2d")),
             "ratio": m2 / m3 if (np.isfinite(m2) and np.isfinite(m3) and m3 > 0) else math.nan,
             "p3d": probs[(c, "3d")],
             "p2d": probs[(c, "2d")],
@@ -136,32 +201,51 @@ def model_comparison(results, frag, pga_levels_g=DEFAULT_PGA_LEVELS_G):
 
 
 def summary_rows(results, frag, pga_levels_g=DEFAULT_PGA_LEVELS_G):
-    """Rows of ``summary.csv``: one per column and model, SI units and g, with fitted values."""
+    """Rows of ``summary.csv``: one per column and model, SI units and g, with fitted values.
+
+    Besides the fit: diameters beside radii, the number of records and whether
+    they are too few (< :data:`MIN_RECORDS`), the PGA range simulated and
+    whether the median lies outside it (``median_extrapolated``: ``above``,
+    ``below`` or empty), and bootstrap bounds of every stated probability.
+    """
     probs = overturning_probabilities(frag, pga_levels_g)
     rows = []
     valid = F._valid(results)
+
+    def coord(name, c, factor=1.0):
+        return float(frag[name].sel(column=c)) * factor if name in frag.coords else ""
+
     for c in frag["column"].values:
         for m in frag["model"].values:
             c, m = str(c), str(m)
             over = frag.sel(state="overturning", column=c, model=m)
+            lo_pga, hi_pga = simulated_pga_range(results, c, m)
+            n_records = int(frag["n_records"].sel(column=c, model=m))
             row = {
                 "column": c,
                 "model": m,
-                "R_m": float(frag["column_R"].sel(column=c)) if "column_R" in frag.coords else "",
-                "r_m": float(frag["column_r"].sel(column=c)) if "column_r" in frag.coords else "",
-                "h_m": float(frag["column_h"].sel(column=c)) if "column_h" in frag.coords else "",
-                "slenderness_h_over_R": float(frag["slenderness"].sel(column=c)) if "slenderness" in frag.coords else "",
-                "conicity_r_over_R": float(frag["column_beta"].sel(column=c)) if "column_beta" in frag.coords else "",
-                "theta_crit_deg": math.degrees(float(frag["theta_crit"].sel(column=c))) if "theta_crit" in frag.coords else "",
-                "latitude": float(frag["latitude"].sel(column=c)) if "latitude" in frag.coords else "",
-                "longitude": float(frag["longitude"].sel(column=c)) if "longitude" in frag.coords else "",
+                "R_m": coord("column_R", c),
+                "r_m": coord("column_r", c),
+                "D_base_m": coord("column_R", c, 2.0),
+                "D_top_m": coord("column_r", c, 2.0),
+                "h_m": coord("column_h", c),
+                "slenderness_h_over_R": coord("slenderness", c),
+                "conicity_r_over_R": coord("column_beta", c),
+                "theta_crit_deg": coord("theta_crit", c, 180.0 / math.pi),
+                "latitude": coord("latitude", c),
+                "longitude": coord("longitude", c),
+                "records": n_records,
+                "too_few_records": n_records < MIN_RECORDS,
                 "runs": int(over["n_runs"]),
                 "runs_overturned": int(over["n_exceed"]),
                 "fraction_overturned": int(over["n_exceed"]) / int(over["n_runs"]) if int(over["n_runs"]) else "",
                 "failed_runs_excluded": int((~valid.sel(column=c, model=m)).sum()),
+                "pga_simulated_min_g": lo_pga / G,
+                "pga_simulated_max_g": hi_pga / G,
                 "fit_status": F.FIT_STATUS[int(over["fit_status"])],
                 "median_pga_overturning_m_s2": float(over["median"]),
                 "median_pga_overturning_g": float(over["median"]) / G,
+                "median_extrapolated": extrapolation(float(over["median"]), (lo_pga, hi_pga)),
                 "beta_overturning": float(over["beta"]),
             }
             if "median_lower" in frag:
@@ -171,8 +255,12 @@ def summary_rows(results, frag, pga_levels_g=DEFAULT_PGA_LEVELS_G):
                     "beta_overturning_lower": float(over["beta_lower"]),
                     "beta_overturning_upper": float(over["beta_upper"]),
                 })
-            for level, p in zip(pga_levels_g, probs[(c, m)]):
+            lower, upper = probability_bounds(frag, c, m, pga_levels_g)
+            for level, p, a, b in zip(pga_levels_g, probs[(c, m)], lower, upper):
                 row[f"p_overturning_at_{level:g}g"] = float(p)
+                if "probability_lower" in frag:
+                    row[f"p_overturning_at_{level:g}g_lower"] = float(a)
+                    row[f"p_overturning_at_{level:g}g_upper"] = float(b)
             for state in frag["state"].values[1:]:
                 cell = frag.sel(state=state, column=c, model=m)
                 row[f"median_pga_{state}_m_s2"] = float(cell["median"])
@@ -181,18 +269,9 @@ def summary_rows(results, frag, pga_levels_g=DEFAULT_PGA_LEVELS_G):
     return rows
 
 
-@contextlib.contextmanager
 def _atomic_text(path, **open_kwargs):
     """Open ``path`` for writing text under a temporary name; renamed on success, removed on failure."""
-    tmp = f"{path}.partial"
-    try:
-        with open(tmp, "w", encoding="utf-8", **open_kwargs) as fh:
-            yield fh
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    return atomic_open(path, "w", encoding="utf-8", **open_kwargs)
 
 
 def _write_csv(rows, path):
@@ -200,8 +279,16 @@ def _write_csv(rows, path):
         writer = csv.DictWriter(fh, fieldnames=list(rows[0].keys()))
         writer.writeheader()
         for row in rows:
-            writer.writerow({k: ("" if isinstance(v, float) and not math.isfinite(v) else
-                                 (repr(v) if isinstance(v, float) else v)) for k, v in row.items()})
+            writer.writerow({k: _csv_value(v) for k, v in row.items()})
+
+
+def _csv_value(value):
+    """A CSV cell: floats to :data:`CSV_DIGITS` significant digits, NaN empty, flags as true/false."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        return f"{value:.{CSV_DIGITS}g}" if math.isfinite(value) else ""
+    return value
 
 
 def _write_geojson(rows, path):
@@ -353,13 +440,42 @@ def write_report(results, out_dir, pga_levels_g=DEFAULT_PGA_LEVELS_G, states=F.D
     csv_path = os.path.join(out_dir, "summary.csv")
     _write_csv(rows, csv_path)
     geo_path = _write_geojson(rows, os.path.join(out_dir, "columns.geojson"))
-    text = _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, title, notes, geo_path,
-                     stripe_tables_max)
+    args = (results, frag, rows, comparison, pga_levels_g, figs, out_dir, title, notes, geo_path, stripe_tables_max)
     md_path = os.path.join(out_dir, "report.md")
     with _atomic_text(md_path) as fh:
-        fh.write(text)
-    return {"report": md_path, "csv": csv_path, "geojson": geo_path, "fragility": frag_path, "figures": figs,
-            "frag": frag}
+        fh.write(_markdown(*args))
+    html_path = os.path.join(out_dir, "report.html")
+    with _atomic_text(html_path) as fh:
+        fh.write(_html(_markdown(*args, image=_data_uri), title or results.attrs.get("title", "Study report")))
+    return {"report": md_path, "html": html_path, "csv": csv_path, "geojson": geo_path, "fragility": frag_path,
+            "figures": figs, "frag": frag}
+
+
+def _data_uri(path):
+    """A figure file as a ``data:`` URI (base64), so that the HTML report needs no other file."""
+    import base64
+    import mimetypes
+
+    kind = mimetypes.guess_type(path)[0] or "application/octet-stream"
+    with open(path, "rb") as fh:
+        return f"data:{kind};base64,{base64.b64encode(fh.read()).decode('ascii')}"
+
+
+_HTML_STYLE = """body{font-family:sans-serif;max-width:75em;margin:2em auto;padding:0 1em;line-height:1.4}
+table{border-collapse:collapse;margin:1em 0;font-size:90%}th,td{border:1px solid #bbb;padding:.25em .5em}
+th{background:#eee}img{max-width:100%}code{background:#f4f4f4}"""
+
+
+def _html(markdown_text, title):
+    """One self-contained HTML page from the report's Markdown (markdown-it-py, tables enabled)."""
+    import html
+
+    from markdown_it import MarkdownIt
+
+    body = MarkdownIt("commonmark").enable("table").render(markdown_text)
+    return (f"<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+            f"<title>{html.escape(title)}</title>\n<style>{_HTML_STYLE}</style>\n</head>\n<body>\n{body}</body>\n"
+            "</html>\n")
 
 
 def _informative_level(frag, pga_levels_g):
@@ -397,8 +513,42 @@ def _overturning_all_columns(frag, stem):
     return P._save(fig, stem)
 
 
+def _extrapolated_mark(where):
+    """`` (extrapolated)`` after a median that lies outside the PGA range simulated."""
+    return " (extrapolated)" if where else ""
+
+
+def _caveats(rows):
+    """Markdown lines that say where the data do not support a fitted number."""
+    lines = []
+    few = sorted({(r["column"], r["records"]) for r in rows if r["too_few_records"]})
+    if few:
+        lines.append(f"**Too few records for a fragility:** {', '.join(f'{c!r} ({n})' for c, n in few)} "
+                     f"{'has' if len(few) == 1 else 'have'} fewer than {MIN_RECORDS} records with valid runs. A "
+                     "lognormal curve fitted to so few records (and its bootstrap bounds, which resample them) "
+                     f"describes these records, not earthquakes in general; use at least {MIN_RECORDS}.")
+        lines.append("")
+    for r in rows:
+        if r["fit_status"] == "no_exceedance_observed":
+            lines.append(f"- '{r['column']}' ({r['model'].upper()}): no run overturned, up to a PGA of "
+                         f"{_fmt(r['pga_simulated_max_g'])} g: its median PGA of overturning lies above that, by an "
+                         "amount these runs cannot tell.")
+        if r["median_extrapolated"]:
+            side = ("beyond the strongest shaking simulated" if r["median_extrapolated"] == "above"
+                    else "below the weakest shaking simulated")
+            edge = r["pga_simulated_max_g"] if r["median_extrapolated"] == "above" else r["pga_simulated_min_g"]
+            lines.append(f"- **Extrapolated:** the median PGA of overturning of '{r['column']}' "
+                         f"({r['model'].upper()}), {_fmt(r['median_pga_overturning_g'])} g, lies {side} "
+                         f"({_fmt(edge)} g): there the curve is the lognormal assumption, not the runs.")
+    if any(r["median_extrapolated"] or r["fit_status"] == "no_exceedance_observed" for r in rows):
+        lines.append("")
+    return lines
+
+
 def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, title, notes, geo_path,
-              stripe_tables_max=4):
+              stripe_tables_max=4, image=None):
+    """The report as Markdown; ``image(path)`` gives a figure's link (default: its path relative to the report)."""
+    image = image or (lambda path: os.path.relpath(path, out_dir))
     n = results.sizes
     models = [str(m) for m in frag["model"].values]
     records = _values(results, "record")
@@ -413,10 +563,12 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
         lines += [notes, ""]
     lines += ["## What was simulated", ""]
     lines += [f"- **{n['column']} column(s)**:", "",
-              "| column | R [m] | r [m] | h [m] | h/R | r/R | theta_crit [deg] |", "|---|---|---|---|---|---|---|"]
+              "| column | base diameter [m] | top diameter [m] | R [m] | r [m] | h [m] | h/R | r/R | theta_crit [deg] |",
+              "|---|---|---|---|---|---|---|---|---|"]
     for c in frag["column"].values:
         get = lambda name: float(frag[name].sel(column=c)) if name in frag.coords else math.nan  # noqa: E731
-        lines.append(f"| {c} | {_fmt(get('column_R'), 4)} | {_fmt(get('column_r'), 4)} | {_fmt(get('column_h'), 4)} | "
+        lines.append(f"| {c} | {_fmt(2 * get('column_R'), 4)} | {_fmt(2 * get('column_r'), 4)} | "
+                     f"{_fmt(get('column_R'), 4)} | {_fmt(get('column_r'), 4)} | {_fmt(get('column_h'), 4)} | "
                      f"{_fmt(get('slenderness'))} | {_fmt(get('column_beta'))} | "
                      f"{_fmt(math.degrees(get('theta_crit')))} |")
     lines.append("")
@@ -458,7 +610,7 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
         damping = json.loads(results.attrs.get("model_options", "{}")).get("damping", damping)
     except (TypeError, ValueError):
         pass
-    lines.append(ASSUMPTIONS.format(vertical=" and the vertical one where recorded", damping=damping))
+    lines.append(ASSUMPTIONS.format(vertical=" and the vertical one where recorded", damping=damping, cite=CITE))
 
     lines += ["## Probability of overturning", ""]
     lines.append("Fitted lognormal fragility curves (maximum likelihood, Baker 2015) give the probability that "
@@ -467,10 +619,11 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
                  f"({frag.attrs['bootstrap_replicates']} replicates).")
     lines.append("")
     head = "| column | model | " + " | ".join(f"P at {lv:g} g ({_fmt(lv * G)} m/s²)" for lv in pga_levels_g) + \
-        " | median PGA [g] | median PGA [m/s²] | dispersion beta | overturned / runs |"
+        " | median PGA [g] | median PGA [m/s²] | dispersion beta | overturned / runs | records |"
     lines += [head, "|" + "---|" * (head.count("|") - 1)]
     for row in rows:
-        probs = [row[f"p_overturning_at_{lv:g}g"] for lv in pga_levels_g]
+        probs = [_pct_bounds(row[f"p_overturning_at_{lv:g}g"], row.get(f"p_overturning_at_{lv:g}g_lower", math.nan),
+                             row.get(f"p_overturning_at_{lv:g}g_upper", math.nan)) for lv in pga_levels_g]
         bounds = ""
         if "median_pga_overturning_lower_m_s2" in row:
             bounds = f" ({_fmt(row['median_pga_overturning_lower_m_s2'] / G)} to " \
@@ -478,14 +631,18 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
         status = row["fit_status"]
         med_g = _fmt(row["median_pga_overturning_g"]) + bounds if status in ("ok", "perfectly_separated") \
             else status.replace("_", " ")
-        lines.append(f"| {row['column']} | {row['model'].upper()} | " + " | ".join(_pct(p) for p in probs) +
+        med_g += _extrapolated_mark(row["median_extrapolated"])
+        records = f"{row['records']}" + (" (too few)" if row["too_few_records"] else "")
+        lines.append(f"| {row['column']} | {row['model'].upper()} | " + " | ".join(probs) +
                      f" | {med_g} | {_fmt(row['median_pga_overturning_m_s2'])} | {_fmt(row['beta_overturning'])} | "
-                     f"{row['runs_overturned']} / {row['runs']} |")
+                     f"{row['runs_overturned']} / {row['runs']} | {records} |")
     lines.append("")
-    lines.append("*n/a*: no fit (see `fit_status` in `summary.csv`: e.g. no run overturned, so the median PGA lies "
+    lines.append("Probabilities are followed by their bootstrap bounds where a bootstrap was run. "
+                 "*n/a*: no fit (see `fit_status` in `summary.csv`: e.g. no run overturned, so the median PGA lies "
                  "above the strongest shaking simulated). A dispersion of 0 means the runs were perfectly separated "
                  "by PGA (all stood below, all overturned above): the step is placed between the two.")
     lines.append("")
+    lines += _caveats(rows)
 
     targets = results["scale"].attrs.get("units", "1") == "m s-2"  # every record scaled to the stripe's PGA
     if comparison:
@@ -498,10 +655,14 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
         finite = np.isfinite(ratios)
         if finite.any():
             lo, hi = int(np.nanargmin(ratios)), int(np.nanargmax(ratios))
+            extrapolated = [r["column"] for r in comparison if r["extrapolated_3d"] or r["extrapolated_2d"]]
             lines.append(f"**In short:** 2D is unconservative for {int(np.sum(ratios[finite] > 1))} of "
                          f"{len(comparison)} column(s): its median PGA of overturning is {_fmt(ratios[lo])} "
                          f"('{comparison[lo]['column']}') to {_fmt(ratios[hi])} ('{comparison[hi]['column']}') times "
-                         "the 3D one.")
+                         "the 3D one." + (
+                             f" For {', '.join(repr(c) for c in extrapolated)} a median is *extrapolated* beyond the "
+                             "shaking simulated, so that ratio rests on the lognormal assumption, not on runs."
+                             if extrapolated else ""))
             lines.append("")
         lines.append("Note: PGA here is the peak of the horizontal acceleration vector of the record. The 2D model "
                      "feels only the component along the incidence angle, whose peak is at most that PGA, as in "
@@ -512,7 +673,8 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
                      " | ".join(f"P 3D / 2D at {lv:g} g" for lv in pga_levels_g) + " |")
         lines.append("|" + "---|" * (4 + len(pga_levels_g)))
         for r in comparison:
-            lines.append(f"| {r['column']} | {_fmt(r['median_3d'] / G)} | {_fmt(r['median_2d'] / G)} | "
+            lines.append(f"| {r['column']} | {_fmt(r['median_3d'] / G)}{_extrapolated_mark(r['extrapolated_3d'])} | "
+                         f"{_fmt(r['median_2d'] / G)}{_extrapolated_mark(r['extrapolated_2d'])} | "
                          f"{_fmt(r['ratio'])} | " +
                          " | ".join(f"{_pct(a)} / {_pct(b)}" for a, b in zip(r["p3d"], r["p2d"])) + " |")
         lines.append("")
@@ -521,6 +683,9 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
                 verdict = ("2D is **unconservative**: it needs a {:.0f} % stronger PGA to overturn the column half "
                            "of the time".format(100 * (r["ratio"] - 1)) if r["ratio"] > 1 else
                            "2D is conservative here: its median PGA is {:.0f} % lower".format(100 * (1 - r["ratio"])))
+                marked = [m.upper() for m in ("3d", "2d") if r[f"extrapolated_{m}"]]
+                if marked:
+                    verdict += f" (the {' and '.join(marked)} median extrapolated beyond the shaking simulated)"
             else:
                 verdict = "no median for one of the models (see the table above)"
             k = r["worst_stripe"]
@@ -549,14 +714,20 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
 
     lines += ["## Figures", ""]
     for path in figs:
-        rel = os.path.relpath(path, out_dir)
         stem = os.path.splitext(os.path.basename(path))[0]
         name = stem.replace("_", " ")
-        lines += [f"![{name}]({rel})", ""]
+        lines += [f"![{name}]({image(path)})", ""]
         caption = next((text for prefix, text in CAPTIONS if stem.startswith(prefix)), None)
         if caption:
             lines += [f"*{caption}*", ""]
+    lines += ["## References", "",
+              f"- {REFERENCE} (the 3D model).",
+              "- Housner G.W. (1963), The behavior of inverted pendulum structures during earthquakes, Bulletin of "
+              "the Seismological Society of America 53(2), 403-417 (the 2D model).",
+              "- Baker J.W. (2015), Efficient analytical fragility function fitting using dynamic structural "
+              "analysis data, Earthquake Spectra 31(1), 579-599 (the fit).", ""]
     lines += ["## Files", "",
+              "- `report.html`: this report in one file, figures included (opens in any browser, can be mailed).",
               "- `summary.csv`: one row per column and model (dimensions, runs, medians and dispersions of every "
               "damage state, probabilities at the PGA levels above); opens in a spreadsheet.",
               "- `fragility.nc`: the fitted curves (netCDF, CF-1.10).",

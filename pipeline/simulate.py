@@ -34,7 +34,7 @@ from pipeline.dynamics import hybrid as hy
 from pipeline.dynamics import rocking as rk
 from pipeline.errors import InputError
 from pipeline.geometry import Column
-from pipeline.units import G, time_scale
+from pipeline.units import MARBLE_DENSITY, G, deg_to_rad, time_scale
 
 MODELS = ("3d", "2d", "3d-compliant")
 COMPLIANT_MODELS = ("3d-compliant",)  # pipeline.compliant: rigid drums on compliant joints
@@ -45,13 +45,22 @@ RADIUS_RANGE = (1e-3, 50.0)  # [m]
 SLENDERNESS_RANGE = (0.05, 200.0)  # h/R [1]
 BETA_RANGE = (0.05, 20.0)  # r/R [1]
 
+# The contact tilt of a rigid base (no compliance to set it): small enough to
+# change nothing measurable (studies/contact_tilt), large enough for the
+# integrator to resolve the landing.
+RIGID_CONTACT_TILT = 1e-7  # [rad]
+
 # Landings logged individually (time, theta' before/after, energy jump).
 MAX_LOGGED_IMPACTS = 10_000
 
 
 @dataclass(frozen=True)
 class InitialState:
-    """Euler angles [rad] and their rates [rad/s] at t = 0 (the paper's Figure 2)."""
+    """Euler angles [deg] and their rates [rad/s] at t = 0 (the paper's Figure 2).
+
+    Angles in degrees, as on the command line; :meth:`from_dimensionless`
+    takes the paper's own radians and rates per tau.
+    """
 
     phi: float = 0.0
     theta: float = 0.0
@@ -65,17 +74,22 @@ class InitialState:
             value = getattr(self, name)
             if not math.isfinite(value):
                 raise InputError(f"initial {name} = {value!r} must be a finite number")
-        if not 0.0 < self.theta < math.pi / 2:
+        if not 0.0 < self.theta < 90.0:
             raise InputError(
-                f"initial theta = {math.degrees(self.theta):g} deg: a free motion starts tilted on its rim, "
-                "0 < theta < 90 deg"
+                f"initial theta = {self.theta:g} deg: a free motion starts tilted on its rim, 0 < theta < 90 deg"
             )
+
+    @property
+    def angles_rad(self):
+        """(phi, theta, psi) [rad]."""
+        return deg_to_rad(self.phi), deg_to_rad(self.theta), deg_to_rad(self.psi)
 
     @classmethod
     def from_dimensionless(cls, radius, phi, theta, psi, dphi, dtheta, dpsi):
-        """Build from rates in the paper's dimensionless time (per tau), for a base radius [m]."""
+        """Build from the paper's dimensionless values: angles [rad], rates per tau, for a base radius [m]."""
         rate = math.sqrt(G / radius)
-        return cls(phi, theta, psi, dphi * rate, dtheta * rate, dpsi * rate)
+        return cls(math.degrees(phi), math.degrees(theta), math.degrees(psi), dphi * rate, dtheta * rate,
+                   dpsi * rate)
 
 
 @dataclass(frozen=True)
@@ -84,48 +98,77 @@ class ModelSettings:
 
     Parameters
     ----------
-    model : {"3d", "2d"}
-        Rolling frustum (the paper) or planar rocking (Housner).
+    model : {"3d", "2d", "3d-compliant"}
+        Rolling frustum (the paper), planar rocking (Housner), or rigid drums
+        on joints of contact points (:mod:`pipeline.compliant`).
     restitution : float, optional
         theta' after / before a landing [1]. Default (None): the impact
         conserves angular momentum about the new pivot (for planar rocking
         ``1 - 2 m R^2 / I_P``).
-    contact_tilt : float
-        theta_c [rad]: below this inclination the base is in full contact;
-        rolling starts there after uplift and a landing happens there
-        (docs/model.md). 0 is allowed for planar motion only.
+    contact_tilt : float or None
+        theta_c [deg]: below this inclination the base is in full contact;
+        rolling starts there after uplift and a landing happens there, and a
+        passage through a minimum of theta near it slaps in part
+        (docs/model.md). None (default): theta_k of the compliant bed
+        (:func:`contact_tilt`). 0 is allowed for planar motion only.
     damping : float
         Viscous contact couple nu, per m g R sqrt(R/g) [1]; 0 is the paper's
         model without dissipation other than impacts.
     friction : float
-        Friction coefficient [1] against which the mobilized friction is
-        compared (``sliding_onset``).
+        Coulomb friction coefficient of the base on the ground [1]: the base
+        slides flat, or the rim slips, when the friction needed exceeds
+        ``friction`` times the normal force. ``math.inf`` is the paper's
+        rolling without slip.
+    lift_off : bool
+        The ground can only push: the column flies when the normal force
+        would pull, and lands with an impact. False holds the rim on the
+        ground whatever the force, as the paper's model does.
+    normal_stiffness : float
+        Normal stiffness of the bed joint per unit area, k_n [Pa/m]. The
+        rigid models take from it the contact patch under the rim
+        (:mod:`pipeline.dynamics.patch`: rolling damping and drilling
+        friction); ``math.inf`` is the paper's point contact.
+    contact_damping : float or None
+        Normal dashpots of the joint per unit area, c_n [Pa s/m]; None: the
+        critical damping of the column bouncing on its base,
+        ``2 sqrt(k_n m / A)``. The compliant model calibrates it to
+        ``restitution`` instead (:func:`pipeline.compliant.calibrated_damping`);
+        its default target, the rigid value, is out of its reach and gives
+        that critical damping too.
+    numerics : tuple of (str, float)
+        Overrides of the rigid kernels' numerical thresholds
+        (:data:`pipeline.dynamics.hybrid.NUMERICS`: ``landing_margin``,
+        ``min_rebound``, ``slave_time``, ``look_ahead``), for studies that
+        show no result depends on them; e.g. ``(("slave_time", 1e-5),)``.
     tail : float
         Free motion after the record ends [s].
     rtol, atol : float
         Integration tolerances (dimensionless state).
     output_step : float
         Sampling interval of the time histories [s].
-    normal_stiffness, joint_stiffness, stiffness_ratio, contact_damping, contact_rings, \
-contact_sectors, joint_friction, anathyrosis, base_anathyrosis, monitor_step
+    joint_stiffness, stiffness_ratio, contact_rings, contact_sectors, joint_friction, \
+anathyrosis, base_anathyrosis, monitor_step
         Options of the compliant-contact model ``"3d-compliant"`` (there
-        ``friction`` is the base's friction coefficient and ``restitution`` the
-        target of the damping calibration); see :mod:`pipeline.compliant`.
+        ``normal_stiffness`` and ``friction`` are the base's and
+        ``restitution`` the target of the damping calibration); see
+        :mod:`pipeline.compliant`.
     """
 
     model: str = "3d"
     restitution: float | None = None
-    contact_tilt: float = 1e-5
+    contact_tilt: float | None = None
     damping: float = 0.0
     friction: float = 0.7
+    lift_off: bool = True
+    normal_stiffness: float = 1.0e10
+    contact_damping: float | None = None
+    numerics: tuple = ()
     tail: float = 5.0
     rtol: float = 1e-9
     atol: float = 1e-12
     output_step: float = 0.01
-    normal_stiffness: float = 1.0e10
     joint_stiffness: float | None = None
     stiffness_ratio: float = 0.5
-    contact_damping: float | None = None
     contact_rings: int = 3
     contact_sectors: int = 24
     joint_friction: float | tuple | None = None
@@ -137,15 +180,33 @@ contact_sectors, joint_friction, anathyrosis, base_anathyrosis, monitor_step
         if self.model not in MODELS:
             raise InputError(f"model = {self.model!r} is unknown; choose one of {', '.join(MODELS)}")
         checks = {
-            "contact_tilt": (0.0, 0.01, "rad"),
             "damping": (0.0, 100.0, "(per m g R sqrt(R/g))"),
-            "friction": (0.0, 10.0, ""),
             "tail": (0.0, 3600.0, "s"),
         }
         for name, (lo, hi, unit) in checks.items():
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and lo <= value <= hi):
                 raise InputError(f"{name} = {value!r} {unit} must be a number in [{lo:g}, {hi:g}]")
+        if self.contact_tilt is not None and not (
+                isinstance(self.contact_tilt, (int, float)) and 0.0 <= self.contact_tilt <= 0.5):
+            raise InputError(f"contact_tilt = {self.contact_tilt!r} deg must be a number in [0, 0.5] "
+                             "(or omitted: the compliance of the bed sets it)")
+        if not (isinstance(self.friction, (int, float)) and (self.friction == math.inf or
+                                                              0.0 < self.friction <= 10.0)):
+            raise InputError(f"friction = {self.friction!r} must be a number in (0, 10], or inf for rolling "
+                             "without slip")
+        if not (isinstance(self.normal_stiffness, (int, float)) and 1e6 <= self.normal_stiffness <= math.inf):
+            raise InputError(f"normal_stiffness = {self.normal_stiffness!r} Pa/m must be a number in [1e6, inf]")
+        if self.contact_damping is not None and not (
+                isinstance(self.contact_damping, (int, float)) and 0.0 <= self.contact_damping < math.inf):
+            raise InputError(f"contact_damping = {self.contact_damping!r} Pa s/m must be a number >= 0 "
+                             "(or omitted for critical damping)")
+        numerics = dict(self.numerics)
+        for name, value in numerics.items():
+            if name not in hy.NUMERICS:
+                raise InputError(f"numerics: {name!r} is unknown; choose from {', '.join(hy.NUMERICS)}")
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+                raise InputError(f"numerics: {name} = {value!r} must be a positive number")
         for name in ("rtol", "atol", "output_step"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
@@ -164,8 +225,10 @@ class Excitation:
     Parameters
     ----------
     angle : float
-        Incidence angle [rad]: the horizontal pair is turned counter-clockwise
-        by it (:meth:`pipeline.groundmotion.GroundMotion.rotated`).
+        Incidence angle [degree]: the horizontal pair is turned
+        counter-clockwise by it (:meth:`pipeline.groundmotion.GroundMotion.rotated`).
+        Degrees as on the command line and in study files; :attr:`angle_rad`
+        is what the kernels use.
     scale : float
         Factor on every component [1], > 0.
     vertical : bool
@@ -180,7 +243,12 @@ class Excitation:
         if not (isinstance(self.scale, (int, float)) and math.isfinite(self.scale) and self.scale > 0):
             raise InputError(f"scale = {self.scale!r} must be a positive number")
         if not math.isfinite(self.angle):
-            raise InputError(f"angle = {self.angle!r} must be a finite number of radians")
+            raise InputError(f"angle = {self.angle!r} must be a finite number of degrees")
+
+    @property
+    def angle_rad(self):
+        """Incidence angle [rad]."""
+        return deg_to_rad(self.angle)
 
 
 @dataclass
@@ -215,11 +283,15 @@ def housner_restitution(column):
 def lying_tilt(column):
     """Inclination at which the side of the frustum touches the ground [rad].
 
-    The generator of the side through the pivot makes the angle
-    atan((R - r)/h) with the axis; it reaches the ground at
-    ``theta = pi/2 - atan((R - r)/h)``. Reaching it is the overturning event.
+    The generator of the side through the pivot runs from the base rim
+    inwards by R - r over the height h, so it makes the angle
+    atan((R - r)/h) with the axis, leaning towards the axis. It lies on the
+    ground when the axis has turned past the horizontal by that angle:
+    ``theta_lie = pi/2 + atan((R - r)/h)`` (91.43 deg for R = 0.5, r = 0.4,
+    h = 4 m; below 90 deg for a column wider at the top). Reaching it is the
+    overturning event.
     """
-    return 0.5 * math.pi - math.atan((column.R - column.r) / column.h)
+    return 0.5 * math.pi + math.atan((column.R - column.r) / column.h)
 
 
 def check_column(column):
@@ -236,7 +308,52 @@ def check_column(column):
 
 
 def _options(column, settings):
-    return np.array([settings.contact_tilt, lying_tilt(column), settings.damping], dtype=np.float64)
+    opts = np.zeros(fk.N_OPT)
+    opts[fk.OPT_THETA_LIE] = lying_tilt(column)
+    opts[fk.OPT_NU] = settings.damping
+    opts[fk.OPT_MU] = settings.friction
+    opts[fk.OPT_UNILATERAL] = 1.0 if settings.lift_off else 0.0
+    opts[fk.OPT_THETA_K], opts[fk.OPT_PATCH_DAMPING] = patch_parameters(column, settings)
+    opts[fk.OPT_THETA_C] = contact_tilt(column, settings)
+    numerics = {**hy.NUMERICS, **dict(settings.numerics)}
+    opts[fk.OPT_LANDING_MARGIN] = numerics["landing_margin"]
+    opts[fk.OPT_MIN_REBOUND] = numerics["min_rebound"]
+    opts[fk.OPT_SLAVE_TIME] = numerics["slave_time"]
+    opts[fk.OPT_LOOK_AHEAD] = numerics["look_ahead"]
+    return opts
+
+
+def contact_tilt(column, settings):
+    """Tilt theta_c [rad] below which the base is in full contact (landing, uplift).
+
+    ``settings.contact_tilt`` [deg] if given; otherwise theta_k, the tilt at which
+    the compliant bed under the column's weight loses full contact
+    (:func:`patch_parameters`), or for a rigid base (``normal_stiffness`` inf,
+    the paper's point contact) a numerical 1e-7 rad.
+    """
+    if settings.contact_tilt is not None:
+        return deg_to_rad(settings.contact_tilt)
+    theta_k = patch_parameters(column, settings)[0]
+    return theta_k if theta_k > 0.0 else RIGID_CONTACT_TILT
+
+
+def patch_parameters(column, settings):
+    """Contact patch of the rigid models: (theta_k [rad], dashpots c_n R^3 / (m sqrt(g R)) [1]).
+
+    theta_k = m g / (k_n A R) is the tilt at which the base under the
+    column's weight just loses full contact (:mod:`pipeline.dynamics.patch`);
+    0 for a rigid base (``normal_stiffness`` inf), the paper's point contact.
+    """
+    kn = settings.normal_stiffness
+    if kn == math.inf:
+        return 0.0, 0.0
+    density = column.density if column.density is not None else MARBLE_DENSITY
+    mass = density * column.volume
+    area = math.pi * column.R**2
+    damping = settings.contact_damping
+    if damping is None:
+        damping = 2.0 * math.sqrt(kn * mass / area)
+    return mass * G / (kn * area * column.R), damping * column.R**3 / (mass * math.sqrt(G * column.R))
 
 
 def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), histories=True):
@@ -269,7 +386,7 @@ def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), 
     ay = np.asarray(motion.acc_y, dtype=np.float64) * excitation.scale
     az = motion.acc_z
     az = np.zeros_like(ax) if (az is None or not excitation.vertical) else np.asarray(az) * excitation.scale
-    gamma = excitation.angle
+    gamma = excitation.angle_rad
     if settings.model == "3d":
         record = np.stack([ax, ay, az], axis=1) / G  # turned after, by axisymmetry
     else:
@@ -287,7 +404,7 @@ def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), 
 
 
 def simulate_free(column, initial, duration, settings=ModelSettings(rtol=1e-12, atol=1e-14, contact_tilt=0.0),
-                  restitution=None):
+                  restitution=None, friction=math.inf, lift_off=False, normal_stiffness=math.inf):
     """Free motion (no ground motion) of the 3D column released on its rim.
 
     Parameters
@@ -301,6 +418,9 @@ def simulate_free(column, initial, duration, settings=ModelSettings(rtol=1e-12, 
         only planar motion reaches.
     restitution : float, optional
         Overrides ``settings.restitution``.
+    friction, lift_off, normal_stiffness : float, bool, float
+        Override ``settings``; the defaults (inf, False, inf) are the paper's
+        free motion: rolling without slip on a point, the rim held on the ground.
 
     Returns
     -------
@@ -311,13 +431,15 @@ def simulate_free(column, initial, duration, settings=ModelSettings(rtol=1e-12, 
         raise InputError(f"duration = {duration!r} s must be a positive number of seconds")
     if restitution is not None:
         settings = replace(settings, restitution=float(restitution))
-    settings = replace(settings, model="3d")
+    settings = replace(settings, model="3d", friction=friction, lift_off=lift_off,
+                       normal_stiffness=normal_stiffness)
     rate = time_scale(column.R)  # (rad/s) * rate = rad per tau
     y0 = np.zeros(fk.N_STATE)
-    y0[fk.PHI], y0[fk.THETA], y0[fk.PSI] = initial.phi, initial.theta, initial.psi
+    phi, theta, psi = initial.angles_rad
+    y0[fk.PHI], y0[fk.THETA], y0[fk.PSI] = phi, theta, psi
     y0[fk.DPHI] = initial.phi_dot * rate
     y0[fk.DTHETA] = initial.theta_dot * rate
-    y0[fk.OMEGA] = (initial.phi_dot * math.cos(initial.theta) + initial.psi_dot) * rate
+    y0[fk.OMEGA] = (initial.phi_dot * math.cos(theta) + initial.psi_dot) * rate
     raw = _run(column, settings, np.zeros((0, 3)), 1.0, y0, duration)
     ds = _histories(column, settings, raw, _diagnostics(raw, settings), Excitation(), None)
     ds.attrs["title"] = "Free motion of a conical frustum rolling on its rim"
@@ -374,68 +496,47 @@ def _impact_table(raw, column):
 
 
 def _diagnostics(raw, settings):
-    """Per-row omega_zeta, energy, normal force, |F_t|, mu_mob, ground acceleration (dimensionless)."""
-    out = np.full((raw.tau.shape[0], fk.N_DIAGNOSTICS), np.nan)
+    """Per-row derived quantities (``hybrid.D_*`` columns, dimensionless)."""
+    out = np.full((raw.tau.shape[0], hy.N_DIAGNOSTICS), np.nan)
     hy.diagnostics_rows(raw.tau, raw.states, raw.phase, raw.params, settings.model == "3d", out)
     return out
 
 
 def _summary(column, settings, raw, diag, motion, excitation):
+    """Scalar results, all read from the kernel's own summary (none from the output grid)."""
     s = raw.summary
     ts = raw.t_scale
-    # Peaks, sliding and lift-off are taken before the final fall: once the
-    # column passes theta_crit for the last time it is going over (and the
-    # rows after it lies down hold a frozen state under a moving ground).
-    moving = raw.phase != hy.PHASE_OVERTURNED
-    if not math.isnan(s[hy.S_OVERTURN_TIME]):
-        tilt = np.abs(raw.states[:, fk.THETA if settings.model == "3d" else rk.THETA2])
-        upright = np.flatnonzero(moving & ~(tilt > column.critical_tilt))
-        moving = np.arange(len(moving)) <= (upright[-1] if len(upright) else -1)
-    rolling = moving & (raw.phase == hy.PHASE_ROLLING)
-    peak_mu = max(float(np.nanmax(diag[moving, 4])) if moving.any() else 0.0, s[hy.S_PEAK_MU])
-    min_normal = np.fmin(np.nanmin(diag[rolling, 2]) if rolling.any() else np.inf, s[hy.S_MIN_NORMAL])
-    weight_energy = column.R  # energies per m g: multiply dimensionless by R -> per (m g) [m]
-    last = raw.states[raw.n_filled - 1]
-    c = raw.params[0]
-    if settings.model == "3d":
-        work, dissipated = last[fk.WORK], last[fk.DISSIPATED]
-        e_end = c[fk.C_ZC] if raw.phase[raw.n_filled - 1] == hy.PHASE_REST else fk.energy(
-            last[fk.THETA], last[fk.DPHI], last[fk.DTHETA], last[fk.OMEGA], c)
-        e_start = fk.energy(raw.y0[fk.THETA], raw.y0[fk.DPHI], raw.y0[fk.DTHETA], raw.y0[fk.OMEGA], c) \
-            if raw.y0[fk.THETA] > 0 else c[fk.C_ZC]
-        residual_rotation = s[hy.S_ROTATION]
-        residual_displacement = math.hypot(s[hy.S_BASE_X], s[hy.S_BASE_Y]) * column.R
-    else:
-        work, dissipated = last[rk.WORK2], last[rk.DISSIPATED2]
-        e_end = c[fk.C_ZC] if raw.phase[raw.n_filled - 1] == hy.PHASE_REST else rk.energy(
-            last[rk.THETA2], last[rk.DTHETA2], c)
-        e_start = c[fk.C_ZC]
-        residual_rotation = 0.0
-        residual_displacement = 0.0
-    overturned = not math.isnan(s[hy.S_OVERTURN_TIME])
-    balance = (e_end - e_start) - (work + s[hy.S_TRANSITION] - dissipated)
+    R = column.R  # energies per m g: dimensionless times R [m]
+    e_start, e_end = s[hy.S_ENERGY_START], s[hy.S_ENERGY_END]
+    work, dissipated, friction = s[hy.S_WORK], s[hy.S_DISSIPATED], s[hy.S_FRICTION]
+    balance = (e_end - e_start) - (work + s[hy.S_TRANSITION] - dissipated - friction)
+    residual_rotation = s[hy.S_ROTATION] if settings.model == "3d" else 0.0
     out = {
         "model": settings.model,
         "peak_theta": float(s[hy.S_PEAK_THETA]),
         "peak_theta_ratio": float(s[hy.S_PEAK_THETA] / column.critical_tilt),
         "peak_time": float(s[hy.S_PEAK_TIME] * ts),
-        "overturned": overturned,
+        "overturned": not math.isnan(s[hy.S_OVERTURN_TIME]),
         "overturn_time": float(s[hy.S_OVERTURN_TIME] * ts),
         "uplifted": not math.isnan(s[hy.S_UPLIFT_TIME]),
         "uplift_time": float(s[hy.S_UPLIFT_TIME] * ts),
         "n_impacts": int(s[hy.S_N_IMPACTS]),
-        "peak_mu_mob": float(peak_mu),
-        "sliding_onset": bool(peak_mu > settings.friction),
-        "lift_off": bool(min_normal < 0.0),
+        "peak_mu_mob": float(s[hy.S_PEAK_MU]),
+        "min_normal_force_hat": float(s[hy.S_MIN_NORMAL]),
+        "sliding_onset": not math.isnan(s[hy.S_SLIDE_TIME]),
+        "sliding_time": float(s[hy.S_SLIDE_TIME] * ts),
+        "lift_off": not math.isnan(s[hy.S_FLIGHT_TIME]),
+        "lift_off_time": float(s[hy.S_FLIGHT_TIME] * ts),
         "residual_rotation": float(residual_rotation),
-        "residual_displacement": float(residual_displacement),
+        "residual_displacement": float(math.hypot(s[hy.S_BASE_X], s[hy.S_BASE_Y]) * R),
         # energy budget per unit weight [m]: E / (m g)
-        "energy_initial": float(e_start * weight_energy),
-        "work_ground": float(work * weight_energy),
-        "energy_transitions": float(s[hy.S_TRANSITION] * weight_energy),
-        "energy_dissipated": float(dissipated * weight_energy),
-        "energy_final": float(e_end * weight_energy),
-        "energy_balance_error": float(balance * weight_energy),
+        "energy_initial": float(e_start * R),
+        "work_ground": float(work * R),
+        "energy_transitions": float(s[hy.S_TRANSITION] * R),
+        "energy_dissipated": float(dissipated * R),
+        "energy_friction": float(friction * R),
+        "energy_final": float(e_end * R),
+        "energy_balance_error": float(balance * R),
         "rhs_evaluations": int(s[hy.S_NFEV]),
         "steps": int(s[hy.S_STEPS]),
     }
@@ -449,53 +550,48 @@ def _histories(column, settings, raw, diag, excitation, motion):
     R = column.R
     per_s = 1.0 / ts
     st = raw.states
-    rest = raw.phase == hy.PHASE_REST
+    phase = raw.phase
+    flat = (phase == hy.PHASE_REST) | (phase == hy.PHASE_SLIDING)
+    cg, sg = math.cos(excitation.angle_rad), math.sin(excitation.angle_rad)
+    bx, by = diag[:, hy.D_BASE_X] * R, diag[:, hy.D_BASE_Y] * R
+    px, py = diag[:, hy.D_CONTACT_X] * R, diag[:, hy.D_CONTACT_Y] * R
     if settings.model == "3d":
-        phi = st[:, fk.PHI] + excitation.angle
-        theta = np.where(rest, 0.0, st[:, fk.THETA])
-        cg, sg = math.cos(excitation.angle), math.sin(excitation.angle)
-        # the kernel stores the base centre in the contact-point slots at rest
-        px, py = st[:, fk.XP] * R, st[:, fk.YP] * R
-        bx = np.where(rest, px, px - np.sin(st[:, fk.PHI]) * np.cos(theta) * R)
-        by = np.where(rest, py, py + np.cos(st[:, fk.PHI]) * np.cos(theta) * R)
-        x_p = np.where(rest, np.nan, cg * px - sg * py)
-        y_p = np.where(rest, np.nan, sg * px + cg * py)
+        theta = np.where(flat, 0.0, st[:, fk.THETA])
         data = {
-            "phi": np.where(rest, np.nan, phi),
+            "phi": np.where(flat, np.nan, st[:, fk.PHI] + excitation.angle_rad),
             "theta": theta,
-            "psi": np.where(rest, np.nan, st[:, fk.PSI]),
-            "x_p": x_p,
-            "y_p": y_p,
-            "x_b": cg * bx - sg * by,
-            "y_b": sg * bx + cg * by,
-            "phi_dot": np.where(rest, 0.0, st[:, fk.DPHI]) * per_s,
-            "theta_dot": np.where(rest, 0.0, st[:, fk.DTHETA]) * per_s,
-            "psi_dot": np.where(rest, 0.0, st[:, fk.OMEGA] - st[:, fk.DPHI] * np.cos(st[:, fk.THETA])) * per_s,
-            "work_ground_hat": st[:, fk.WORK],
+            "psi": np.where(flat, np.nan, st[:, fk.PSI]),
+            "phi_dot": np.where(flat, 0.0, st[:, fk.DPHI]) * per_s,
+            "theta_dot": np.where(flat, 0.0, st[:, fk.DTHETA]) * per_s,
+            "psi_dot": np.where(flat, 0.0, st[:, fk.OMEGA] - st[:, fk.DPHI] * np.cos(st[:, fk.THETA])) * per_s,
         }
-        gx, gy = diag[:, 5], diag[:, 6]
+        # the kernel runs in the record's frame: turn the horizontal outputs by the angle
+        data.update({"x_p": cg * px - sg * py, "y_p": sg * px + cg * py,
+                     "x_b": cg * bx - sg * by, "y_b": sg * bx + cg * by})
+        gx, gy = diag[:, hy.D_AX], diag[:, hy.D_AY]
         ground_x, ground_y = cg * gx - sg * gy, sg * gx + cg * gy
     else:
         signed = st[:, rk.THETA2]
-        theta = np.abs(signed)
         data = {
-            "phi": np.where(rest, np.nan, np.where(signed >= 0, 0.5 * math.pi, -0.5 * math.pi)),
-            "theta": theta,
-            "x_p": np.where(rest, np.nan, np.sign(signed) * R),
-            "y_p": np.where(rest, np.nan, 0.0),
-            "theta_dot": np.where(rest, 0.0, np.sign(signed) * st[:, rk.DTHETA2]) * per_s,
-            "work_ground_hat": st[:, rk.WORK2],
+            "phi": np.where(flat, np.nan, np.copysign(0.5 * math.pi, signed)),
+            "theta": np.where(flat, 0.0, np.abs(signed)),
+            "x_p": px,
+            "y_p": np.where(np.isnan(px), np.nan, 0.0),
+            "x_b": bx,
+            "y_b": by,
+            "theta_dot": np.where(flat, 0.0, np.copysign(1.0, signed) * st[:, rk.DTHETA2]) * per_s,
         }
-        ground_x, ground_y = diag[:, 5], np.zeros_like(diag[:, 5])
+        ground_x, ground_y = diag[:, hy.D_AX], np.zeros_like(diag[:, hy.D_AX])
     data.update({
-        "omega_zeta": diag[:, 0] * per_s,
-        "energy_hat": diag[:, 1],
-        "normal_force_hat": diag[:, 2],
-        "tangential_force_hat": diag[:, 3],
-        "mu_mob": diag[:, 4],
+        "omega_zeta": diag[:, hy.D_OMEGA] * per_s,
+        "energy_hat": diag[:, hy.D_ENERGY],
+        "normal_force_hat": diag[:, hy.D_NORMAL],
+        "tangential_force_hat": diag[:, hy.D_TANGENTIAL],
+        "mu_mob": diag[:, hy.D_MU],
+        "slip_velocity": diag[:, hy.D_SLIP] * math.sqrt(G * R),
         "ground_acc_x": ground_x * G,
         "ground_acc_y": ground_y * G,
-        "ground_acc_z": diag[:, 7] * G,
+        "ground_acc_z": diag[:, hy.D_AZ] * G,
     })
     if column.density is not None:
         weight = column.mass * G
@@ -504,7 +600,7 @@ def _histories(column, settings, raw, diag, excitation, motion):
         data["energy"] = data["energy_hat"] * weight * R
     time = raw.tau * ts
     variables = {k: ("time", np.asarray(v, dtype=np.float64)) for k, v in data.items()}
-    variables["phase"] = ("time", raw.phase.astype(np.int8))
+    variables["phase"] = ("time", phase.astype(np.int8))
     ds = xr.Dataset(variables, coords={"time": time, "tau": ("time", raw.tau)})
     ds.attrs.update(
         title="Response of a free-standing column (conical frustum) to ground motion",
@@ -513,7 +609,8 @@ def _histories(column, settings, raw, diag, excitation, motion):
         column_r_m=column.r,
         column_h_m=column.h,
         theta_crit_rad=column.critical_tilt,
-        contact_tilt_rad=settings.contact_tilt,
+        contact_tilt_rad=contact_tilt(column, settings),
+        friction=settings.friction,
         restitution="angular momentum" if settings.restitution is None else settings.restitution,
         damping=settings.damping,
         rtol=settings.rtol,
@@ -521,7 +618,7 @@ def _histories(column, settings, raw, diag, excitation, motion):
     )
     if motion is not None:
         ds.attrs.update(record_id=motion.record_id, record_sha256=motion.sha256(),
-                        incidence_angle_rad=excitation.angle, scale=excitation.scale)
+                        incidence_angle_rad=excitation.angle_rad, scale=excitation.scale)
     annotate(ds)
     append_history(ds, f"pipeline.simulate ({settings.model})")
     return ds

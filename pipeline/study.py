@@ -29,13 +29,15 @@ see docs/studies.md for the full reference)::
     [records]
     ids = ["FEMA-FF-01"]             # catalog ids (frustum records list)
     sets = ["SYN"]                   # whole catalog sets
-    files = [{path = "quake.mseed", units = "g"}]
+    files = [{path = "quake.mseed", units = "g"},
+             {path = ["RSN6_ELC180.AT2", "RSN6_ELC270.AT2"], id = "elcentro"},   # a pair: x, y
+             {path = "gm.g3", units = "g", dt = 0.01, missing_y = "zero"}]     # OpenSees input
     synthetic = [{generator = "ricker_wavelet", id = "ricker", ap = 3.0, fp = 2.0}]
 
     [excitation]
     angles = [0.0, 45.0, 90.0]       # [deg]
     scales = [0.5, 1.0, 2.0]         # factors on the record, or instead:
-    # intensity = {measure = "pga", values = [1.0, 2.0, 4.0]}   # targets [m/s^2] or [m/s]
+    # intensity = {measure = "pga", units = "g", values = [0.1, 0.2, 0.4]}   # units required
     vertical = true
     sa_period = 1.0                  # optional: also report Sa(T) [s]
 
@@ -56,7 +58,9 @@ from pathlib import Path
 
 from pipeline.errors import InputError
 from pipeline.geometry import Column
+from pipeline.limits import check_tolerance
 from pipeline.simulate import MODELS, ModelSettings, check_column
+from pipeline.units import G
 
 __all__ = ["Study", "RecordSpec", "ColumnInfo", "Intensity", "load_study", "load_motions", "parse_study", "named_columns"]
 
@@ -65,17 +69,20 @@ _TOP = {"title", "summary", "output", "models", "columns", "column_grid", "recor
 _COLUMN = {"name", "R", "r", "h", "named"}
 _GRID = {"R", "slenderness", "beta"}
 _RECORDS = {"ids", "sets", "files", "synthetic"}
-_FILE = {"path", "units", "id"}
+_FILE = {"path", "units", "id", "components", "missing_y", "dt", "processing"}
 _EXCITATION = {"angles", "scales", "intensity", "vertical", "sa_period"}
-_INTENSITY = {"measure", "values"}
+_INTENSITY = {"measure", "values", "units"}
 _OPTIONS = {"restitution", "contact_tilt", "damping", "friction", "tail", "rtol", "atol",
-            # the compliant-contact model (models = ["3d-compliant"]); the rigid models ignore them
+            # the joints of contact points (normal_stiffness and contact_damping also set the rigid
+            # models' contact patch; the others only the compliant model, models = ["3d-compliant"])
             "normal_stiffness", "joint_stiffness", "stiffness_ratio", "contact_damping", "contact_rings",
             "contact_sectors", "joint_friction", "anathyrosis", "base_anathyrosis", "monitor_step"}
 _EXECUTION = {"block_columns"}
 _GENERATORS = ("one_sine_pulse", "cycloidal_pulse", "rectangular_pulse", "ricker_wavelet",
                "mavroeidis_papageorgiou", "harmonic", "kanai_tajimi", "clough_penzien")
 INTENSITY_MEASURES = ("pga", "pgv")
+#: Units a study may state its intensity targets in (factor to SI), per measure; no default.
+INTENSITY_UNITS = {"pga": {"g": G, "m/s2": 1.0}, "pgv": {"m/s": 1.0, "cm/s": 0.01}}
 
 
 @dataclass(frozen=True)
@@ -110,10 +117,18 @@ class RecordSpec:
     id : str
         Record label in the results (the catalog id, the file's id, the
         synthetic record's id).
-    path : str
-        Absolute file path (kind "file").
+    path : str or tuple of str
+        Absolute file path, or 2-3 paths forming one record (kind "file").
     units : str or None
         Units of a file that does not state them.
+    components : tuple or None
+        Channel codes or trace ids of x, y[, z] (y None: y = 0).
+    missing_y : {"error", "zero"}
+        A file with one horizontal component: an error, or y = 0.
+    dt : float or None
+        Time step [s] of a text file without a time column.
+    processing : tuple of dict
+        Steps run after loading (:func:`pipeline.groundmotion.processing.apply`).
     generator : str
         Synthesis function (kind "synthetic").
     params : tuple of (str, object)
@@ -124,8 +139,12 @@ class RecordSpec:
 
     kind: str
     id: str
-    path: str = ""
+    path: str | tuple = ""
     units: str | None = None
+    components: tuple | None = None
+    missing_y: str = "error"
+    dt: float | None = None
+    processing: tuple = ()
     generator: str = ""
     params: tuple = ()
     field: str = ""
@@ -137,7 +156,9 @@ class RecordSpec:
         if self.kind == "catalog":
             return load(self.id)
         if self.kind == "file":
-            return load(self.path, units=self.units) if self.units else load(self.path)
+            return load(list(self.path) if isinstance(self.path, tuple) else self.path, units=self.units,
+                        components=self.components, missing_y=self.missing_y, dt=self.dt,
+                        processing=list(self.processing) or None)
         func = getattr(synthesis, self.generator)
         return func(**dict(self.params), record_id=self.id)
 
@@ -152,11 +173,18 @@ class Intensity:
         Peak of the horizontal acceleration [m/s^2] or velocity [m/s] vector
         (independent of the incidence angle), as the ``pga``/``pgv`` results.
     values : tuple of float
-        Target levels, in the measure's units.
+        Target levels in SI units ([m/s^2] or [m/s]).
+    units : str
+        The unit the study file stated them in (``"g"``, ``"m/s2"``,
+        ``"m/s"``, ``"cm/s"``).
+    stated : tuple of float
+        The levels as the study file gives them, in ``units``.
     """
 
     measure: str
     values: tuple
+    units: str = "m/s2"
+    stated: tuple = ()
 
 
 @dataclass(frozen=True)
@@ -355,8 +383,12 @@ def parse_study(data, path="<study>", digest=""):
     summary = data.get("summary", "")
     if not isinstance(summary, str):
         ck.fail("summary", "must be a string")
-    output = ck.string(data.get("output", f"{path.stem}.nc"), "output")
-    output = str((path.parent / output).resolve())
+    given = ck.string(data.get("output", f"{path.stem}.nc"), "output")
+    output = (path.parent / given).resolve()
+    if given.endswith(("/", "\\")) or not output.name or output.is_dir():
+        ck.fail("output", f"{given!r} is a folder; give the path of a file, e.g. out/{path.stem}.nc "
+                "(its checkpoint folder, FILE.checkpoint, goes beside it)")
+    output = str(output)
     models = data.get("models", ["3d"])
     models = tuple(ck.strings(models, "models"))
     if not models:
@@ -373,6 +405,11 @@ def parse_study(data, path="<study>", digest=""):
     for key, value in options.items():
         if key == "restitution":
             ck.number(value, "options.restitution", lo=0.0, hi=1.0)
+        elif key in ("rtol", "atol"):
+            try:
+                check_tolerance(key, value, "value")
+            except InputError as exc:
+                ck.fail(f"options.{key}", str(exc))
         else:
             ck.number(value, f"options.{key}")
     options = tuple(sorted((k, float(v)) for k, v in options.items()))
@@ -470,15 +507,7 @@ def _records(section, ck, path):
     if not isinstance(files, list):
         ck.fail("records.files", "must be a list of tables {path = ..., units = ...}")
     for i, entry in enumerate(files):
-        field = f"records.files[{i}]"
-        ck.table(entry, field, _FILE)
-        file_path = ck.string(entry.get("path"), f"{field}.path")
-        full = (path.parent / file_path).resolve()
-        units = entry.get("units")
-        if units is not None:
-            ck.string(units, f"{field}.units")
-        rid = ck.string(entry.get("id", Path(file_path).stem), f"{field}.id")
-        out.append(RecordSpec("file", rid, path=str(full), units=units, field=field))
+        out.append(_file_record(entry, f"records.files[{i}]", ck, path))
     synth = section.get("synthetic", [])
     if not isinstance(synth, list):
         ck.fail("records.synthetic", "must be a list of tables {generator = ..., id = ..., ...}")
@@ -497,6 +526,45 @@ def _records(section, ck, path):
         ck.fail("records", "no records: give ids, sets, files or synthetic (an empty grid computes nothing)")
     ck.unique([r.id for r in out], "records", "record {!r} is given twice; give each record once (files/synthetic: set id)")
     return tuple(out)
+
+
+def _file_record(entry, field, ck, study_path):
+    """A ``[records] files`` entry: one path, or 2-3 paths (x, y[, z]), and how to read them."""
+    ck.table(entry, field, _FILE)
+    given = entry.get("path")
+    if isinstance(given, list):
+        if not 2 <= len(given) <= 3:
+            ck.fail(f"{field}.path", f"a list names the 2 or 3 files of one record (x, y[, z]), got {len(given)}")
+        names = ck.strings(given, f"{field}.path")
+    else:
+        names = [ck.string(given, f"{field}.path")]
+    full = tuple(str((study_path.parent / n).resolve()) for n in names)
+    units = entry.get("units")
+    if units is not None:
+        ck.string(units, f"{field}.units")
+    components = entry.get("components")
+    if components is not None:
+        components = ck.strings(components, f"{field}.components")
+        if len(components) not in (2, 3):
+            ck.fail(f"{field}.components", 'name x, y[, z], e.g. ["HNE", "HNN"] ("none" for y = 0)')
+        components = tuple(None if c.lower() == "none" else c for c in components)
+    missing_y = entry.get("missing_y", "error")
+    if missing_y not in ("error", "zero"):
+        ck.fail(f"{field}.missing_y", f'{missing_y!r}: give "zero" (y = 0) or "error"')
+    dt = entry.get("dt")
+    if dt is not None:
+        dt = ck.number(dt, f"{field}.dt", positive=True)
+    processing = entry.get("processing", [])
+    from pipeline.groundmotion.processing import STEPS
+
+    if not isinstance(processing, list):
+        ck.fail(f"{field}.processing", 'must be a list of steps, e.g. [{step = "baseline", type = "linear"}]')
+    for k, step in enumerate(processing):
+        if not isinstance(step, dict) or step.get("step") not in STEPS:
+            ck.fail(f"{field}.processing[{k}]", f"give {{step = NAME, ...}} with NAME one of {', '.join(STEPS)}")
+    rid = ck.string(entry.get("id", Path(names[0]).stem), f"{field}.id")
+    return RecordSpec("file", rid, path=full if len(full) > 1 else full[0], units=units, components=components,
+                      missing_y=missing_y, dt=dt, processing=tuple(processing), field=field)
 
 
 def _check_signature(ck, generator, params, field):
@@ -530,8 +598,15 @@ def _excitation(section, ck):
             ck.fail("excitation.intensity.measure", f"{measure!r}: choose {' or '.join(INTENSITY_MEASURES)}")
         if "values" not in table:
             ck.fail("excitation.intensity.values", "missing: give the target levels")
-        values = ck.numbers(table["values"], "excitation.intensity.values", positive=True)
-        intensity = Intensity(measure, values)
+        choices = INTENSITY_UNITS[measure]
+        hint = " or ".join(f'units = "{u}"' for u in choices)
+        if "units" not in table:
+            ck.fail("excitation.intensity.units", f"missing: state the unit of the {measure} targets, {hint}")
+        units = table["units"]
+        if units not in choices:
+            ck.fail("excitation.intensity.units", f"{units!r} is not a unit of {measure}; give {hint}")
+        stated = ck.numbers(table["values"], "excitation.intensity.values", positive=True)
+        intensity = Intensity(measure, tuple(v * choices[units] for v in stated), units, stated)
     else:
         if "scales" not in section:
             ck.fail("excitation.scales", "missing: give the factors on the records (or intensity)")

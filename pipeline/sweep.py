@@ -26,13 +26,14 @@ Public: :func:`run_study`, :class:`Cluster` (one cluster for several studies),
 :func:`record_intensity`.
 """
 
+import contextlib
 import hashlib
 import json
 import math
 import os
+import re
 import shutil
 import sys
-import tempfile
 import time
 from dataclasses import dataclass, field
 
@@ -40,10 +41,13 @@ import numpy as np
 import xarray as xr
 
 from pipeline import __version__
+from pipeline.atomic import PARTIAL_PREFIX, atomic_open
 from pipeline.dataset import STUDY_VARIABLES, annotate, append_history, write_results
-from pipeline.errors import InputError
+from pipeline.errors import InputError, OutputError
+from pipeline.limits import check_fits, results_bytes
+from pipeline.locking import try_lock
+from pipeline.paths import check_output_file
 from pipeline.simulate import Excitation, simulate
-from pipeline.units import deg_to_rad
 
 FLOAT_VARIABLES = ("peak_theta", "peak_theta_ratio", "peak_time", "overturn_time", "uplift_time", "peak_mu_mob",
                    "residual_rotation", "residual_displacement", "work_ground", "energy_balance_error")
@@ -72,7 +76,7 @@ class Task:
         Column indices of the block, ``columns[start:stop]``.
     columns : tuple of pipeline.geometry.Column
     angles : tuple of float
-        Incidence angles [rad].
+        Incidence angles [degree].
     factors : tuple of float
         Factors on the record, one per scale level [1].
     settings : tuple of pipeline.simulate.ModelSettings
@@ -202,6 +206,25 @@ def scale_factors(study, measures):
 
 # -- plan ----------------------------------------------------------------------------------------
 
+def n_tasks(study):
+    """Number of tasks of a study: records x column blocks."""
+    return len(study.records) * math.ceil(len(study.columns) / block_size(study))
+
+
+def memory_estimate(study):
+    """Memory a study's run needs in the driving process [bytes] (:func:`pipeline.limits.results_bytes`)."""
+    return results_bytes(study.n_simulations, n_tasks(study))
+
+
+def check_memory(study):
+    """Refuse, before anything is loaded or computed, a study whose grid cannot fit in memory."""
+    nc, nr, na, ns, nm = study.shape
+    check_fits(memory_estimate(study),
+               f"{study.path}: the results grid of {study.n_simulations:,} cells ({nc:,} columns x {nr:,} records x "
+               f"{na:,} angles x {ns:,} scales x {nm} models, {n_tasks(study):,} tasks)",
+               "split the study into several files (fewer columns, records, angles or scales each)")
+
+
 def block_size(study):
     """Columns per task: the study's ``block_columns`` or enough for ~64 simulations.
 
@@ -233,7 +256,7 @@ def plan(study, factors):
     list of Task
     """
     size = block_size(study)
-    angles = tuple(deg_to_rad(a) for a in study.angles)
+    angles = tuple(float(a) for a in study.angles)
     settings = tuple(study.settings(m) for m in study.models)
     columns = [c.column for c in study.columns]
     tasks = []
@@ -320,7 +343,7 @@ def run_task(task, motion):
                     except Exception as exc:  # noqa: BLE001 - one failure must not kill the study
                         arrays["status"][index] = 1
                         if len(errors) < 5:
-                            errors.append(f"{column.name} {settings.model} angle {math.degrees(angle):g} deg "
+                            errors.append(f"{column.name} {settings.model} angle {angle:g} deg "
                                           f"factor {factor:g}: {type(exc).__name__}: {exc}")
                         continue
                     for name in FLOAT_VARIABLES:
@@ -359,6 +382,89 @@ def warm_up(models=("3d", "2d")):
     return True
 
 
+#: What the first run on a machine is told: compiling both models' kernels took 40-70 s on
+#: the project's 2-core machines; later runs load them from numba's cache in about 2 s.
+COMPILE_NOTICE = ("frustum: compiling the simulation kernels for this machine, once (about a minute); "
+                  "later runs load them from the cache")
+#: Without a readable cache index (another numba version), a load this long [s] is taken for a compile.
+COMPILE_NOTICE_AFTER = 10.0
+
+# the compiled entry points of each model (their cache holds what they inline)
+_ENTRY_POINTS = {"3d": ("run_frustum", "diagnostics_rows"), "2d": ("run_rocking", "diagnostics_rows")}
+
+
+def kernels_cached(models):
+    """Whether numba's cache holds the compiled kernels of every model (None: cannot tell).
+
+    Reads the cache index of each model's entry points (numba's
+    ``FunctionCache``; an index of a changed source counts as missing).
+    """
+    from pipeline.dynamics import hybrid
+
+    try:
+        return all(bool(getattr(hybrid, name)._cache._cache_file._load_index())
+                   for model in models for name in _ENTRY_POINTS.get(model, ()))
+    except (AttributeError, OSError, EOFError, ValueError):
+        return None
+
+
+def prepare_kernels(models, stream=None):
+    """Load the compiled kernels in this process, compiling them first if numba's cache is cold or stale.
+
+    Called before any Dask worker starts, so that the compile happens once,
+    here, and the workers load the result from the cache. With a cold cache
+    the other models' kernels compile at the same time in a helper process
+    each (one per core), and, when ``stream`` is given, one line says that
+    the kernels compile once and about how long, and one when they are ready.
+
+    Parameters
+    ----------
+    models : sequence of str
+    stream : file, optional
+        Where to say it (e.g. ``sys.stderr``); None: silent.
+
+    Returns
+    -------
+    float
+        Seconds spent [s].
+    """
+    import subprocess
+    import threading
+
+    models = tuple(models)
+    t0 = time.monotonic()
+    cached = kernels_cached(models)
+    said = threading.Event()
+
+    def say():
+        said.set()
+        if stream is not None:
+            print(COMPILE_NOTICE, file=stream, flush=True)
+
+    helpers = []
+    if cached is False:
+        say()
+        helpers = [subprocess.Popen([sys.executable, "-c", f"from pipeline.sweep import warm_up; warm_up(({m!r},))"],
+                                    stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                   for m in models[1:] if os.cpu_count() and os.cpu_count() > 1]
+    notice = threading.Timer(COMPILE_NOTICE_AFTER, say) if cached is None else None
+    if notice is not None:
+        notice.daemon = True
+        notice.start()
+    try:
+        warm_up(models[:1])
+    finally:
+        if notice is not None:
+            notice.cancel()
+        for helper in helpers:
+            helper.wait()  # whatever a helper failed to cache, the next line compiles here
+    warm_up(models[1:])
+    seconds = time.monotonic() - t0
+    if said.is_set() and stream is not None:
+        print(f"frustum: kernels ready after {seconds:.0f} s", file=stream, flush=True)
+    return seconds
+
+
 # -- checkpoint ----------------------------------------------------------------------------------
 
 class Checkpoint:
@@ -373,17 +479,12 @@ class Checkpoint:
     """
 
     def __init__(self, folder, key):
-        import fcntl
-
         self.folder = folder
         self.key = key
         os.makedirs(folder, exist_ok=True)
         # one run per checkpoint at a time; the kernel releases the lock if the run dies
-        self._lock = open(os.path.join(folder, ".lock"), "w")  # noqa: SIM115 - closed in release()
-        try:
-            fcntl.flock(self._lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
-            self._lock.close()
+        self._lock = try_lock(os.path.join(folder, ".lock"))
+        if self._lock is None:
             raise InputError(f"{folder}: another run of this study is writing here; wait for it to finish "
                              "(or give another --out)") from None
         manifest = os.path.join(folder, "manifest.json")
@@ -396,7 +497,7 @@ class Checkpoint:
                 old = None
         if old != key:
             for name in os.listdir(folder):
-                if name.startswith("task-") or name.startswith(".partial-"):
+                if name.startswith("task-") or name.startswith(PARTIAL_PREFIX):
                     os.unlink(os.path.join(folder, name))
             self._atomic(manifest, json.dumps({"key": key, "software": __version__}).encode())
 
@@ -404,17 +505,8 @@ class Checkpoint:
         return os.path.join(self.folder, f"task-{index:06d}.npz")
 
     def _atomic(self, path, payload):
-        fd, tmp = tempfile.mkstemp(prefix=".partial-", dir=self.folder)
-        try:
-            with os.fdopen(fd, "wb") as f:
-                f.write(payload)
-                f.flush()
-                os.fsync(f.fileno())
-            os.replace(tmp, path)
-        except BaseException:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-            raise
+        with atomic_open(path, "wb", fsync=True) as f:
+            f.write(payload)
 
     def done(self):
         """Indices of the finished tasks found in the folder."""
@@ -430,17 +522,39 @@ class Checkpoint:
         np.savez(buf, meta=np.array(json.dumps(meta)), **result["arrays"])
         self._atomic(self._path(result["index"]), buf.getvalue())
 
-    def load(self, index):
-        """Read one task's result back (same layout as :func:`run_task` returns)."""
-        with np.load(self._path(index)) as f:
-            meta = json.loads(str(f["meta"]))
-            meta["arrays"] = {name: f[name] for name in RESULT_VARIABLES}
+    def load(self, index, shape=None):
+        """Read one task's result back (same layout as :func:`run_task` returns).
+
+        A file that cannot be read whole (truncated by a full disk or a crash
+        of the file system, edited, of another layout) is reported on stderr by
+        name and deleted, and None is returned: its task is computed again.
+
+        Parameters
+        ----------
+        index : int
+        shape : tuple, optional
+            The task's (columns, angles, scales, models); a file whose arrays
+            differ is damaged.
+        """
+        path = self._path(index)
+        try:
+            with np.load(path) as f:
+                meta = json.loads(str(f["meta"]))
+                meta["arrays"] = {name: f[name] for name in RESULT_VARIABLES}
+            if meta.get("index") != index or any(
+                    shape is not None and a.shape != tuple(shape) for a in meta["arrays"].values()):
+                raise ValueError("its contents belong to another task layout")
+        except Exception as exc:  # noqa: BLE001 - zipfile, numpy, json and OS errors alike mean "damaged"
+            print(f"frustum: warning: checkpoint file {path} is damaged ({type(exc).__name__}: "
+                  f"{' '.join(str(exc).split())}); its task is computed again", file=sys.stderr)
+            with contextlib.suppress(OSError):
+                os.unlink(path)
+            return None
         return meta
 
     def release(self):
         """Let another run use the folder."""
-        if not self._lock.closed:
-            self._lock.close()
+        self._lock.release()
 
     def remove(self):
         """Delete the folder (after the results file is written) and release it."""
@@ -476,6 +590,12 @@ class Progress:
     def advance(self, n=1):
         self.done += n
         self.show()
+
+    def restart(self):
+        """Start the clock again (the cluster is ready): elapsed and ETA count only computing."""
+        self.start = time.monotonic()
+        self.first = self.done
+        self.last_line = -1.0
 
     def show(self, final=False):
         if not self.enabled or (final and getattr(self, "shown_total", False)):
@@ -540,10 +660,20 @@ def run_study(study, *, out=None, motions=None, scheduler=None, workers=None, se
     Returns
     -------
     RunReport
+
+    Raises
+    ------
+    InputError
+        Before computing: an output that cannot be written, a grid that
+        cannot fit in memory.
+    OutputError
+        A checkpoint or the results file could not be written (disk full,
+        read-only): the finished tasks stay in the checkpoint.
     """
     from pipeline.study import load_motions
 
-    out = os.path.abspath(out or study.output)
+    out = check_output_file(out or study.output, "--out" if out else f"{study.path}: field output")
+    check_memory(study)
     motions = motions if motions is not None else load_motions(study)
     measures = [record_intensity(m, study.sa_period) for m in motions]
     factors = scale_factors(study, measures)
@@ -563,17 +693,28 @@ def run_study(study, *, out=None, motions=None, scheduler=None, workers=None, se
 def _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, cluster, serial, progress,
                       keep_checkpoint, window):
     arrays = blank_arrays(study.shape, status=1)  # unfilled cells are failures until a task fills them
-    done = ckpt.done() & {t.index for t in tasks}
-    for index in sorted(done):
-        _place(arrays, ckpt.load(index))
+    done, found = set(), ckpt.done()
+    for task in tasks:
+        if task.index in found:
+            result = ckpt.load(task.index, task.shape)
+            if result is not None:
+                _place(arrays, result)
+                done.add(task.index)
     pending = [t for t in tasks if t.index not in done]
     report = RunReport(out, None, len(tasks), [], sorted(done), 0, study.n_simulations)
-    bar = Progress(len(tasks), len(done), enabled=progress)
     t0 = time.monotonic()
+    if pending:  # compiled once, here, before any worker starts and before the progress bar's clock
+        prepare_kernels(study.models, sys.stderr if progress else None)
+    bar = Progress(len(tasks), len(done), enabled=progress)
 
     def finish(result, save=True):
         if save:  # a failed task is not checkpointed: the next run tries it again
-            ckpt.save(result)
+            try:
+                ckpt.save(result)
+            except OSError as exc:
+                raise OutputError(f"{ckpt.folder}: cannot write the checkpoint ({exc.strerror or exc}); the "
+                                  f"{len(report.computed) + len(report.skipped)} task(s) finished before are kept "
+                                  "there: free space and run the same command again") from None
         _place(arrays, result)
         report.computed.append(result["index"])
         report.simulations += result["runs"]
@@ -586,7 +727,6 @@ def _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, clust
         bar.advance()
 
     if pending:
-        warm_up(study.models)
         if serial:
             report.startup_seconds = time.monotonic() - t0
             for task in pending:
@@ -595,6 +735,7 @@ def _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, clust
             def started(n_workers):
                 report.startup_seconds = time.monotonic() - t0
                 report.n_workers = n_workers
+                bar.restart()  # the ETA counts computing, not starting the cluster
 
             _run_dask(pending, motions, finish, cluster, window, study.models, started)
     report.seconds = time.monotonic() - t0
@@ -602,7 +743,11 @@ def _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, clust
     ds = assemble(study, motions, measures, factors, arrays)
     append_history(ds, f"frustum {__version__} study run {study.path} (sha256 {study.digest}): "
                        f"{len(report.computed)} tasks computed, {len(report.skipped)} from checkpoint")
-    write_results(ds, out)
+    try:
+        write_results(ds, out)
+    except OutputError as exc:
+        raise OutputError(f"{exc}; the {len(tasks)} finished task(s) are kept in {ckpt.folder}: free space (or "
+                          "give another --out) and run the same command again") from None
     report.dataset = ds
     report.failed = int(ds.status.sum())
     if not keep_checkpoint:
@@ -610,20 +755,74 @@ def _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, clust
     return report
 
 
-def _probe(address, timeout=5.0):
-    """Fail fast, naming the address, when nothing listens at a tcp:// scheduler address."""
-    import socket
+#: Seconds within which a malformed, unreachable or non-Dask scheduler address is reported.
+SCHEDULER_TIMEOUT = 8.0
+_SCHEMES = ("tcp", "tls", "ws", "wss")
+_HOST = re.compile(r"^[A-Za-z0-9]([A-Za-z0-9.-]*[A-Za-z0-9])?$|^\[[0-9A-Fa-f:.]+\]$")
+
+
+async def _identity(address, timeout):
+    """The scheduler's ``identity`` reply, every step bounded by ``timeout`` [s]."""
+    import asyncio
+
+    from distributed.comm import connect
+
+    comm = await asyncio.wait_for(connect(address, timeout=timeout), timeout)
+    try:
+        await asyncio.wait_for(comm.write({"op": "identity", "reply": True}), timeout)
+        return await asyncio.wait_for(comm.read(), timeout)
+    finally:
+        comm.abort()
+
+
+def scheduler_address(address):
+    """``PROTOCOL://HOST:PORT`` from a scheduler address (``HOST:PORT`` means tcp), or InputError if malformed."""
     from urllib.parse import urlsplit
 
-    parts = urlsplit(address if "://" in address else f"tcp://{address}")
-    if parts.scheme != "tcp" or not parts.hostname or not parts.port:
-        return
+    full = address if "://" in address else f"tcp://{address}"
+    parts = urlsplit(full)
     try:
-        with socket.create_connection((parts.hostname, parts.port), timeout=timeout):
-            pass
-    except OSError as exc:
-        raise InputError(f"--scheduler {address}: cannot connect ({exc.strerror or exc}); start it with "
-                         "`dask scheduler` or drop --scheduler for a local cluster") from None
+        port = parts.port
+    except ValueError:
+        port = None
+    host = parts.netloc.rsplit(":", 1)[0] if parts.netloc else ""
+    if parts.scheme not in _SCHEMES or not _HOST.match(host) or port is None or parts.path not in ("", "/"):
+        raise InputError(f"--scheduler {address!r}: not a scheduler address; give PROTOCOL://HOST:PORT with "
+                         f"PROTOCOL one of {', '.join(_SCHEMES)}, e.g. tcp://10.0.0.5:8786")
+    return full
+
+
+def check_scheduler(address, timeout=SCHEDULER_TIMEOUT):
+    """Refuse, within ``timeout`` [s], a scheduler address that is malformed, unreachable or not Dask's.
+
+    ``distributed.Client`` waits for ever on a port where something else
+    listens (it never answers Dask's handshake), so the address is first
+    asked for its identity with every step under a time limit.
+
+    Returns
+    -------
+    str
+        The address with its protocol (``tcp://host:port``).
+    """
+    import asyncio
+    import concurrent.futures
+
+    fix = "start one with `dask scheduler`, or drop --scheduler for a local cluster"
+    full = scheduler_address(address)
+    pool = concurrent.futures.ThreadPoolExecutor(1)  # its own event loop, whatever the caller runs
+    try:
+        reply = pool.submit(asyncio.run, _identity(full, timeout)).result(timeout + 1.0)
+    except (TimeoutError, asyncio.TimeoutError, concurrent.futures.TimeoutError):
+        raise InputError(f"--scheduler {address}: no Dask scheduler answered within {timeout:g} s (is something "
+                         f"else listening on that port?); {fix}") from None
+    except Exception as exc:  # noqa: BLE001 - OSError, CommClosedError, ...: nobody to talk to
+        raise InputError(f"--scheduler {address}: cannot connect ({' '.join(str(exc).split()) or type(exc).__name__})"
+                         f"; {fix}") from None
+    finally:
+        pool.shutdown(wait=False)
+    if not isinstance(reply, dict) or reply.get("type") != "Scheduler":
+        raise InputError(f"--scheduler {address}: answers, but is not a Dask scheduler; {fix}")
+    return full
 
 
 # Dask settings of the local cluster (the nannies pass them on to their workers). A study's
@@ -706,13 +905,18 @@ def _connect(scheduler, workers):
     import distributed
 
     if scheduler:
-        _probe(scheduler)
+        address = check_scheduler(scheduler)
         try:
-            client = distributed.Client(scheduler, timeout="30s", set_as_default=False)
+            client = distributed.Client(address, timeout="30s", set_as_default=False)
         except OSError as exc:
             raise InputError(f"--scheduler {scheduler}: cannot connect ({exc}); start it with `dask scheduler` "
                              "or drop --scheduler for a local cluster") from None
-        client.wait_for_workers(1, timeout=60)
+        try:
+            client.wait_for_workers(1, timeout=60)
+        except TimeoutError:
+            client.close()
+            raise InputError(f"--scheduler {scheduler}: the scheduler has no worker after 60 s; start some with "
+                             f"`dask worker {address}`") from None
         return client, None
     import dask
 
@@ -803,7 +1007,9 @@ def assemble(study, motions, measures, factors, arrays):
     if study.intensity is not None:
         units = {"pga": "m s-2", "pgv": "m s-1"}[study.intensity.measure]
         ds["scale"].attrs.update(units=units, long_name=f"target {study.intensity.measure} of the scaled record "
-                                 "(peak of the horizontal vector); the factor is scale_factor")
+                                 "(peak of the horizontal vector); the factor is scale_factor",
+                                 comment=f"the study file states the targets in {study.intensity.units}: "
+                                 + ", ".join(f"{v:g}" for v in study.intensity.stated))
     if study.sa_period is not None:
         ds["sa"].attrs["period"] = study.sa_period
         ds["sa"].attrs["long_name"] += f" (period {study.sa_period:g} s)"

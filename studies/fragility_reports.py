@@ -9,8 +9,9 @@ Run the studies first (each from its study file alone), then this script::
     python studies/fragility_reports.py                     # all four, or: --only model_2d_vs_3d
 
 Each study folder receives ``report.md``, ``summary.csv`` (``columns.geojson`` where
-columns carry coordinates) and ``figures/`` (PNG and PDF). The fragility netCDF files
-and the study results stay in ``out/`` (not in git). ``frustum report FILE.nc --out DIR``
+columns carry coordinates) and ``figures/`` (PNG and PDF). The fragility netCDF files,
+the one-file HTML reports (``out/NAME_report.html``) and the study results stay in
+``out/`` (not in git). ``frustum report FILE.nc --out DIR``
 writes the same report for any one study; this script adds what spans studies (the
 damping comparison) and the contact-point paths of chosen runs, which need new
 simulations with time histories.
@@ -149,6 +150,7 @@ def report_study(name):
     out = write_report(results, os.path.join(HERE, name), bootstrap=BOOTSTRAP, seed=SEED, notes=notes,
                        focus=FOCUS[name], trajectories=runs)
     os.replace(out["fragility"], os.path.join(OUT, f"{name}_fragility.nc"))  # netCDF stays out of git
+    os.replace(out["html"], os.path.join(OUT, f"{name}_report.html"))  # the figures again, embedded: not in git
     print(f"{name}: {out['report']} ({len(out['figures'])} figures, {time.time() - t0:.0f} s)")
     return out
 

@@ -11,7 +11,7 @@ def test_variables_page_equals_the_catalog():
 
 
 def test_every_catalog_entry_has_units_and_a_long_name():
-    for name, (units, long_name, _standard) in STUDY_VARIABLES.items():
-        assert units and long_name, name
+    for name, entry in STUDY_VARIABLES.items():
+        assert entry.units and entry.long_name, name
     for name, (values, meanings, long_name) in FLAGS.items():
         assert len(values) == len(meanings.split()) and long_name, name

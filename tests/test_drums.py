@@ -73,7 +73,7 @@ def test_energy_budget_of_a_stack():
     (The capital's terms are checked by the energy-rate identity, tests/dynamics/test_stack.py.)
     """
     motion = clough_penzien(3, duration=3.0, dt=0.01, pga=0.45 * G, omega_f=3.0)
-    s = simulate(DrumColumn.equal(PAPER, 3), motion, Excitation(angle=0.4),
+    s = simulate(DrumColumn.equal(PAPER, 3), motion, Excitation(angle=23.0),
                  compliant(joint_friction=(0.5, 0.6), anathyrosis=0.6, contact_sectors=16, tail=0.5),
                  histories=False).summary
     assert s["n_drums"] == 3 and len(s["drum_peak_theta"]) == 3
@@ -111,7 +111,7 @@ def test_cli_runs_drums(tmp_path):
     import xarray as xr
 
     with xr.open_dataset(out) as ds:
-        assert ds.drum_theta.dims == ("time", "drum") and ds.drum.size == 2
+        assert ds.drum_theta.dims[-2:] == ("time", "drum") and ds.drum.size == 2
         assert ds.drum_dx.attrs["units"] == "m" and ds.attrs["n_drums"] == 2
     assert main(["simulate", "--column", "1,1,2", "--drums", "2", "--record", "FEMA-FF-01", "--out",
                  str(out)]) == 2  # a rigid model cannot take drums

@@ -5,15 +5,17 @@ a ``register(subparsers)`` function; this module only assembles them.
 """
 
 import argparse
+import contextlib
 import importlib
 import sys
+import warnings
 
 from pipeline import __version__
-from pipeline.errors import InputError
+from pipeline.errors import InputError, RecordWarning
 
 # Modules that provide ``register(subparsers)``; a module missing in a partial
 # checkout is skipped so the rest of the command still works.
-_COMMAND_MODULES = ("simulate", "records", "study", "workflow", "fragility", "report")
+_COMMAND_MODULES = ("simulate", "records", "study", "workflow", "fragility", "report", "animate")
 
 
 def build_parser():
@@ -44,10 +46,32 @@ def main(argv=None):
         parser.print_help()
         return 2
     try:
-        return int(args.handler(args) or 0)
+        with _warnings_as_lines():
+            return int(args.handler(args) or 0)
     except InputError as exc:
         print(f"frustum: error: {exc}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:  # Ctrl-C: finished work is kept (checkpoints), no traceback
+        print("frustum: interrupted: run again to resume", file=sys.stderr)
+        return 130
+
+
+@contextlib.contextmanager
+def _warnings_as_lines():
+    """Print the package's own warnings as ``frustum: warning: ...`` lines (others as Python does)."""
+    show = warnings.showwarning
+
+    def one_line(message, category, filename, lineno, file=None, line=None):
+        if issubclass(category, RecordWarning):
+            print(f"frustum: warning: {message}", file=sys.stderr)
+        else:
+            show(message, category, filename, lineno, file, line)
+
+    warnings.showwarning = one_line
+    try:
+        yield
+    finally:
+        warnings.showwarning = show
 
 
 if __name__ == "__main__":

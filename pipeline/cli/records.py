@@ -5,7 +5,7 @@ import math
 
 from pipeline.errors import InputError
 
-__all__ = ["register"]
+__all__ = ["register", "add_record_options", "load_record", "record_source"]
 
 
 def register(subparsers):
@@ -18,30 +18,60 @@ def register(subparsers):
     p_list.add_argument("--set", dest="set_id", help="list the records of one set")
     p_list.set_defaults(handler=_list)
 
-    for name, helptext in (("show", "metadata and intensity measures"), ("plot", "PNG of histories and spectrum")):
+    for name, helptext in (("show", "metadata and intensity measures"),
+                           ("plot", "figure of histories and spectrum (.png, .pdf, .svg, ...)")):
         p = sub.add_parser(name, help=helptext)
-        p.add_argument("record", metavar="ID_OR_FILE", help="catalog id (e.g. FEMA-FF-01) or a record file")
-        p.add_argument("--units", help="units of files without calibration: m/s^2, cm/s^2 (gal), mm/s^2, g")
-        p.add_argument("--components", help="x,y[,z] channel codes or trace ids, e.g. HNE,HNN,HNZ")
-        p.add_argument("--missing-y", choices=("error", "zero"), default="error",
-                       help="a file with one horizontal component: fail (default) or set y = 0")
-        p.add_argument("--dt", type=float, help="time step [s] of a text file without a time column")
+        p.add_argument("record", metavar="ID_OR_FILE",
+                       help="catalog id (e.g. FEMA-FF-01), a record file, or 2-3 files X,Y[,Z] (e.g. an AT2 pair)")
+        add_record_options(p)
         if name == "show":
             p.add_argument("--json", action="store_true", help="one JSON object per component (JSON lines)")
             p.set_defaults(handler=_show)
         else:
-            p.add_argument("--out", required=True, help="PNG file to write")
+            p.add_argument("--out", required=True,
+                           help="figure file to write, any format matplotlib writes: .png, .pdf, .svg, ...")
             p.set_defaults(handler=_plot)
 
 
-def _load(args):
+def add_record_options(parser):
+    """The options that say how to read a record file (shared by ``simulate`` and ``records show|plot``)."""
+    parser.add_argument("--units", help="units of files without calibration (MiniSEED, SAC, text): "
+                        "m/s2, cm/s2 (gal), mm/s2, g")
+    parser.add_argument("--components", metavar="X,Y[,Z]",
+                        help="channel codes or trace ids of x, y[, z], e.g. HNE,HNN,HNZ (y may be 'none': y = 0)")
+    parser.add_argument("--missing-y", choices=("error", "zero"), default="error",
+                        help="a record with one horizontal component: fail (default) or set y = 0 "
+                        "(the single trace of a file is then x)")
+    parser.add_argument("--dt", type=float, metavar="S",
+                        help="time step [s] of a text file without a time column (e.g. an OpenSees input)")
+    parser.add_argument("--baseline", choices=("demean", "linear"),
+                        help="remove the mean or a linear trend from every component before use (baseline_correct)")
+
+
+def record_source(text):
+    """A ``--record`` value: a catalog id or file, or ``X,Y[,Z]`` naming 2 or 3 files."""
+    from pathlib import Path
+
+    if "," in text and not Path(text).exists():
+        parts = [p.strip() for p in text.split(",")]
+        if not 2 <= len(parts) <= 3 or not all(parts):
+            raise InputError(f"--record {text!r}: give one id or file, or 2 or 3 files X,Y[,Z] separated by commas")
+        return parts
+    return text
+
+
+def load_record(args):
+    """The record named by ``args.record`` read with the options of :func:`add_record_options`."""
     from pipeline.groundmotion import load
 
+    if args.dt is not None and not (math.isfinite(args.dt) and args.dt > 0):
+        raise InputError(f"--dt {args.dt!r}: give the time step as a positive number of seconds")
     components = None
     if args.components:
         components = [c if c.lower() != "none" else None for c in args.components.split(",")]
-    kwargs = {"dt": args.dt} if args.dt is not None else {}
-    return load(args.record, units=args.units, components=components, missing_y=args.missing_y, **kwargs)
+    processing = [{"step": "baseline", "type": args.baseline}] if args.baseline else None
+    return load(record_source(args.record), units=args.units, components=components, missing_y=args.missing_y,
+                dt=args.dt, processing=processing)
 
 
 def _list(args):
@@ -83,7 +113,7 @@ def _component_summary(gm, name):
 
 
 def _show(args):
-    gm = _load(args)
+    gm = load_record(args)
     rows = [_component_summary(gm, c) for c in gm.components]
     if args.json:
         for row in rows:
@@ -110,10 +140,10 @@ def _show(args):
 
 def _plot(args):
     from pipeline.groundmotion.plot import plot_motion
+    from pipeline.paths import check_plot_file
 
-    if not str(args.out).lower().endswith(".png"):
-        raise InputError(f"--out {args.out}: the plot is a PNG; give a file name ending in .png")
-    gm = _load(args)
+    check_plot_file(args.out, "--out")  # before loading the record
+    gm = load_record(args)
     plot_motion(gm, args.out)
     print(f"wrote {args.out}")
     return 0

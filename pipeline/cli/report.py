@@ -17,7 +17,7 @@ def register(subparsers):
     p = subparsers.add_parser(
         "report",
         help="write a short Markdown report with figures, CSV and GeoJSON of study results",
-        description="Write DIR/report.md (what was simulated, the model's assumptions, the probability of "
+        description="Write DIR/report.md and DIR/report.html (one self-contained file; what was simulated, the model's assumptions, the probability of "
         "overturning at stated PGA levels, 2D against 3D when both were run, figures), DIR/summary.csv "
         "(one row per column and model), DIR/columns.geojson (columns with coordinates), DIR/fragility.nc "
         "and DIR/figures/ (PNG and PDF).",
@@ -51,6 +51,6 @@ def run(args):
     results = F.open_results(args.results)
     out = write_report(results, args.out, pga_levels_g=levels, states=parse_states(args.states),
                        bootstrap=args.bootstrap, seed=args.seed, title=args.title)
-    print(f"wrote {out['report']}, {out['csv']}" + (f", {out['geojson']}" if out["geojson"] else "")
+    print(f"wrote {out['report']}, {out['html']}, {out['csv']}" + (f", {out['geojson']}" if out["geojson"] else "")
           + f" and {len(out['figures'])} figure(s)")
     return 0

@@ -2,11 +2,14 @@
 
 import argparse
 import math
+import os
 
 import numpy as np
 
+from pipeline.cli.records import add_record_options, load_record
 from pipeline.errors import InputError
-from pipeline.simulate import MODELS
+from pipeline.limits import check_tolerance
+from pipeline.paths import check_output_file, check_plot_file
 from pipeline.units import MARBLE_DENSITY, deg_to_rad
 
 _EXAMPLES = """\
@@ -16,6 +19,11 @@ examples:
         --out response.nc --plot response.png
   a record file (MiniSEED here) whose header does not carry units:
     frustum simulate --column 0.5,0.4,4 --record quake.mseed --units m/s2 --out r.nc
+  a PEER pair, and a single component (y = 0):
+    frustum simulate --column 0.5,0.4,4 --record RSN6_ELC180.AT2,RSN6_ELC270.AT2 --out r.nc
+    frustum simulate --column 0.5,0.4,4 --record RSN6_ELC180.AT2 --missing-y zero --out r.nc
+  an OpenSees input: one column in g, 0.01 s apart:
+    frustum simulate --column 0.5,0.4,4 --record elcentro.g3 --units g --dt 0.01 --missing-y zero --out r.nc
   the compliant-contact model: the same column as 6 drums on joints of contact points:
     frustum simulate --column 0.5,0.4,4 --model 3d-compliant --drums 6 --joint-friction 0.6 \\
         --record FEMA-FF-01 --out drums.nc
@@ -43,25 +51,30 @@ def register(subparsers):
                      f"(default {MARBLE_DENSITY:g}, marble)")
     quake = p.add_argument_group("ground motion (earthquake response, from rest)")
     quake.add_argument("--record", metavar="ID_OR_FILE",
-                       help="catalog id (frustum records list) or a record file; without it, free motion")
-    quake.add_argument("--units", default=None, metavar="UNITS",
-                       help="units of a record file that does not state them: m/s2, cm/s2, g")
+                       help="catalog id (frustum records list), a record file, or 2-3 files X,Y[,Z] "
+                       "(e.g. an AT2 pair); without it, free motion")
+    add_record_options(quake)
     quake.add_argument("--angle", type=float, default=0.0, metavar="DEG",
                        help="incidence angle: the horizontal pair is turned counter-clockwise [deg] (default 0)")
     quake.add_argument("--scale", type=float, default=1.0, help="factor on the record [1] (default 1)")
     quake.add_argument("--no-vertical", action="store_true", help="ignore the record's vertical component")
-    quake.add_argument("--model", choices=MODELS, default="3d",
+    quake.add_argument("--model", default="3d", metavar="3d|2d|3d-compliant|3d,2d",
                        help="3d: rolling frustum (the paper); 2d: planar rocking in the X plane; 3d-compliant: "
-                       "rigid drums on joints of contact points (default 3d)")
+                       "rigid drums on joints of contact points; several, comma-separated: in one file along "
+                       "the model dimension (default 3d)")
     quake.add_argument("--tail", type=float, default=5.0, metavar="S",
                        help="free motion after the record ends [s] (default 5)")
-    quake.add_argument("--contact-tilt", type=float, default=1e-5, metavar="RAD",
-                       help="tilt below which the base is in full contact [rad] (default 1e-5)")
+    quake.add_argument("--contact-tilt", type=float, default=None, metavar="DEG",
+                       help="tilt below which the base is in full contact [deg] (default: where the bed's "
+                       "compliance loses full contact under the weight, theta_k)")
     quake.add_argument("--damping", type=float, default=0.0, metavar="NU",
                        help="viscous contact couple per m g R sqrt(R/g) [1] (default 0: none)")
     quake.add_argument("--friction", type=float, default=0.7, metavar="MU",
-                       help="friction coefficient compared with the mobilized friction [1] (default 0.7)")
-    quake.add_argument("--plot", metavar="FILE.png", help="also draw theta, contact path, mu_mob and excitation")
+                       help="Coulomb friction of the base on the ground [1]: it slides, or its rim slips, "
+                       "beyond it (default 0.7)")
+    quake.add_argument("--plot", metavar="FILE.png",
+                       help="also draw theta, contact path, mu_mob and excitation (any format matplotlib writes: "
+                       ".png, .pdf, .svg, ...; with two models, one file per model: FILE_3d.png, FILE_2d.png)")
     joints = p.add_argument_group("compliant-contact model (--model 3d-compliant)")
     joints.add_argument("--drums", type=int, default=None, metavar="N",
                         help="cut the column into N drums of equal height (1: the monolith)")
@@ -71,7 +84,7 @@ def register(subparsers):
                         help="a square capital block on top, side and height [m]")
     joints.add_argument("--joint-friction", type=float, default=None, metavar="MU",
                         help="friction coefficient of the bed joints [1] (default: --friction, the base's)")
-    joints.add_argument("--normal-stiffness", type=float, default=1.0e10, metavar="PA_M",
+    joints.add_argument("--normal-stiffness", type=float, default=None, metavar="PA_M",
                         help="normal stiffness of the base per unit area [Pa/m] (default 1e10)")
     joints.add_argument("--joint-stiffness", type=float, default=None, metavar="PA_M",
                         help="normal stiffness of the bed joints per unit area [Pa/m] (default: the base's)")
@@ -101,37 +114,84 @@ def register(subparsers):
                      help="theta' after / before a planar landing [1] (default: angular momentum "
                      "conservation, 1 - 2 m R^2 / I_P)")
     run.add_argument("--out", required=True, metavar="FILE.nc", help="netCDF file to write")
+    run.add_argument("--animate", metavar="FILE.gif",
+                     help="also animate the motion, every model side by side in real time (.gif, or .mp4 with "
+                     "pip install -e '.[video]'); as 'frustum animate OUT --out FILE'")
     p.set_defaults(handler=run_simulate)
 
 
 def run_simulate(args):
     """Handler of ``frustum simulate``."""
-    from pipeline.dataset import append_history, write_netcdf
+    from pipeline.dataset import append_history, histories_file, write_netcdf
     from pipeline.geometry import Column
 
+    # everything that can be refused is refused before computing
+    check_output_file(args.out, "--out")
+    if args.plot:
+        check_plot_file(args.plot, "--plot")
+    for name in ("rtol", "atol"):
+        if getattr(args, name) is not None:
+            check_tolerance(name, getattr(args, name), f"--{name}")
     column = _drum_column(args, Column.parse(args.column, density=args.density))
-    ds, summary = _earthquake(args, column) if args.record else _free(args, column)
+    models = _models(args.model)
+    if args.animate:
+        from pipeline.animate import check_animation_path
+
+        check_animation_path(args.animate, "--animate")
+    if args.record:
+        runs = _earthquake(args, column, models)
+    else:
+        if models != ["3d"] or not isinstance(column, Column):
+            raise InputError(f"--model {args.model}: a free motion is the 3D rolling frustum only (drop --model "
+                             "and the drum options)")
+        runs = [_free(args, column)]
+    outline = getattr(column, "column", column)
+    label = f"R{outline.R:g}-r{outline.r:g}-h{outline.h:g}"
+    ds = histories_file([h for h, _ in runs], column=label, record=runs[0][0].attrs.get("record_id", "free-motion"))
     append_history(ds, "frustum simulate " + " ".join(_argv_echo(args)))
     write_netcdf(ds, args.out)
     print(column.describe())
-    line = f"peak theta = {math.degrees(summary['peak_theta']):.3f} deg"
-    if args.record:
-        line += (f" ({summary['peak_theta_ratio']:.2f} theta_crit), "
-                 f"{'overturned at %.2f s' % summary['overturn_time'] if summary['overturned'] else 'stands'}, "
-                 f"{summary['n_impacts']} impacts, peak mu_mob = {summary['peak_mu_mob']:.2f}")
-        if "n_drums" in summary:
-            line += f", slip at the base {summary['slip']:.3g} m"
-            if summary["n_drums"] > 1:
-                line += "; drum peak tilts " + ", ".join(f"{math.degrees(t):.2f}" for t in summary["drum_peak_theta"])
-                line += " deg; residual joint slips " + ", ".join(f"{x * 1e3:.1f}" for x in summary["joint_slip"])
-                line += " mm"
-    print(f"{line}; wrote {args.out}")
+    for (histories, summary), model in zip(runs, models):
+        line = f"{model}: peak theta = {math.degrees(summary['peak_theta']):.3f} deg"
+        if args.record:
+            line += (f" ({summary['peak_theta_ratio']:.2f} theta_crit), "
+                     f"{'overturned at %.2f s' % summary['overturn_time'] if summary['overturned'] else 'stands'}, "
+                     f"{summary['n_impacts']} impacts, peak mu_mob = {summary['peak_mu_mob']:.2f}")
+            if model == "3d-compliant":
+                line += _joints_line(summary)
+        print(line)
+    print(f"wrote {args.out}")
     if args.plot:
         from pipeline.plotting import plot_response
 
-        plot_response(ds, summary, args.plot, friction=args.friction)
-        print(f"wrote {args.plot}")
+        for (histories, summary), model in zip(runs, models):
+            path = args.plot if len(runs) == 1 else _suffixed(args.plot, model)
+            plot_response(histories, summary, path, friction=args.friction)
+            print(f"wrote {path}")
+    if args.animate:
+        from pipeline.animate import animate_file
+
+        n = animate_file(args.out, args.animate)
+        print(f"wrote {args.animate} ({n} frames)")
     return 0
+
+
+def _models(text):
+    from pipeline.simulate import MODELS
+
+    models = [m.strip() for m in str(text).split(",") if m.strip()]
+    if not models or any(m not in MODELS for m in models) or len(set(models)) != len(models):
+        raise InputError(f"--model {text}: give one or more of {', '.join(MODELS)}, comma-separated (e.g. 3d,2d)")
+    return models
+
+
+def _joints_line(summary):
+    """The compliant model's slip and, for drums, their peak tilts and residual joint slips."""
+    line = f", slip at the base {summary['slip']:.3g} m"
+    if summary["n_drums"] > 1:
+        line += "; drum peak tilts " + ", ".join(f"{math.degrees(t):.2f}" for t in summary["drum_peak_theta"])
+        line += " deg; residual joint slips " + ", ".join(f"{x * 1e3:.1f}" for x in summary["joint_slip"]) + " mm"
+    return line
 
 
 def _drum_column(args, column):
@@ -161,50 +221,75 @@ def _floats(text, option, form):
         raise InputError(f"{option} {text!r}: give numbers in metres as {form}") from None
 
 
-def _earthquake(args, column):
-    from pipeline.groundmotion import load
+def _suffixed(path, model):
+    stem, ext = os.path.splitext(path)
+    return f"{stem}_{model}{ext}"
+
+
+def _earthquake(args, column, models):
+    """[(histories, summary)] of the record under each model."""
     from pipeline.simulate import Excitation, ModelSettings, simulate
 
     if args.theta0 is not None:
         raise InputError("--theta0 starts a free motion; an earthquake response starts at rest (drop --theta0)")
-    settings = ModelSettings(
-        model=args.model, restitution=args.restitution, contact_tilt=args.contact_tilt, damping=args.damping,
-        friction=args.friction, tail=args.tail, rtol=args.rtol or 1e-9, atol=args.atol or 1e-12,
-        output_step=args.output_step, normal_stiffness=args.normal_stiffness, joint_stiffness=args.joint_stiffness,
-        joint_friction=args.joint_friction, anathyrosis=args.anathyrosis,
-    )
-    excitation = Excitation(angle=deg_to_rad(args.angle), scale=args.scale, vertical=not args.no_vertical)
-    motion = load(args.record, units=args.units)
-    response = simulate(column, motion, excitation, settings)
-    return response.histories, response.summary
+    excitation = Excitation(angle=args.angle, scale=args.scale, vertical=not args.no_vertical)
+    motion = load_record(args)
+    _check_history_memory(len(models) * (motion.duration + args.tail), args.output_step,
+                          "the record and --tail" + (" for each model" if len(models) > 1 else ""))
+    runs = []
+    for model in models:
+        settings = ModelSettings(
+            model=model, restitution=args.restitution, contact_tilt=args.contact_tilt, damping=args.damping,
+            friction=args.friction, tail=args.tail, rtol=_given(args.rtol, 1e-9), atol=_given(args.atol, 1e-12),
+            output_step=args.output_step, normal_stiffness=_given(args.normal_stiffness, 1.0e10),
+            joint_stiffness=args.joint_stiffness, joint_friction=args.joint_friction, anathyrosis=args.anathyrosis,
+        )
+        response = simulate(column, motion, excitation, settings)
+        runs.append((response.histories, response.summary))
+    return runs
 
 
 def _free(args, column):
-    from pipeline.geometry import Column
     from pipeline.simulate import InitialState, ModelSettings, simulate_free
 
     if args.theta0 is None:
         raise InputError("give --record for an earthquake response, or --theta0 (degrees) for a free motion")
-    if args.model != "3d" or not isinstance(column, Column):
-        raise InputError("a free motion (--theta0) is the rigid 3d model's; the other models need a --record")
     if args.duration is None:
         raise InputError("a free motion needs --duration (seconds)")
     initial = InitialState(
-        phi=deg_to_rad(args.phi0),
-        theta=deg_to_rad(args.theta0),
-        psi=deg_to_rad(args.psi0),
+        phi=args.phi0,
+        theta=args.theta0,
+        psi=args.psi0,
         phi_dot=args.phi_dot0,
         theta_dot=args.theta_dot0,
         psi_dot=args.psi_dot0,
     )
-    settings = ModelSettings(rtol=args.rtol or 1e-12, atol=args.atol or 1e-14, output_step=args.output_step,
-                             contact_tilt=0.0, damping=args.damping)
+    settings = ModelSettings(rtol=_given(args.rtol, 1e-12), atol=_given(args.atol, 1e-14),
+                             output_step=args.output_step, contact_tilt=0.0, damping=args.damping)
+    if not (math.isfinite(args.duration) and args.duration > 0):
+        raise InputError(f"--duration {args.duration!r}: give a positive number of seconds")
+    _check_history_memory(args.duration, settings.output_step, "--duration")
     ds = simulate_free(column, initial, args.duration, settings, restitution=args.restitution)
     return ds, {"peak_theta": float(np.nanmax(ds.theta.values))}
 
 
+def _given(value, default):
+    """An option's value, or its default when not given (0 is a value: it is refused, not replaced)."""
+    return default if value is None else value
+
+
+def _check_history_memory(duration, output_step, what):
+    """Refuse histories that cannot fit in memory, before computing."""
+    from pipeline.limits import check_fits, history_bytes
+
+    rows = math.floor(duration / output_step) + 1
+    check_fits(history_bytes(duration, output_step),
+               f"{duration:g} s of histories every {output_step:g} s ({rows:,} rows)",
+               f"shorten {what} or sample less often with a larger --output-step")
+
+
 def _argv_echo(args):
-    keys = ("column", "density", "record", "units", "angle", "scale", "model", "tail", "contact_tilt", "damping",
+    keys = ("column", "density", "record", "units", "components", "missing_y", "dt", "baseline", "angle", "scale", "model", "tail", "contact_tilt", "damping",
             "friction", "drums", "drum_heights", "capital", "joint_friction", "normal_stiffness", "joint_stiffness",
             "anathyrosis", "phi0", "theta0", "psi0", "phi_dot0", "theta_dot0", "psi_dot0",
             "duration", "output_step", "rtol", "atol", "restitution", "out")

@@ -38,7 +38,8 @@ def register(subparsers):
     where.add_argument("--serial", action="store_true", help="run in this process without Dask (same numbers)")
     run.add_argument("--workers", type=int, default=None, metavar="N",
                      help="worker processes of the local cluster (default: number of cores)")
-    run.add_argument("--plot", metavar="FILE.png", help="also draw a summary plot of the results")
+    run.add_argument("--plot", metavar="FILE.png",
+                     help="also draw a summary plot of the results (.png, .pdf, .svg, ...)")
     run.add_argument("--keep-checkpoint", action="store_true",
                      help="keep the checkpoint folder OUT.checkpoint after writing the results")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -49,10 +50,17 @@ def register(subparsers):
     p.set_defaults(handler=lambda args: (p.print_help(), 2)[1])
 
 
-def _load(path):
+def _load(path, out=None, plot=None):
+    """The study and its records; everything that can be refused is refused before the records load."""
+    from pipeline.paths import check_output_file, check_plot_file
     from pipeline.study import load_motions, load_study
+    from pipeline.sweep import check_memory
 
     study = load_study(path, load_records=False)
+    check_output_file(out or study.output, "--out" if out else f"{study.path}: field output")
+    if plot:
+        check_plot_file(plot, "--plot")
+    check_memory(study)
     motions = load_motions(study)
     return study, motions
 
@@ -69,9 +77,13 @@ def describe(study):
 
 def check_study_command(args):
     """Handler of ``frustum study check``."""
+    from pipeline.limits import available_memory, size_text
+    from pipeline.sweep import memory_estimate
+
     study, _ = _load(args.file)
     print(describe(study))
     print(f"output: {study.output}")
+    print(f"memory: about {size_text(memory_estimate(study))} ({size_text(available_memory())} available)")
     return 0
 
 
@@ -81,8 +93,12 @@ def run_study_command(args):
 
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers {args.workers}: give a positive number of worker processes")
+    if args.scheduler:
+        from pipeline.sweep import scheduler_address
+
+        scheduler_address(args.scheduler)  # a malformed address is refused before the records load
     t0 = time.monotonic()
-    study, motions = _load(args.file)
+    study, motions = _load(args.file, args.out, args.plot)
     print(describe(study), file=sys.stderr)
     report = run_study(study, out=args.out, motions=motions, scheduler=args.scheduler, workers=args.workers,
                        serial=args.serial, progress=not args.quiet, keep_checkpoint=args.keep_checkpoint)

@@ -18,10 +18,16 @@ A step is up to date when its output exists and records the same study file
 digest, record digests and software version as now; then nothing is
 recomputed (a missing or older plot is redrawn from the file). Steps run in
 order; the first failing step stops the workflow and the command exits 1.
-Two runs of the same workflow never overlap (a lock next to the log).
+Two runs of the same workflow never overlap (a lock next to the log): the
+second exits 75 (EX_TEMPFAIL, "try again later"). With ``--quiet`` a
+successful run prints nothing (cron mails only failures); the log file gets
+every line either way.
+
+``frustum workflow install-units`` writes the systemd service and timer of
+``workflows/systemd/*.in`` filled in with this checkout's path and this
+installation's ``frustum``.
 """
 
-import fcntl
 import os
 import sys
 import time
@@ -32,6 +38,11 @@ from pathlib import Path
 
 from pipeline import __version__
 from pipeline.errors import InputError
+from pipeline.locking import try_lock
+from pipeline.paths import check_plot_file
+
+#: Exit status when another run holds the workflow's lock (sysexits.h EX_TEMPFAIL).
+EXIT_LOCKED = 75
 
 _TOP = {"title", "log", "execution", "steps"}
 _EXECUTION = {"workers", "scheduler"}
@@ -51,7 +62,22 @@ def register(subparsers):
     run.add_argument("--workers", type=int, default=None, metavar="N", help="override execution.workers")
     run.add_argument("--scheduler", metavar="ADDRESS", help="override execution.scheduler")
     run.add_argument("--force", action="store_true", help="rerun every step even if up to date")
+    run.add_argument("--quiet", action="store_true",
+                     help="print nothing unless a step fails (the log file gets every line); for cron")
     run.set_defaults(handler=run_workflow_command)
+    units = sub.add_parser(
+        "install-units", help="write the systemd service and timer for this checkout",
+        description="Fill workflows/systemd/*.in with this checkout's path and this installation's frustum "
+        "and write them (default: the user's systemd folder). Then: systemctl --user daemon-reload && "
+        "systemctl --user enable --now frustum-workflow.timer")
+    units.add_argument("--dir", default=None, metavar="DIR",
+                       help="folder to write the units to (default ~/.config/systemd/user)")
+    units.add_argument("--checkout", default=None, metavar="DIR",
+                       help="the project's checkout (default: the one this frustum is installed from, "
+                       "else the current folder)")
+    units.add_argument("--workflow", default="workflows/nightly.toml", metavar="FILE.toml",
+                       help="workflow the service runs, relative to the checkout (default workflows/nightly.toml)")
+    units.set_defaults(handler=install_units_command)
     p.set_defaults(handler=lambda args: (p.print_help(), 2)[1])
 
 
@@ -89,8 +115,15 @@ def load_workflow(path):
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         fail("execution.workers", f"must be a positive integer, got {workers!r}")
     scheduler = execution.get("scheduler")
-    if scheduler is not None and not isinstance(scheduler, str):
-        fail("execution.scheduler", "must be an address string such as tcp://host:8786")
+    if scheduler is not None:
+        if not isinstance(scheduler, str):
+            fail("execution.scheduler", "must be an address string such as tcp://host:8786")
+        from pipeline.sweep import scheduler_address
+
+        try:
+            scheduler_address(scheduler)
+        except InputError as exc:
+            fail("execution.scheduler", str(exc))
     steps = data.get("steps")
     if not isinstance(steps, list) or not steps:
         fail("steps", "give one or more [[steps]] with study = FILE")
@@ -114,8 +147,13 @@ def load_workflow(path):
         study = resolve(step["study"], f"steps[{i}].study")
         if not os.path.isfile(study):
             fail(f"steps[{i}].study", f"{study} does not exist")
-        out.append({"study": study, "output": resolve(step.get("output"), f"steps[{i}].output"),
-                    "plot": resolve(step.get("plot"), f"steps[{i}].plot")})
+        plot = resolve(step.get("plot"), f"steps[{i}].plot")
+        if plot is not None:
+            try:  # a plot matplotlib cannot write is refused before any step computes
+                check_plot_file(plot, "")
+            except InputError as exc:
+                fail(f"steps[{i}].plot", str(exc).strip())
+        out.append({"study": study, "output": resolve(step.get("output"), f"steps[{i}].output"), "plot": plot})
     log = resolve(data.get("log", f"{path.stem}.log"), "log")
     return {"title": data.get("title", path.stem), "log": log, "workers": workers, "scheduler": scheduler,
             "steps": out, "path": str(path)}
@@ -137,19 +175,35 @@ def up_to_date(study, motions, output):
 
 
 class _Log:
-    def __init__(self, path):
+    """Time-stamped lines to the log file and, unless quiet, to stderr.
+
+    Quiet, the lines are kept and printed only if the run fails (:meth:`flush_to_stderr`).
+    """
+
+    def __init__(self, path, quiet=False):
         os.makedirs(os.path.dirname(path), exist_ok=True)
         self.file = open(path, "a", encoding="utf-8")  # noqa: SIM115 - closed in run_workflow
+        self.quiet = quiet
+        self.held = []
 
     def __call__(self, line):
         stamp = datetime.now(timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
         self.file.write(f"{stamp} {line}\n")
         self.file.flush()
-        print(line, file=sys.stderr)
+        if self.quiet:
+            self.held.append(line)
+        else:
+            print(line, file=sys.stderr)
+
+    def flush_to_stderr(self):
+        """Print the lines held back by ``quiet`` (a failed run tells why)."""
+        for line in self.held:
+            print(line, file=sys.stderr)
+        self.held = []
 
 
-def run_workflow(path, workers=None, scheduler=None, force=False):
-    """Run a workflow; returns the exit status (0 done, 1 a step failed).
+def run_workflow(path, workers=None, scheduler=None, force=False, quiet=False):
+    """Run a workflow; returns the exit status (0 done, 1 a step failed, 75 another run holds the lock).
 
     Parameters
     ----------
@@ -159,26 +213,33 @@ def run_workflow(path, workers=None, scheduler=None, force=False):
         Override the file's ``execution`` table.
     force : bool
         Rerun steps that are up to date.
+    quiet : bool
+        Print nothing on success; on failure, the run's lines.
     """
     from pipeline.sweep import Cluster
 
     wf = load_workflow(path)
     workers = workers or wf["workers"]
     scheduler = scheduler or wf["scheduler"]
-    log = _Log(wf["log"])
-    lock = open(wf["log"] + ".lock", "w")  # noqa: SIM115
+    log = _Log(wf["log"], quiet=quiet)
+    lock = try_lock(wf["log"] + ".lock")
+    status = 1
     try:
-        try:
-            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
-            log(f"workflow {wf['path']}: another run holds {wf['log']}.lock; not starting")
-            return 1
+        if lock is None:
+            log(f"workflow {wf['path']}: another run holds {wf['log']}.lock; not starting (exit {EXIT_LOCKED}: "
+                "try again later)")
+            status = EXIT_LOCKED
+            return status
         log(f"workflow {wf['path']} ({wf['title']}): start, frustum {__version__}, {len(wf['steps'])} step(s)")
         # one cluster for all steps, started by the first step that computes
         with Cluster(scheduler, workers) as cluster:
-            return _run_steps(wf, log, cluster, force)
+            status = _run_steps(wf, log, cluster, force)
+        return status
     finally:
-        lock.close()
+        if status != 0:
+            log.flush_to_stderr()
+        if lock is not None:
+            lock.release()
         log.file.close()
 
 
@@ -223,4 +284,63 @@ def run_workflow_command(args):
     """Handler of ``frustum workflow run``."""
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers {args.workers}: give a positive number of worker processes")
-    return run_workflow(args.file, workers=args.workers, scheduler=args.scheduler, force=args.force)
+    return run_workflow(args.file, workers=args.workers, scheduler=args.scheduler, force=args.force,
+                        quiet=args.quiet)
+
+
+UNIT_TEMPLATES = ("frustum-workflow.service.in", "frustum-workflow.timer.in")
+
+
+def install_units(checkout, frustum, workflow="workflows/nightly.toml", folder=None):
+    """Write the systemd units of ``workflows/systemd/*.in`` filled in for a checkout.
+
+    Parameters
+    ----------
+    checkout : str
+        Absolute path of the project's checkout (``{checkout}`` in the templates).
+    frustum : str
+        Absolute path of the ``frustum`` executable (``{frustum}``).
+    workflow : str
+        Workflow file the service runs, relative to the checkout (``{workflow}``).
+    folder : str, optional
+        Where to write the units (default ``~/.config/systemd/user``).
+
+    Returns
+    -------
+    list of str
+        The files written (atomically: temporary name, then rename).
+    """
+    from pipeline.atomic import atomic_open
+
+    folder = folder or os.path.join(os.path.expanduser("~"), ".config", "systemd", "user")
+    templates = Path(checkout) / "workflows" / "systemd"
+    if not (Path(checkout) / workflow).is_file():
+        raise InputError(f"--workflow {workflow}: no such file in {checkout}; give a workflow file of the checkout")
+    os.makedirs(folder, exist_ok=True)
+    written = []
+    for name in UNIT_TEMPLATES:
+        try:
+            text = (templates / name).read_text(encoding="utf-8")
+        except OSError as exc:
+            raise InputError(f"{templates / name}: cannot read the unit template ({exc.strerror})") from None
+        text = text.replace("{checkout}", checkout).replace("{frustum}", frustum).replace("{workflow}", workflow)
+        target = os.path.join(folder, name[:-3])
+        with atomic_open(target, "w", encoding="utf-8") as fh:
+            fh.write(text)
+        written.append(target)
+    return written
+
+
+def install_units_command(args):
+    """Handler of ``frustum workflow install-units``."""
+    checkout = args.checkout
+    if checkout is None:
+        source = Path(__file__).resolve().parents[2]  # an editable install: the checkout itself
+        checkout = source if (source / "workflows" / "systemd").is_dir() else Path.cwd()
+    checkout = str(Path(checkout).resolve())
+    frustum = str(Path(sys.executable).parent / "frustum")
+    for path in install_units(checkout, frustum, args.workflow, args.dir):
+        print(f"wrote {path}")
+    print("now: systemctl --user daemon-reload && systemctl --user enable --now frustum-workflow.timer")
+    print(f"or, for cron (crontab -e): 17 2 * * *  cd {checkout} && {frustum} workflow run --quiet {args.workflow}")
+    return 0

@@ -133,7 +133,7 @@ def uplift_azimuth(ax, ay):
 
 
 @njit(cache=True)
-def landing_impact(y, theta_c, c, y_out):
+def landing_impact(y, theta_c, c, y_out, slip_xi=0.0, slip_n=0.0):
     """Apply the landing impact at tilt ``theta_c``; write the new state to ``y_out``.
 
     ``theta_c`` is the tilt at which the landing was detected (the state's
@@ -144,6 +144,10 @@ def landing_impact(y, theta_c, c, y_out):
     conserved: ``I_P' w+ = I_C w- + r_P'C x (w- x r_PC)``, evaluated with the
     geometry of full contact (theta = 0), where the impact happens. In planar
     rocking this is ``theta'+ = -(1 - 2/I_y) theta'-``.
+
+    ``slip_xi, slip_n`` is the velocity with which the landing pivot slides
+    (along the line of nodes and towards the base centre), 0 when it rolls:
+    it adds to the velocity of the centre of mass before the impact.
 
     Returns
     -------
@@ -161,8 +165,8 @@ def landing_impact(y, theta_c, c, y_out):
     w2 = y[fk.DPHI] * s
     w3 = y[fk.OMEGA]
     # velocity of the centre of mass, v = w x r_PC with r_PC = (0, 1, zc)
-    v1 = w2 * zc - w3
-    v2 = -w1 * zc
+    v1 = w2 * zc - w3 + slip_xi
+    v2 = -w1 * zc + slip_n
     v3 = w1
     # angular momentum about the new pivot, r_P'C = (0, -1, zc)
     h1 = A * w1 + (-1.0 * v3 - zc * v2)
@@ -177,7 +181,7 @@ def landing_impact(y, theta_c, c, y_out):
     det = i22 * i33 - i23 * i23
     u2 = (i33 * h2 - i23 * h3) / det
     u3 = (i22 * h3 - i23 * h2) / det
-    ke_before = 0.5 * (Iy * w1 * w1 + (Iy - 1.0) * w2 * w2 + Iz * w3 * w3) - zc * w2 * w3
+    ke_before = 0.5 * (A * (w1 * w1 + w2 * w2) + C * w3 * w3 + v1 * v1 + v2 * v2 + v3 * v3)
     # new frame: xi' = -xi, eta' = -eta, zeta' = zeta
     n1, n2, n3 = -u1, -u2, u3
     ke_after = 0.5 * (Iy * n1 * n1 + (Iy - 1.0) * n2 * n2 + Iz * n3 * n3) - zc * n2 * n3

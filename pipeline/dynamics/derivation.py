@@ -225,6 +225,27 @@ def couple_accelerations():
     return tuple(sp.simplify(x) for x in M.LUsolve(Q)), nu
 
 
+@lru_cache(maxsize=None)
+def general_couple_accelerations():
+    """Accelerations caused by any couple ``M = m_xi e_xi + m_eta e_eta + m_zeta e_zeta``.
+
+    As :func:`couple_accelerations`, for a couple given by its body
+    components (the contact patch's couples of :mod:`pipeline.dynamics.patch`).
+
+    Returns
+    -------
+    tuple
+        ``((d phi'', d theta'', d psi''), (m_xi, m_eta, m_zeta))``.
+    """
+    m_xi, m_eta, m_zeta = sp.symbols("m_xi m_eta m_zeta", real=True)
+    k = kinematics()
+    omega = k["omega"]
+    couple = m_xi * k["e_xi"] + m_eta * k["e_eta"] + m_zeta * k["e_zeta"]
+    Q = sp.Matrix([_to_symbols(couple.dot(sp.diff(omega, sp.diff(q, tau)))) for q in (phi_f, theta_f, psi_f)])
+    M, _, _ = equations_of_motion()
+    return tuple(sp.simplify(x) for x in M.LUsolve(Q)), (m_xi, m_eta, m_zeta)
+
+
 def paper_coefficients(h_k1):
     """The paper's printed g_ij of Eq. 12 as sympy expressions (as printed).
 

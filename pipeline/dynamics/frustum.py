@@ -8,12 +8,18 @@ checks them against the symbolic result to round-off.
 
 The state vector (length ``N_STATE``) is, in this order::
 
-    phi, theta, psi, phi', theta', omega_zeta, x_p, y_p, work, dissipated
+    phi, theta, psi, phi', theta', omega_zeta, x_p, y_p, work, dissipated,
+    friction, slip_speed, slip_direction, z_c, v_x, v_y, v_z
 
 with ``omega_zeta = phi' cos(theta) + psi'`` the spin (paper Eq. 3), ``x_p,
 y_p`` the contact point on the plane (relative to the plane, which may move),
-``work`` the work done on the column by the ground motion and ``dissipated``
-the energy removed by the optional contact damping.
+``work`` the work done on the column by the ground motion, ``dissipated``
+the energy removed by the contact couples and ``friction`` the energy removed
+by sliding. Rolling (this module) uses the first ten. The other phases of
+:mod:`pipeline.dynamics.hybrid` use the rest: the slip velocity (speed and
+direction angle) of the base or of the rim point that slides, and in flight
+the centre of mass (its horizontal position in the ``x_p, y_p`` slots, its
+height and velocity).
 
 Why the spin and not psi' as third speed: near small theta, phi' and psi'
 grow like 1/theta^2 and nearly cancel in omega_zeta; in the paper's form of
@@ -40,11 +46,30 @@ from numba import njit
 
 # State indices.
 PHI, THETA, PSI, DPHI, DTHETA, OMEGA, XP, YP, WORK, DISSIPATED = range(10)
-N_STATE = 10
+FRICTION, SLIP_SPEED, SLIP_DIR, ZC, VX, VY, VZ = range(10, 17)
+N_STATE = 17
+N_ROLLING = 10  # the slots rolling integrates
 
-# Indices into the options array (the fourth element of ``params``).
-OPT_THETA_C, OPT_THETA_LIE, OPT_NU = range(3)
-N_OPT = 3
+# Indices into the options array (the fourth element of ``params``): the
+# contact transition tilt, the tilt at which the column lies down, the viscous
+# contact couple, the friction coefficient, the phase being integrated, the
+# pivot side and slip direction of planar rocking, the rolling resistance.
+# Slipping phases also keep: whether the slip direction is slaved (see
+# pipeline.dynamics.hybrid) and the precession angle when it was last set.
+# OPT_UNILATERAL is 1 when the ground can only push (the column flies when
+# the normal force would pull), 0 to hold the rim on the ground as the paper does.
+# The contact patch (pipeline.dynamics.patch): the tilt theta_k of lost full
+# contact (0: a point contact, the paper's) and the dashpots per unit area,
+# c_n R^3 / (m sqrt(g R)); whether the patch's drilling friction holds the
+# pivot (no turning about the vertical through P) and, if not, the sense it
+# turns in.
+# The last four are the numerical thresholds of pipeline.dynamics.hybrid
+# (defaults there, in NUMERICS), carried at run time so that a study can vary
+# them without recompiling.
+(OPT_THETA_C, OPT_THETA_LIE, OPT_NU, OPT_MU, OPT_PHASE, OPT_PIVOT, OPT_SIGN, OPT_UNUSED,
+ OPT_SLAVED, OPT_PHI_REF, OPT_UNILATERAL, OPT_THETA_K, OPT_PATCH_DAMPING, OPT_PIVOT_HELD,
+ OPT_DRILL_SIGN, OPT_LANDING_MARGIN, OPT_MIN_REBOUND, OPT_SLAVE_TIME, OPT_LOOK_AHEAD) = range(19)
+N_OPT = 19
 
 # Indices into the constants array.
 C_IY, C_IZ, C_ZC, C_DELTA, C_K, C_IZ1, C_A = range(7)
@@ -222,6 +247,37 @@ def damping_accelerations(theta, dphi, dtheta, omega, nu, c):
     return ddphi, ddtheta, domega, power
 
 
+@njit(cache=True)
+def couple_accelerations(theta, m_xi, m_eta, m_zeta, c):
+    """Accelerations caused by a couple on the rolling body (any couple).
+
+    The couple's generalized forces ``(M.e_Z, M.e_xi, M.e_zeta)`` through the
+    inverse mass matrix of rolling (:func:`pipeline.dynamics.derivation.couple_accelerations`
+    gives the viscous case, ``M = -nu omega``, from which these follow by
+    linearity; ``tests/dynamics/test_derivation.py`` checks the general one).
+
+    Parameters
+    ----------
+    theta : float
+        Inclination [rad], != 0 unless ``m_eta = m_zeta = 0``.
+    m_xi, m_eta, m_zeta : float
+        The couple's body components [m g R].
+
+    Returns
+    -------
+    tuple of float
+        (d phi'', d theta'', d omega_zeta') [1/tau^2].
+    """
+    s = math.sin(theta)
+    delta = c[C_DELTA]
+    zc = c[C_ZC]
+    ddtheta = m_xi / c[C_IY]
+    top = c[C_IZ] * m_eta + zc * m_zeta
+    ddphi = top / (delta * s) if s != 0.0 else (0.0 if top == 0.0 else math.nan)
+    domega = ((c[C_IY] - 1.0) * m_zeta + zc * m_eta) / delta
+    return ddphi, ddtheta, domega
+
+
 _HALF_PI = 0.5 * math.pi
 
 
@@ -301,7 +357,7 @@ def rhs(t, y, params, dydt):
     dydt : numpy.ndarray
         Output, same layout as y.
     """
-    c, record, dt, opts = params
+    c, record, dt, opts = params[0], params[1], params[2], params[3]
     ax, ay, az = ground_acceleration(t, record, dt)
     sp_, cp = sincos(y[PHI])
     a_xi = ax * cp + ay * sp_
@@ -331,7 +387,7 @@ def diagnostics(t, y, params, out):
     [m g], tangential force |F_t| [m g], mobilized friction |F_t|/N [1],
     and the ground acceleration a_X, a_Y, a_Z [g].
     """
-    c, record, dt, opts = params
+    c, record, dt, opts = params[0], params[1], params[2], params[3]
     ax, ay, az = ground_acceleration(t, record, dt)
     theta = y[THETA]
     sp_, cp = sincos(y[PHI])

@@ -1,34 +1,46 @@
-"""Hybrid simulation of a column under ground motion: rest, rolling, overturned.
+"""Hybrid simulation of a rigid column under ground motion: phases, events, impacts.
 
 Kernel layer (dimensionless arrays in, arrays out), compiled with numba. One
 call runs one column under one ground-acceleration record, for the
 three-dimensional frustum (:func:`run_frustum`) or for planar rocking
-(:func:`run_rocking`). The phases and events (docs/model.md):
+(:func:`run_rocking`). The base is a flat face of stone on stone; the phases
+(docs/model.md):
 
-* **rest** (full base contact): the column moves with the ground; the uplift
-  time is found exactly on the piecewise-linear record
+* **rest** (full base contact): the column moves with the ground. It leaves
+  rest when the ground's push beats what the base can hold: it *uplifts* at
+  ``|a_h| z_cm = (g + a_Z) R``, it *slides* at ``|a_h| = mu (g + a_Z)``,
+  whichever threshold is lower (a column with ``mu < R / z_cm`` slides first),
+  or it *flies* when ``g + a_Z`` reaches 0. The record is linear between
+  samples, so the time is found exactly
   (:func:`pipeline.dynamics.contact.first_uplift`).
-* **rolling** on the rim, from ``theta_c`` upwards, integrated by the compiled
-  DOP853 (:mod:`pipeline.dynamics.integrator`), with three terminal events:
-  landing (theta falls to ``theta_c``), overturning (theta rises to
-  ``theta_lie``, where the side of the frustum touches the ground: it lies
-  down) and every turning point of theta (theta' = 0), where the peaks are
-  taken exactly.
-* **landing**: the impact map of :func:`pipeline.dynamics.contact.landing_impact`
-  (or a given coefficient of restitution); if the column cannot rise again
-  (kinetic energy below what lifting from theta_c to 2 theta_c needs) it
-  settles to rest, and the spin is stopped by the base's friction.
-* **overturned**: the run ends.
+* **sliding** flat on the base (Coulomb friction, ``mu N`` against the
+  sliding velocity), until the velocity vanishes (then rest, or sliding the
+  other way).
+* **rolling** on the rim (the paper's equations, :mod:`pipeline.dynamics.frustum`),
+  while the normal force stays positive and the friction it needs stays
+  below ``mu N``.
+* **slipping** on the rim (:mod:`pipeline.dynamics.rim`): the rim point
+  slides with Coulomb friction; back to rolling when the slip velocity
+  vanishes and sticking holds.
+* **flight**: the normal force would turn negative; the column flies until
+  its lowest rim point (or its flat base) comes down, with a plastic impact
+  that sticks or slides as Coulomb allows.
+* **landing** near full contact (``theta`` down to ``theta_c``): the
+  angular-momentum impact about the opposite rim point, or settling to rest.
+* **overturned**: the side of the frustum touches the ground,
+  ``theta_lie = pi/2 + atan((R - r)/h)``; the run ends.
 
-Every jump of mechanical energy at a contact transition (uplift into
-``theta_c``, impacts, settling) is added to ``summary[S_TRANSITION]``, so that
-``E_end - E_0 = work + transitions - dissipated`` holds to the integration
-error.
+Every phase is integrated by the compiled DOP853 (one wrapper per model; the
+phase is read from the options array) with the terminal events of
+``EV_*``; the record's samples are break points. A step monitor updates the
+peak mobilized friction and the lowest normal force at every accepted step,
+so those peaks, like the sliding and lift-off flags (phases entered), do not
+depend on the output grid. Every jump of mechanical energy at a transition is
+added to ``summary[S_TRANSITION]``, so that
+``E_end - E_0 = work + transitions - dissipated - friction`` holds to the
+integration error.
 
-The entry points (:func:`run_frustum`, :func:`run_rocking`,
-:func:`diagnostics_rows`) release the GIL (``nogil=True``): a Dask worker's
-own threads (heartbeats, result transfers) then run beside a simulation instead
-of waiting for it, and threads may run simulations side by side.
+The entry points release the GIL (``nogil=True``).
 """
 
 import math
@@ -38,10 +50,13 @@ from numba import njit
 
 from pipeline.dynamics import contact
 from pipeline.dynamics import frustum as fk
+from pipeline.dynamics import patch
+from pipeline.dynamics import rim
 from pipeline.dynamics import rocking as rk
-from pipeline.dynamics.integrator import dop853
+from pipeline.dynamics.integrator import dop853_monitored
 
-PHASE_REST, PHASE_ROLLING, PHASE_OVERTURNED = 0, 1, 2
+PHASE_REST, PHASE_ROLLING, PHASE_OVERTURNED, PHASE_SLIDING, PHASE_SLIPPING, PHASE_FLIGHT = range(6)
+PHASE_NAMES = ("rest", "rolling", "overturned", "sliding", "slipping", "flight")
 
 # Indices of the summary array filled by the runs.
 (
@@ -51,8 +66,8 @@ PHASE_REST, PHASE_ROLLING, PHASE_OVERTURNED = 0, 1, 2
     S_OVERTURN_TIME,  # [tau], nan if it stands
     S_UPLIFT_TIME,  # first uplift [tau], nan if never
     S_N_IMPACTS,
-    S_PEAK_MU,  # at turning points of theta [1]
-    S_MIN_NORMAL,  # at turning points [m g]
+    S_PEAK_MU,  # largest mobilized friction |F_t|/N while in contact [1]
+    S_MIN_NORMAL,  # lowest normal force while in contact [m g]
     S_TRANSITION,  # energy jumps at contact transitions [m g R]
     S_NFEV,
     S_STEPS,
@@ -60,72 +75,497 @@ PHASE_REST, PHASE_ROLLING, PHASE_OVERTURNED = 0, 1, 2
     S_ROTATION,  # body rotation about the vertical at the end, phi + psi [rad]
     S_BASE_X,  # base centre at the end [R]
     S_BASE_Y,
-) = range(15)
-N_SUMMARY = 15
+    S_SLIDE_TIME,  # first slip of the base or of the rim [tau], nan if never
+    S_FLIGHT_TIME,  # first lift-off [tau], nan if never
+    S_FINAL_PHASE,  # phase at the end (PHASE_OVERTURNED if it lay down)
+    S_ENERGY_START,  # mechanical energy at the start [m g R]
+    S_ENERGY_END,  # at the end (when it lies down: then) [m g R]
+    S_WORK,  # work done by the ground motion [m g R]
+    S_DISSIPATED,  # removed by the contact couples [m g R]
+    S_FRICTION,  # removed by sliding friction [m g R]
+) = range(23)
+N_SUMMARY = 23
 
-# Safety net against a Zeno cascade of landings and uplifts.
+# Safety net against a Zeno cascade of transitions.
 MAX_TRANSITIONS = 1_000_000
 MAX_STEPS = 50_000_000
 # Consecutive event stops without advancing time that end a run (status -11)
 # instead of looping: a safety net, never reached in the tests.
 MAX_STALLS = 100
 STATUS_STALLED = -11
+STATUS_PAINLEVE = -12  # slip with no consistent normal force (never met for mu < 1)
 
-EVENT_DIRECTIONS = np.array([-1.0, 1.0, 0.0])  # landing, lying down, turning point
+EV_LAND, EV_LIE, EV_TURN, EV_LIFT, EV_SLIP, EV_STICK, EV_MODE, EV_PIVOT = range(8)
+# landing/touch-down falling, lying down rising, turning point of theta both
+# ways, normal force falling to 0, friction margin falling to 0, slip velocity
+# falling to 0, slip speed crossing the slaved-direction layer, the drilling
+# friction letting the pivot go (or its turning stopping)
+EVENT_DIRECTIONS = np.array([-1.0, 1.0, 0.0, -1.0, -1.0, -1.0, -1.0, -1.0])
 
-# Rolling starts at theta_c; the landing surface lies a hair below it, so a
-# column that uplifts on the verge of the threshold (theta'' ~ 0) does not
-# start on the landing surface, where round-off would trip the event at once
-# and the uplift-landing-settle cycle could repeat without time advancing.
-LANDING_MARGIN = 1e-3
-EV_LANDING, EV_LIE, EV_TURN = 0, 1, 2
+# Numerical thresholds (defaults; carried in the options array, OPT_*, so that
+# studies/thresholds can vary them). No physical result may depend on them:
+# studies/thresholds/results.md shows that none does.
+#
+# slave_time [tau]: the direction of a two-dimensional Coulomb slip relaxes
+# towards the consistent one (slip acceleration along the slip) at the rate
+# k / s, k of order mu N: at slip onset and stop (s -> 0) that is infinitely
+# fast, and no explicit step survives it. Below s = slave_time mu N the
+# direction is therefore slaved: taken as the consistent direction, solved at
+# every evaluation (an error of the order of the lag slave_time x the turning
+# rate of that direction); above it the direction is a state. The layer is
+# left at slave_time mu N and entered again below half of it.
+#
+# look_ahead [tau]: a phase that starts on a bound (stick after a slip stops,
+# say) is checked a little ahead as well: the integrator reads the event signs
+# only after a restart window of 1e-7 of its first step, and a bound left
+# within it would not be seen (the phase would then violate it until the next
+# crossing).
+#
+# landing_margin [1]: rolling starts at theta_c; the landing surface lies a
+# hair below it, (1 - landing_margin) theta_c, so a column that uplifts on the
+# verge of the threshold (theta'' ~ 0) does not start on the landing surface,
+# where round-off would trip the event at once.
+#
+# min_rebound [rad]: a rebound that would rise less than this above theta_c is
+# a settling: shorter excursions than an integration step could slip past the
+# landing event (and with theta_c = 0 the column would never settle otherwise).
+NUMERICS = {"landing_margin": 1e-3, "min_rebound": 1e-8, "slave_time": 1e-6, "look_ahead": 1e-7}
+
+_TWO_PI = 2.0 * math.pi
+
+
+# --- the three-dimensional frustum ----------------------------------------------------------
 
 
 @njit(cache=True)
-def _events_frustum(t, y, params, g):
-    opts = params[3]
-    g[EV_LANDING] = y[fk.THETA] - (1.0 - LANDING_MARGIN) * opts[fk.OPT_THETA_C]
-    g[EV_LIE] = y[fk.THETA] - opts[fk.OPT_THETA_LIE]
-    g[EV_TURN] = y[fk.DTHETA]
+def _slip_friction(chi, sp_, cp, mu):
+    """Friction per unit normal force (xi, n) opposing the slip direction chi, and (cos, sin) of chi."""
+    sx, cx = fk.sincos(chi)
+    s_xi = cx * cp + sx * sp_
+    s_n = -cx * sp_ + sx * cp
+    return -mu * s_xi, -mu * s_n, cx, sx
 
 
 @njit(cache=True)
-def _events_rocking(t, y, params, g):
-    opts = params[3]
-    th = abs(y[rk.THETA2])
-    g[EV_LANDING] = th - (1.0 - LANDING_MARGIN) * opts[fk.OPT_THETA_C]
-    g[EV_LIE] = th - opts[fk.OPT_THETA_LIE]
-    g[EV_TURN] = y[rk.DTHETA2]
+def _horizontal_spin(theta, dphi, dtheta, omega):
+    """Angular velocity in the contact point's frame: (xi, n) horizontal and vertical [1/tau]."""
+    s = math.sin(theta)
+    co = math.cos(theta)
+    w_eta = dphi * s
+    return dtheta, w_eta * co - omega * s, w_eta * s + omega * co
 
 
 @njit(cache=True)
-def _roll_frustum(params, t0, y0, t_end, t_out, y_out, out_start, t_breaks, rtol, atol, h0):
-    return dop853(fk.rhs, _events_frustum, params, t0, y0, t_end, t_out, y_out, out_start,
-                  EVENT_DIRECTIONS, t_breaks, rtol, atol, np.inf, h0, MAX_STEPS)
+def _rolling_state(t, y, params):
+    """Accelerations and contact of rolling, with the contact patch's couples.
 
+    Rolling on P (the paper's equations, the optional viscous couple nu), plus
+    the patch of :mod:`pipeline.dynamics.patch` when ``theta_k > 0``: its
+    dashpots' rolling damping, and drilling friction about the vertical through
+    P, either holding the pivot (the couple that keeps omega_Z constant, while
+    it stays below the patch's capacity mu N r_d) or sliding against the turning
+    sense ``OPT_DRILL_SIGN`` with the full capacity.
 
-@njit(cache=True)
-def _roll_rocking(params, t0, y0, t_end, t_out, y_out, out_start, t_breaks, rtol, atol, h0):
-    return dop853(rk.rhs, _events_rocking, params, t0, y0, t_end, t_out, y_out, out_start,
-                  EVENT_DIRECTIONS, t_breaks, rtol, atol, np.inf, h0, MAX_STEPS)
-
-
-@njit(cache=True)
-def _rest_until_uplift(record, dt, zc, t, t_end, t_out, y_out, phase_out, out_i, y_rest):
-    """Stay at rest from ``t`` until the next uplift (or ``t_end``), filling the outputs.
-
-    Returns the uplift time (``inf`` if none before the record ends) and the
-    next output row.
+    Returns
+    -------
+    tuple
+        ``(ddphi, ddtheta, domega, f_xi, f_n, f_z, ax, ay, az, a_xi, a_n, damped, drill, capacity,
+        omega_z)``: accelerations [1/tau^2], contact force [m g], ground
+        acceleration [g] (plane and contact frames), the power of damping
+        [m g sqrt(g R)], the drilling couple and its limit [m g R], the
+        vertical angular velocity [1/tau].
     """
-    t_up = contact.first_uplift(record, dt, zc, t)
-    stop = min(t_up, t_end)
-    inclusive = t_up >= t_end
-    n = t_out.shape[0]
-    while out_i < n and (t_out[out_i] < stop or (inclusive and t_out[out_i] <= stop)):
-        y_out[out_i, :] = y_rest
-        phase_out[out_i] = PHASE_REST
-        out_i += 1
-    return t_up, out_i
+    c, record, dt, opts = params[0], params[1], params[2], params[3]
+    ax, ay, az = fk.ground_acceleration(t, record, dt)
+    sp_, cp = fk.sincos(y[fk.PHI])
+    a_xi = ax * cp + ay * sp_
+    a_n = -ax * sp_ + ay * cp
+    theta, dphi, dtheta, omega = y[fk.THETA], y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA]
+    zc = c[fk.C_ZC]
+    ddphi, ddtheta, domega = fk.accelerations(theta, dphi, dtheta, omega, a_xi, a_n, az, c)
+    d1, d2, d3, damped = fk.damping_accelerations(theta, dphi, dtheta, omega, opts[fk.OPT_NU], c)
+    ddphi += d1
+    ddtheta += d2
+    domega += d3
+    om_xi, om_n, om_z = _horizontal_spin(theta, dphi, dtheta, omega)
+    drill = 0.0
+    capacity = 0.0
+    theta_k = opts[fk.OPT_THETA_K]
+    if theta_k > 0.0:
+        # the patch carries the normal force of rolling without its own couples
+        # (a couple about the line of nodes changes it by a part in J / I_y)
+        f_z = fk.contact_force(theta, dphi, dtheta, omega, ddphi, ddtheta, domega, a_xi, a_n, az, zc)[2]
+        m_xi, m_n, capacity = patch.couples(f_z, theta, theta_k, opts[fk.OPT_PATCH_DAMPING], opts[fk.OPT_MU],
+                                            om_xi, om_n)
+        s = math.sin(theta)
+        co = math.cos(theta)
+        e1, e2, e3 = fk.couple_accelerations(theta, m_xi, m_n * co, -m_n * s, c)
+        ddphi += e1
+        ddtheta += e2
+        domega += e3
+        damped -= m_xi * om_xi + m_n * om_n
+        # a couple T about the vertical: body components (0, T s, T cos)
+        b1, _b2, b3 = fk.couple_accelerations(theta, 0.0, s, co, c)
+        if opts[fk.OPT_PIVOT_HELD] != 0.0:
+            # keep omega_Z = phi' s^2 + omega cos: its rate without T, over its rate per unit T
+            free = ddphi * s * s + domega * co + dtheta * (2.0 * dphi * s * co - omega * s)
+            drill = -free / (b1 * s * s + b3 * co)
+        else:
+            drill = -capacity * opts[fk.OPT_DRILL_SIGN]
+        ddphi += drill * b1
+        domega += drill * b3
+    f_xi, f_n, f_z = fk.contact_force(theta, dphi, dtheta, omega, ddphi, ddtheta, domega, a_xi, a_n, az, zc)
+    return ddphi, ddtheta, domega, f_xi, f_n, f_z, ax, ay, az, a_xi, a_n, damped, drill, capacity, om_z
+
+
+@njit(cache=True)
+def _rolling_contact(t, y, params):
+    """Contact force of rolling (xi, n, N) [m g] and the ground acceleration [g]."""
+    r = _rolling_state(t, y, params)
+    return r[3], r[4], r[5], r[6], r[7], r[8]
+
+
+@njit(cache=True)
+def _slip_patch(t, y, params, theta, f_xi, f_n, az):
+    """Rolling-damping couple of the patch while P slides (body components) and its power.
+
+    No drilling friction: a patch that slides as a whole does not also resist
+    turning about P (the friction it can give is already spent on the slip).
+    """
+    c, opts = params[0], params[3]
+    theta_k = opts[fk.OPT_THETA_K]
+    if theta_k <= 0.0:
+        return 0.0, 0.0, 0.0, 0.0
+    dphi, dtheta, omega = y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA]
+    load = rim.slip_normal_force(theta, dphi, dtheta, omega, f_xi, f_n, az, c)[0]
+    om_xi, om_n, _om_z = _horizontal_spin(theta, dphi, dtheta, omega)
+    m_xi, m_n, _cap = patch.couples(load, theta, theta_k, opts[fk.OPT_PATCH_DAMPING], opts[fk.OPT_MU], om_xi, om_n)
+    s = math.sin(theta)
+    co = math.cos(theta)
+    return m_xi, m_n * co, -m_n * s, -(m_xi * om_xi + m_n * om_n)
+
+
+@njit(cache=True)
+def _slip_with(t, y, params, chi):
+    """Normal force and accelerations of rim slip in the direction chi.
+
+    Returns ``(N, den, ddphi, ddtheta, domega, dw_eta, f_xi, f_n, cx, sx, ax, ay, az, a_xi, a_n,
+    vx, vy, damped)`` with ``(vx, vy)`` the rate of the slip velocity (horizontal, plane frame) and
+    ``damped`` the power of the patch's rolling damping.
+    """
+    c, record, dt, opts = params[0], params[1], params[2], params[3]
+    ax, ay, az = fk.ground_acceleration(t, record, dt)
+    sp_, cp = fk.sincos(y[fk.PHI])
+    a_xi = ax * cp + ay * sp_
+    a_n = -ax * sp_ + ay * cp
+    f_xi, f_n, cx, sx = _slip_friction(chi, sp_, cp, opts[fk.OPT_MU])
+    theta, dphi, dtheta, omega = y[fk.THETA], y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA]
+    m_xi, m_eta, m_zeta, damped = _slip_patch(t, y, params, theta, f_xi, f_n, az)
+    normal, den = rim.slip_normal_force(theta, dphi, dtheta, omega, f_xi, f_n, az, c, m_xi)
+    ddphi, ddtheta, domega, dw_eta = rim.rotation_accelerations(theta, dphi, dtheta, omega, f_xi, f_n, normal, c,
+                                                                m_xi, m_eta, m_zeta)
+    v_xi, v_n, _v_z = rim.material_point_acceleration(
+        theta, dphi, dtheta, omega, ddtheta, dw_eta, domega,
+        normal * f_xi - a_xi, normal * f_n - a_n, normal - 1.0 - az, c[fk.C_ZC])
+    vx = v_xi * cp - v_n * sp_
+    vy = v_xi * sp_ + v_n * cp
+    return normal, den, ddphi, ddtheta, domega, dw_eta, f_xi, f_n, cx, sx, ax, ay, az, a_xi, a_n, vx, vy, damped
+
+
+@njit(cache=True)
+def _misalignment(t, y, params, chi):
+    """Component of the slip acceleration across the slip direction chi (zero when consistent)."""
+    r = _slip_with(t, y, params, chi)
+    return -r[15] * r[9] + r[16] * r[8]
+
+
+@njit(cache=True)
+def consistent_direction(t, y, params, guess):
+    """Slip direction chi* in which the slip acceleration lies along the slip.
+
+    The root of the misalignment closest to ``guess`` among those where the
+    direction is stable (misalignment decreasing in chi: a nearby direction
+    turns towards it). Found by a scan of the circle and bisection.
+    """
+    if _misalignment(t, y, params, guess) == 0.0:
+        return guess  # exactly consistent (planar motion stays planar)
+    n_scan = 16
+    best = guess
+    best_gap = math.inf
+    a = guess - math.pi
+    fa = _misalignment(t, y, params, a)
+    for k in range(1, n_scan + 1):
+        b = guess - math.pi + _TWO_PI * k / n_scan
+        fb = _misalignment(t, y, params, b)
+        if fa > 0.0 and fb <= 0.0:
+            lo, hi, flo = a, b, fa
+            for _i in range(60):
+                mid = 0.5 * (lo + hi)
+                fm = _misalignment(t, y, params, mid)
+                if (fm > 0.0) == (flo > 0.0):
+                    lo, flo = mid, fm
+                else:
+                    hi = mid
+                if hi - lo < 1e-13:
+                    break
+            root = 0.5 * (lo + hi)
+            gap = abs(root - guess)
+            if gap < best_gap:
+                best, best_gap = root, gap
+        a, fa = b, fb
+    return best
+
+
+@njit(cache=True)
+def _slip_direction(t, y, params):
+    """The slip direction in use: the state's, or the slaved consistent one."""
+    opts = params[3]
+    if opts[fk.OPT_SLAVED] == 0.0:
+        return y[fk.SLIP_DIR]
+    guess = y[fk.SLIP_DIR] + (y[fk.PHI] - opts[fk.OPT_PHI_REF])
+    return consistent_direction(t, y, params, guess)
+
+
+@njit(cache=True)
+def _slip_state(t, y, params):
+    """:func:`_slip_with` in the direction in use."""
+    return _slip_with(t, y, params, _slip_direction(t, y, params))
+
+
+@njit(cache=True)
+def _flat_direction(t, y, params):
+    """Direction of flat sliding: the state's, or slaved, against the ground's push."""
+    if params[3][fk.OPT_SLAVED] == 0.0:
+        return y[fk.SLIP_DIR]
+    ax, ay, _az = fk.ground_acceleration(t, params[1], params[2])
+    if ax == 0.0 and ay == 0.0:
+        return y[fk.SLIP_DIR]
+    return math.atan2(-ay, -ax)
+
+
+@njit(cache=True)
+def _rhs_slipping(t, y, params, dydt):
+    c, opts = params[0], params[3]
+    zc = c[fk.C_ZC]
+    mu = opts[fk.OPT_MU]
+    (normal, den, ddphi, ddtheta, domega, dw_eta, f_xi, f_n, cx, sx, ax, ay, az, a_xi, a_n,
+     vx, vy, damped) = _slip_state(t, y, params)
+    theta = y[fk.THETA]
+    dphi, dtheta, omega = y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA]
+    speed = y[fk.SLIP_SPEED]
+    sp_, cp = fk.sincos(y[fk.PHI])
+    dpsi = omega - dphi * math.cos(theta)
+    for i in range(dydt.shape[0]):
+        dydt[i] = 0.0
+    dydt[fk.PHI] = dphi
+    dydt[fk.THETA] = dtheta
+    dydt[fk.PSI] = dpsi
+    dydt[fk.DPHI] = ddphi
+    dydt[fk.DTHETA] = ddtheta
+    dydt[fk.OMEGA] = domega
+    dydt[fk.XP] = speed * cx - dpsi * cp
+    dydt[fk.YP] = speed * sx - dpsi * sp_
+    dydt[fk.SLIP_SPEED] = vx * cx + vy * sx
+    if opts[fk.OPT_SLAVED] == 0.0 and speed > 0.0:
+        dydt[fk.SLIP_DIR] = (-vx * sx + vy * cx) / speed
+    # velocity of the centre of mass: slip of P plus rotation about P
+    r_xi, r_n, r_z = rim.cm_velocity_rolling(theta, dphi, dtheta, omega, zc)
+    s_xi = -f_xi / mu if mu > 0.0 else 0.0
+    s_n = -f_n / mu if mu > 0.0 else 0.0
+    dydt[fk.WORK] = -(a_xi * (r_xi + speed * s_xi) + a_n * (r_n + speed * s_n) + az * r_z)
+    dydt[fk.FRICTION] = mu * normal * speed
+    dydt[fk.DISSIPATED] = damped
+
+
+@njit(cache=True)
+def _rhs_flight(t, y, params, dydt):
+    c, record, dt = params[0], params[1], params[2]
+    ax, ay, az = fk.ground_acceleration(t, record, dt)
+    theta = y[fk.THETA]
+    dphi, dtheta, omega = y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA]
+    ddphi, ddtheta, domega, _dw = rim.rotation_accelerations(theta, dphi, dtheta, omega, 0.0, 0.0, 0.0, c)
+    for i in range(dydt.shape[0]):
+        dydt[i] = 0.0
+    dydt[fk.PHI] = dphi
+    dydt[fk.THETA] = dtheta
+    dydt[fk.PSI] = omega - dphi * math.cos(theta)
+    dydt[fk.DPHI] = ddphi
+    dydt[fk.DTHETA] = ddtheta
+    dydt[fk.OMEGA] = domega
+    dydt[fk.XP] = y[fk.VX]
+    dydt[fk.YP] = y[fk.VY]
+    dydt[fk.ZC] = y[fk.VZ]
+    dydt[fk.VX] = -ax
+    dydt[fk.VY] = -ay
+    dydt[fk.VZ] = -1.0 - az
+    dydt[fk.WORK] = -(ax * y[fk.VX] + ay * y[fk.VY] + az * y[fk.VZ])
+
+
+@njit(cache=True)
+def _rhs_sliding(t, y, params, dydt):
+    record, dt, opts = params[1], params[2], params[3]
+    ax, ay, az = fk.ground_acceleration(t, record, dt)
+    mu = opts[fk.OPT_MU]
+    speed = y[fk.SLIP_SPEED]
+    chi = _flat_direction(t, y, params)
+    cx = math.cos(chi)
+    sx = math.sin(chi)
+    for i in range(dydt.shape[0]):
+        dydt[i] = 0.0
+    along = ax * cx + ay * sx
+    dydt[fk.SLIP_SPEED] = -along - mu * (1.0 + az)
+    if opts[fk.OPT_SLAVED] == 0.0 and speed > 0.0:
+        dydt[fk.SLIP_DIR] = (ax * sx - ay * cx) / speed
+    dydt[fk.XP] = speed * cx
+    dydt[fk.YP] = speed * sx
+    dydt[fk.WORK] = -along * speed
+    dydt[fk.FRICTION] = mu * (1.0 + az) * speed
+
+
+@njit(cache=True)
+def _rhs_rolling(t, y, params, dydt):
+    (ddphi, ddtheta, domega, _f_xi, _f_n, _f_z, _ax, _ay, az, a_xi, a_n, damped, drill, _cap,
+     om_z) = _rolling_state(t, y, params)
+    theta, dphi, omega = y[fk.THETA], y[fk.DPHI], y[fk.OMEGA]
+    sp_, cp = fk.sincos(y[fk.PHI])
+    dpsi = omega - dphi * math.cos(theta)
+    for i in range(dydt.shape[0]):
+        dydt[i] = 0.0
+    dydt[fk.PHI] = dphi
+    dydt[fk.THETA] = y[fk.DTHETA]
+    dydt[fk.PSI] = dpsi
+    dydt[fk.DPHI] = ddphi
+    dydt[fk.DTHETA] = ddtheta
+    dydt[fk.OMEGA] = domega
+    # rolling without slip: the contact point moves along -xi at speed R psi'
+    dydt[fk.XP] = -dpsi * cp
+    dydt[fk.YP] = -dpsi * sp_
+    dydt[fk.WORK] = fk.ground_power(theta, dphi, y[fk.DTHETA], omega, a_xi, a_n, az, params[0][fk.C_ZC])
+    dydt[fk.DISSIPATED] = damped
+    dydt[fk.FRICTION] = -drill * om_z  # the drilling couple's work (0 while it holds the pivot)
+
+
+@njit(cache=True)
+def rhs3d(t, y, params, dydt):
+    """Right-hand side of the phase ``params[3][OPT_PHASE]`` (3D frustum)."""
+    phase = params[3][fk.OPT_PHASE]
+    if phase == PHASE_ROLLING:
+        _rhs_rolling(t, y, params, dydt)
+    elif phase == PHASE_SLIPPING:
+        _rhs_slipping(t, y, params, dydt)
+    elif phase == PHASE_FLIGHT:
+        _rhs_flight(t, y, params, dydt)
+    else:
+        _rhs_sliding(t, y, params, dydt)
+
+
+@njit(cache=True)
+def events3d(t, y, params, g):
+    """Event functions of the current phase (``EV_*``); +1 where an event does not apply."""
+    c, record, dt, opts = params[0], params[1], params[2], params[3]
+    phase = opts[fk.OPT_PHASE]
+    for i in range(g.shape[0]):
+        g[i] = 1.0
+    if phase == PHASE_SLIDING:
+        _ax, _ay, az = fk.ground_acceleration(t, record, dt)
+        g[EV_LIFT] = 1.0 + az
+        g[EV_STICK] = y[fk.SLIP_SPEED]
+        g[EV_MODE] = _layer_event(y[fk.SLIP_SPEED], opts, 1.0 + az)
+        return
+    theta = y[fk.THETA]
+    g[EV_LIE] = theta - opts[fk.OPT_THETA_LIE]
+    g[EV_TURN] = y[fk.DTHETA]
+    if phase == PHASE_FLIGHT:
+        g[EV_LAND] = y[fk.ZC] - rim.lever(theta, c[fk.C_ZC])
+        g[EV_SLIP] = theta  # the axis passes the vertical (planar flight): Euler angles flip
+        return
+    g[EV_LAND] = theta - (1.0 - opts[fk.OPT_LANDING_MARGIN]) * opts[fk.OPT_THETA_C]
+    if phase == PHASE_ROLLING:
+        r = _rolling_state(t, y, params)
+        f_xi, f_n, f_z = r[3], r[4], r[5]
+        if opts[fk.OPT_UNILATERAL] != 0.0:
+            g[EV_LIFT] = f_z
+        if opts[fk.OPT_MU] < math.inf:  # inf: rolling without slip, whatever the force
+            g[EV_SLIP] = opts[fk.OPT_MU] * f_z - math.sqrt(f_xi * f_xi + f_n * f_n)
+            if opts[fk.OPT_THETA_K] > 0.0:
+                g[EV_PIVOT] = (r[13] - abs(r[12]) if opts[fk.OPT_PIVOT_HELD] != 0.0
+                               else opts[fk.OPT_DRILL_SIGN] * r[14])
+    else:
+        normal = _slip_state(t, y, params)[0]
+        if opts[fk.OPT_UNILATERAL] != 0.0:
+            g[EV_LIFT] = normal
+        g[EV_STICK] = y[fk.SLIP_SPEED]
+        g[EV_MODE] = _layer_event(y[fk.SLIP_SPEED], opts, normal)
+
+
+@njit(cache=True)
+def _layer_event(speed, opts, normal):
+    """Leaving (slaved) or entering (free) the slaved-direction layer: falls through 0."""
+    edge = opts[fk.OPT_SLAVE_TIME] * opts[fk.OPT_MU] * max(normal, 0.0)
+    if opts[fk.OPT_SLAVED] != 0.0:
+        return edge - speed
+    return speed - 0.5 * edge
+
+
+@njit(cache=True)
+def _watch(summary, mu, normal):
+    if mu > summary[S_PEAK_MU]:
+        summary[S_PEAK_MU] = mu
+    if normal < summary[S_MIN_NORMAL]:
+        summary[S_MIN_NORMAL] = normal
+
+
+@njit(cache=True)
+def monitor3d(t, y, params, g):
+    """Peak mobilized friction and lowest normal force, at every accepted step.
+
+    The event functions there (``g``) already hold N and ``mu N - |F_t|``.
+    """
+    opts, summary = params[3], params[4]
+    phase = opts[fk.OPT_PHASE]
+    mu = opts[fk.OPT_MU]
+    fast = opts[fk.OPT_UNILATERAL] != 0.0 and mu < math.inf
+    if phase == PHASE_ROLLING:
+        if fast:
+            normal = g[EV_LIFT]
+            f_t = mu * normal - g[EV_SLIP]
+        else:
+            f_xi, f_n, normal, _ax, _ay, _az = _rolling_contact(t, y, params)
+            f_t = math.sqrt(f_xi * f_xi + f_n * f_n)
+        _watch(summary, f_t / normal if normal > 0.0 else 0.0, normal)
+    elif phase == PHASE_SLIPPING:
+        _watch(summary, mu, g[EV_LIFT] if fast else _slip_state(t, y, params)[0])
+    elif phase == PHASE_SLIDING:
+        _watch(summary, mu, g[EV_LIFT])
+    elif phase == PHASE_FLIGHT:
+        _watch(summary, 0.0, 0.0)
+
+
+@njit(cache=True)
+def _integrate3d(params, t0, y0, t_end, t_out, y_out, out_start, t_breaks, rtol, atol, h0):
+    return dop853_monitored(rhs3d, events3d, monitor3d, params, t0, y0, t_end, t_out, y_out, out_start,
+                            EVENT_DIRECTIONS, t_breaks, rtol, atol, np.inf, h0, MAX_STEPS)
+
+
+@njit(cache=True)
+def energy3d(phase, y, c):
+    """Mechanical energy [m g R] of a 3D state in a given phase."""
+    zc = c[fk.C_ZC]
+    if phase == PHASE_REST:
+        return zc
+    if phase == PHASE_SLIDING:
+        return zc + 0.5 * y[fk.SLIP_SPEED] * y[fk.SLIP_SPEED]
+    theta, dphi, dtheta, omega = y[fk.THETA], y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA]
+    if phase == PHASE_FLIGHT:
+        return rim.energy(theta, dphi, dtheta, omega, y[fk.VX], y[fk.VY], y[fk.VZ], y[fk.ZC], c)
+    r_xi, r_n, r_z = rim.cm_velocity_rolling(theta, dphi, dtheta, omega, zc)
+    if phase == PHASE_SLIPPING:
+        sp_, cp = fk.sincos(y[fk.PHI])
+        speed = y[fk.SLIP_SPEED]
+        cx, sx = math.cos(y[fk.SLIP_DIR]), math.sin(y[fk.SLIP_DIR])
+        r_xi += speed * (cx * cp + sx * sp_)
+        r_n += speed * (-cx * sp_ + sx * cp)
+    return rim.energy(theta, dphi, dtheta, omega, r_xi, r_n, r_z, rim.lever(theta, zc), c)
 
 
 @njit(cache=True)
@@ -133,20 +573,76 @@ def _init_summary(summary):
     summary[:] = 0.0
     summary[S_OVERTURN_TIME] = math.nan
     summary[S_UPLIFT_TIME] = math.nan
+    summary[S_SLIDE_TIME] = math.nan
+    summary[S_FLIGHT_TIME] = math.nan
     summary[S_MIN_NORMAL] = math.inf
 
 
-# A rebound that would rise less than this above theta_c is a settling:
-# shorter excursions than an integration step could slip past the landing
-# event (and with theta_c = 0 the column would never settle otherwise).
-MIN_REBOUND_TILT = 1e-8  # [rad]
+@njit(cache=True)
+def _close_budget(summary, energy_end, work, dissipated, friction):
+    summary[S_ENERGY_END] = energy_end
+    summary[S_WORK] = work
+    summary[S_DISSIPATED] = dissipated
+    summary[S_FRICTION] = friction
 
 
 @njit(cache=True)
-def _settle_kinetic(theta_c, zc):
+def _first(summary, k, t):
+    if math.isnan(summary[k]):
+        summary[k] = t
+
+
+@njit(cache=True)
+def _settle_kinetic(theta_c, zc, min_rebound):
     """Kinetic energy [m g R] below which a landing column settles to rest."""
-    top = theta_c + max(theta_c, MIN_REBOUND_TILT)
+    top = theta_c + max(theta_c, min_rebound)
     return (math.sin(top) + zc * math.cos(top)) - (math.sin(theta_c) + zc * math.cos(theta_c))
+
+
+@njit(cache=True)
+def departure_ratio(zc, mu):
+    """Ratio |a_h| / (g + a_z) at which a column at rest starts to move [1].
+
+    ``R / z_cm`` if it uplifts first, ``mu`` if it slides first.
+    """
+    return min(1.0 / zc, mu)
+
+
+@njit(cache=True)
+def _rest_until_departure(record, dt, ratio, t, t_end, t_out, y_out, phase_out, out_i, y_rest, summary):
+    """Stay at rest from ``t`` until the column starts to move (or ``t_end``), filling the outputs.
+
+    Also updates the peak mobilized friction at rest, ``|a_h| / (1 + a_z)``,
+    which on the piecewise-linear record peaks at samples or at the ends.
+    Returns the departure time (``inf`` if none before the record ends) and
+    the next output row.
+    """
+    t_dep = contact.first_uplift(record, dt, 1.0 / ratio, t)
+    stop = min(t_dep, t_end)
+    inclusive = t_dep >= t_end
+    n = t_out.shape[0]
+    while out_i < n and (t_out[out_i] < stop or (inclusive and t_out[out_i] <= stop)):
+        y_out[out_i, :] = y_rest
+        phase_out[out_i] = PHASE_REST
+        out_i += 1
+    n_rec = record.shape[0]
+    if n_rec > 0:
+        last = min(stop, (n_rec - 1) * dt)
+        k_lo = int(math.ceil(t / dt)) if t > 0.0 else 0
+        k_hi = int(math.floor(last / dt))
+        _rest_friction(summary, *fk.ground_acceleration(t, record, dt))
+        for k in range(k_lo, min(k_hi, n_rec - 1) + 1):
+            _rest_friction(summary, record[k, 0], record[k, 1], record[k, 2])
+        if last >= t:
+            _rest_friction(summary, *fk.ground_acceleration(last, record, dt))
+    return t_dep, out_i
+
+
+@njit(cache=True)
+def _rest_friction(summary, ax, ay, az):
+    normal = 1.0 + az
+    if normal > 0.0:
+        _watch(summary, math.sqrt(ax * ax + ay * ay) / normal, normal)
 
 
 @njit(cache=True)
@@ -161,13 +657,13 @@ def _log_impact(impacts, summary, t, rate_before, rate_after, energy_jump):
 
 
 @njit(cache=True)
-def _book_phase(res, phase_out, out_i, summary, y, t_start, stalls):
-    """Record a rolling phase's outputs and cost; copy its final state into y.
+def _book_phase(res, phase, phase_out, out_i, summary, y, t_start, stalls):
+    """Record a phase's outputs and cost; copy its final state into y.
 
     Returns the next output row and the count of consecutive calls that
     stopped without advancing time (``STATUS_STALLED`` past ``MAX_STALLS``).
     """
-    phase_out[out_i:res.out_next] = PHASE_ROLLING
+    phase_out[out_i:res.out_next] = phase
     summary[S_NFEV] += res.nfev
     summary[S_STEPS] += res.n_accepted
     if res.status < 0:
@@ -192,15 +688,269 @@ def _lie_down(summary, t, theta, y, y_out, phase_out, out_i):
 
 
 @njit(cache=True)
-def _turning_point(summary, t, theta, mu, normal):
-    """Update the peaks at a turning point of theta."""
+def _peak(summary, t, theta):
     if theta > summary[S_PEAK_THETA]:
         summary[S_PEAK_THETA] = theta
         summary[S_PEAK_TIME] = t
-    if normal > 0.0 and mu > summary[S_PEAK_MU]:
-        summary[S_PEAK_MU] = mu
-    if normal < summary[S_MIN_NORMAL]:
-        summary[S_MIN_NORMAL] = normal
+
+
+@njit(cache=True)
+def _clear_free_slots(y):
+    """Zero the slots that the contact phases do not integrate (slip, flight)."""
+    y[fk.SLIP_SPEED] = 0.0
+    y[fk.SLIP_DIR] = 0.0
+    y[fk.ZC] = 0.0
+    y[fk.VX] = 0.0
+    y[fk.VY] = 0.0
+    y[fk.VZ] = 0.0
+
+
+@njit(cache=True)
+def _to_flight(y, c, slipping):
+    """Rim contact (rolling or slipping) -> flight: centre of mass position and velocity."""
+    zc = c[fk.C_ZC]
+    theta = y[fk.THETA]
+    sp_, cp = fk.sincos(y[fk.PHI])
+    v_xi, v_n, v_z = rim.cm_velocity_rolling(theta, y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA], zc)
+    vx = v_xi * cp - v_n * sp_
+    vy = v_xi * sp_ + v_n * cp
+    if slipping:
+        vx += y[fk.SLIP_SPEED] * math.cos(y[fk.SLIP_DIR])
+        vy += y[fk.SLIP_SPEED] * math.sin(y[fk.SLIP_DIR])
+    reach = rim.reach(theta, zc)
+    x, yy = y[fk.XP] - sp_ * reach, y[fk.YP] + cp * reach
+    _clear_free_slots(y)
+    y[fk.XP], y[fk.YP] = x, yy
+    y[fk.ZC] = rim.lever(theta, zc)
+    y[fk.VX], y[fk.VY], y[fk.VZ] = vx, vy, v_z
+
+
+@njit(cache=True)
+def _start_slip(y, opts, chi, normal):
+    """Begin a slip with speed ``y[SLIP_SPEED]`` in direction chi, slaved if it is slow."""
+    y[fk.SLIP_DIR] = chi
+    opts[fk.OPT_PHI_REF] = y[fk.PHI]
+    edge = opts[fk.OPT_SLAVE_TIME] * opts[fk.OPT_MU] * max(normal, 0.0)
+    opts[fk.OPT_SLAVED] = 1.0 if y[fk.SLIP_SPEED] < edge else 0.0
+
+
+@njit(cache=True)
+def _sync_direction(t, y, params, phase):
+    """Write the slip direction in use into the state (it is only a guess while slaved)."""
+    opts = params[3]
+    if opts[fk.OPT_SLAVED] != 0.0:
+        if phase == PHASE_SLIPPING:
+            y[fk.SLIP_DIR] = _slip_direction(t, y, params)
+        elif phase == PHASE_SLIDING:
+            y[fk.SLIP_DIR] = _flat_direction(t, y, params)
+    # the slaved direction is sought near the stored one, turned with the precession since
+    opts[fk.OPT_PHI_REF] = y[fk.PHI]
+
+
+@njit(cache=True)
+def _ahead(t, y, params):
+    """The rolling state a look-ahead later (one Euler step, ``OPT_LOOK_AHEAD``)."""
+    ahead = y.copy()
+    rate = np.empty(y.shape[0])
+    _rhs_rolling(t, y, params, rate)
+    step = params[3][fk.OPT_LOOK_AHEAD]
+    for i in range(fk.N_ROLLING):
+        ahead[i] += step * rate[i]
+    return ahead
+
+
+@njit(cache=True)
+def _pivot_mode(t, y, params):
+    """Whether the patch's drilling friction holds the pivot, or in which sense it turns.
+
+    A column turning about the vertical through P keeps turning (friction
+    against it) until the turning stops; then the pivot is held while the
+    couple that holds it stays within ``mu N r_d``, now and a moment later.
+    """
+    opts = params[3]
+    opts[fk.OPT_PIVOT_HELD] = 0.0
+    opts[fk.OPT_DRILL_SIGN] = 0.0
+    if opts[fk.OPT_THETA_K] <= 0.0:
+        return  # a point contact: no drilling friction (the paper's model)
+    om_z = _horizontal_spin(y[fk.THETA], y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA])[2]
+    scale = abs(y[fk.DPHI]) + abs(y[fk.OMEGA]) + abs(y[fk.DTHETA])
+    if abs(om_z) > 1e-12 * scale:
+        opts[fk.OPT_DRILL_SIGN] = math.copysign(1.0, om_z)
+        return
+    opts[fk.OPT_PIVOT_HELD] = 1.0
+    if opts[fk.OPT_MU] == math.inf:
+        return
+    r = _rolling_state(t, y, params)
+    q = _rolling_state(t + opts[fk.OPT_LOOK_AHEAD], _ahead(t, y, params), params)
+    if abs(r[12]) <= r[13] and abs(q[12]) <= q[13]:
+        return
+    # too strong a twist for the patch: it turns, against the couple that would hold it
+    opts[fk.OPT_PIVOT_HELD] = 0.0
+    opts[fk.OPT_DRILL_SIGN] = -math.copysign(1.0, q[12])
+
+
+@njit(cache=True)
+def _enter_contact(t, y, params):
+    """Phase that a state in rim contact (P not sliding) continues in: rolling, slipping or flight.
+
+    Sets the slip direction against the friction that sticking would need
+    when that exceeds ``mu N``.
+    """
+    c, opts = params[0], params[3]
+    mu = opts[fk.OPT_MU]
+    _pivot_mode(t, y, params)
+    f_xi, f_n, f_z, _ax, _ay, _az = _rolling_contact(t, y, params)
+    # a bound that holds now but is being left (N or the margin falling
+    # through 0 within the integrator's restart window) would go unseen
+    ahead = _ahead(t, y, params)
+    g_xi, g_n, g_z, _ax, _ay, _az = _rolling_contact(t + opts[fk.OPT_LOOK_AHEAD], ahead, params)
+    unilateral = opts[fk.OPT_UNILATERAL] != 0.0
+    pushes = (f_z >= 0.0 and g_z >= 0.0) or not unilateral
+    if pushes and (mu == math.inf or (math.sqrt(f_xi * f_xi + f_n * f_n) <= mu * f_z
+                                      and math.sqrt(g_xi * g_xi + g_n * g_n) <= mu * g_z)):
+        return PHASE_ROLLING
+    if mu < math.inf:
+        # sticking fails (friction or a pulling normal force): slipping against
+        # the friction it would need, if the plane then pushes
+        sp_, cp = fk.sincos(y[fk.PHI])
+        chi = math.atan2(-(f_xi * sp_ + f_n * cp), -(f_xi * cp - f_n * sp_))
+        normal = _slip_with(t, y, params, chi)[0]
+        y[fk.SLIP_SPEED] = 0.0
+        if normal >= 0.0 or not unilateral:
+            _start_slip(y, opts, chi, normal)
+            return PHASE_SLIPPING
+    if not unilateral:
+        return PHASE_ROLLING
+    _to_flight(y, c, False)
+    return PHASE_FLIGHT
+
+
+# Passages whose lowest tilt stays above PASSAGE_REACH theta_c lose nothing to
+# a slap (exp(1 - 40) ~ 1e-17 of it).
+PASSAGE_REACH = 40.0
+
+
+@njit(cache=True)
+def passage_weight(ratio):
+    """Share of a full slap lost in a passage whose lowest tilt is ``ratio`` theta_c [1].
+
+    1 at theta_c, where the passage would land; ``exp(1 - ratio)`` above it:
+    the far side of the base comes within the compliance theta_k R of the
+    ground only when the lowest tilt is of that order, so the slap fades over
+    one theta_k. Continuous, so no threshold switches between a lossless
+    roll-through and a full impact.
+    """
+    if ratio <= 1.0:
+        return 1.0
+    return math.exp(1.0 - ratio) if ratio < PASSAGE_REACH else 0.0
+
+
+@njit(cache=True)
+def _near_contact_passage(t, y, params, phase, planar_e):
+    """A passage through a minimum of theta near full contact: a partial slap.
+
+    The base slaps the ground in part (:func:`passage_weight`): the rates are
+    scaled by ``1 - w (1 - e)``, e the planar restitution, so that a passage
+    that nearly lands loses what the planar impact would, and one that stays
+    well above theta_c loses nothing. Booked in the transitions' energy.
+    """
+    c, opts, summary = params[0], params[3], params[4]
+    if phase == PHASE_ROLLING:
+        ddtheta = _rolling_state(t, y, params)[1]
+    else:
+        ddtheta = _slip_state(t, y, params)[3]
+    if not ddtheta > 0.0:
+        return  # a maximum
+    w = passage_weight(y[fk.THETA] / opts[fk.OPT_THETA_C])
+    if w == 0.0:
+        return
+    scale = 1.0 - w * (1.0 - planar_e)
+    e_before = energy3d(phase, y, c)
+    y[fk.DPHI] *= scale
+    y[fk.OMEGA] *= scale
+    y[fk.SLIP_SPEED] *= scale
+    summary[S_TRANSITION] += energy3d(phase, y, c) - e_before
+
+
+@njit(cache=True)
+def _solve3(a, b):
+    """Solve the 3x3 system a x = b (Cramer's rule)."""
+    det = (a[0, 0] * (a[1, 1] * a[2, 2] - a[1, 2] * a[2, 1])
+           - a[0, 1] * (a[1, 0] * a[2, 2] - a[1, 2] * a[2, 0])
+           + a[0, 2] * (a[1, 0] * a[2, 1] - a[1, 1] * a[2, 0]))
+    x = np.empty(3)
+    for k in range(3):
+        m = a.copy()
+        for i in range(3):
+            m[i, k] = b[i]
+        x[k] = (m[0, 0] * (m[1, 1] * m[2, 2] - m[1, 2] * m[2, 1])
+                - m[0, 1] * (m[1, 0] * m[2, 2] - m[1, 2] * m[2, 0])
+                + m[0, 2] * (m[1, 0] * m[2, 1] - m[1, 1] * m[2, 0])) / det
+    return x
+
+
+@njit(cache=True)
+def _touch_down_rim(y, c, mu):
+    """Plastic impact of a flying column on its lowest rim point, with Coulomb friction.
+
+    Writes the state after the impact (rim contact: P rolling, or slipping with
+    its velocity) and returns True if P slides after it.
+    """
+    zc = c[fk.C_ZC]
+    theta = y[fk.THETA]
+    sp_, cp = fk.sincos(y[fk.PHI])
+    r_xi, r_n, r_z = rim.cm_velocity_rolling(theta, y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA], zc)
+    v_xi_c = y[fk.VX] * cp + y[fk.VY] * sp_
+    v_n_c = -y[fk.VX] * sp_ + y[fk.VY] * cp
+    # velocity of the material point at P: V_C - omega x r_PC
+    vp = np.array([v_xi_c - r_xi, v_n_c - r_n, y[fk.VZ] - r_z])
+    w = np.empty((3, 3))
+    for k in range(3):
+        j = np.zeros(3)
+        j[k] = 1.0
+        w[0, k], w[1, k], w[2, k] = rim.impulse_response(theta, j[0], j[1], j[2], c)
+    impulse = _solve3(w, -vp)
+    sliding = math.hypot(impulse[0], impulse[1]) > mu * impulse[2]
+    if sliding:
+        speed = math.hypot(vp[0], vp[1])
+        d_xi = vp[0] / speed if speed > 0.0 else 0.0
+        d_n = vp[1] / speed if speed > 0.0 else 0.0
+        u = rim.impulse_response(theta, -mu * d_xi, -mu * d_n, 1.0, c)
+        jn = -vp[2] / u[2]
+        impulse[0], impulse[1], impulse[2] = -mu * d_xi * jn, -mu * d_n * jn, jn
+    dphi, dtheta, omega = rim.apply_impulse(theta, y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA],
+                                            impulse[0], impulse[1], impulse[2], c)
+    dv = rim.impulse_response(theta, impulse[0], impulse[1], impulse[2], c)
+    post_xi, post_n = vp[0] + dv[0], vp[1] + dv[1]
+    reach = rim.reach(theta, zc)
+    x_p, y_p = y[fk.XP] + sp_ * reach, y[fk.YP] - cp * reach
+    _clear_free_slots(y)
+    y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA] = dphi, dtheta, omega
+    y[fk.XP], y[fk.YP] = x_p, y_p
+    if sliding:
+        vx = post_xi * cp - post_n * sp_
+        vy = post_xi * sp_ + post_n * cp
+        y[fk.SLIP_SPEED] = math.hypot(vx, vy)
+        y[fk.SLIP_DIR] = math.atan2(vy, vx)
+    return sliding
+
+
+@njit(cache=True)
+def _tip_onto_rim(y, theta_c):
+    """A column sliding flat with mu z_cm >= R tips onto its leading rim point (and slips)."""
+    cx, sx = math.cos(y[fk.SLIP_DIR]), math.sin(y[fk.SLIP_DIR])
+    # the pivot lies ahead: the direction from P to the base centre is -slip
+    phi = math.atan2(cx, -sx)
+    sp_, cp = fk.sincos(phi)
+    bx, by = y[fk.XP], y[fk.YP]
+    y[fk.PHI] = phi
+    y[fk.PSI] = -phi
+    y[fk.THETA] = theta_c
+    y[fk.DPHI] = 0.0
+    y[fk.DTHETA] = 0.0
+    y[fk.OMEGA] = 0.0
+    y[fk.XP] = bx + sp_ * math.cos(theta_c)
+    y[fk.YP] = by - cp * math.cos(theta_c)
 
 
 @njit(cache=True, nogil=True)
@@ -210,7 +960,8 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
     Parameters
     ----------
     params : tuple
-        ``(c, record, dt, opts)`` as :func:`pipeline.dynamics.frustum.rhs`.
+        ``(c, record, dt, opts)`` as :func:`pipeline.dynamics.frustum.rhs`; the
+        options array is used as scratch for the phase (``OPT_PHASE``).
     y0 : float64[N_STATE]
         Initial state: theta = 0 (and zero rates) starts at rest with the
         base centre at (XP, YP); theta > 0 starts rolling on the rim.
@@ -223,9 +974,10 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
     t_out : float64[m]
         Output times [tau], increasing, from 0.
     y_out : float64[m, N_STATE]
-        Filled with the states; at rest the XP, YP slots hold the base centre.
+        Filled with the states; at rest and sliding the XP, YP slots hold the
+        base centre, in flight the centre of mass.
     phase_out : int8[m]
-        Filled with the phase of each output row.
+        Filled with the phase of each output row (``PHASE_*``).
     t_breaks : float64[b]
         Sample times of the record (kinks of the forcing), no step crosses them.
     rtol, atol : float
@@ -237,15 +989,21 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
         after [1/tau], energy jump [m g R] (after settling, theta' after is 0).
     """
     c, record, dt, opts = params
+    p = (c, record, dt, opts, summary)
     zc = c[fk.C_ZC]
+    mu = opts[fk.OPT_MU]
     theta_c = opts[fk.OPT_THETA_C]
+    ratio = departure_ratio(zc, mu)
+    planar_e = restitution if restitution >= 0.0 else max(0.0, 1.0 - 2.0 / c[fk.C_IY])
     _init_summary(summary)
     y = y0.copy()  # at rest: XP, YP hold the base centre
     y_new = y0.copy()
     rotation = y0[fk.PHI] + y0[fk.PSI]  # body rotation about the vertical while at rest
     rest_energy = zc  # V at theta = 0
-    settle_kinetic = _settle_kinetic(theta_c, zc)
+    settle_kinetic = _settle_kinetic(theta_c, zc, opts[fk.OPT_MIN_REBOUND])
     phase = PHASE_ROLLING if y0[fk.THETA] > 0.0 else PHASE_REST
+    summary[S_ENERGY_START] = energy3d(phase, y, c)
+    moving = phase  # the phase the column lies down from
     t = 0.0
     out_i = 0
     h = 0.0
@@ -253,33 +1011,48 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
     stalls = 0
     while n_transitions < MAX_TRANSITIONS:
         if phase == PHASE_REST:
-            t_up, out_i = _rest_until_uplift(record, dt, zc, t, t_end, t_out, y_out, phase_out, out_i, y)
-            if t_up >= t_end:
+            t_dep, out_i = _rest_until_departure(record, dt, ratio, t, t_end, t_out, y_out, phase_out, out_i,
+                                                 y, summary)
+            if t_dep >= t_end:
                 t = t_end
                 break
-            ax, ay, az = fk.ground_acceleration(t_up, record, dt)
+            t = t_dep
+            h = 0.0
+            n_transitions += 1
+            ax, ay, az = fk.ground_acceleration(t_dep, record, dt)
+            bx, by = y[fk.XP], y[fk.YP]
+            work, dissipated, friction = y[fk.WORK], y[fk.DISSIPATED], y[fk.FRICTION]
+            y[:] = 0.0
+            y[fk.WORK], y[fk.DISSIPATED], y[fk.FRICTION] = work, dissipated, friction
+            if 1.0 + az <= 0.0:  # the ground falls faster than gravity: flat flight
+                y[fk.XP], y[fk.YP], y[fk.ZC] = bx, by, zc
+                _first(summary, S_FLIGHT_TIME, t)
+                phase = PHASE_FLIGHT
+                continue
+            if mu < 1.0 / zc:  # slides before it can uplift
+                y[fk.XP], y[fk.YP] = bx, by
+                _start_slip(y, opts, math.atan2(-ay, -ax), 1.0 + az)
+                _first(summary, S_SLIDE_TIME, t)
+                phase = PHASE_SLIDING
+                continue
             phi = contact.uplift_azimuth(ax, ay)
             s_phi, c_phi = fk.sincos(phi)
-            bx, by = y[fk.XP], y[fk.YP]
-            y[:] = 0.0 * y
-            y[fk.WORK] = y_new[fk.WORK]
-            y[fk.DISSIPATED] = y_new[fk.DISSIPATED]
             y[fk.PHI] = phi
             y[fk.PSI] = rotation - phi
             y[fk.THETA] = theta_c
             y[fk.XP] = bx + s_phi * math.cos(theta_c)  # pivot: opposite the acceleration
             y[fk.YP] = by - c_phi * math.cos(theta_c)
             summary[S_TRANSITION] += fk.energy(theta_c, 0.0, 0.0, 0.0, c) - rest_energy
-            if math.isnan(summary[S_UPLIFT_TIME]):
-                summary[S_UPLIFT_TIME] = t_up
-            t = t_up
-            h = 0.0
-            phase = PHASE_ROLLING
-            n_transitions += 1
+            _first(summary, S_UPLIFT_TIME, t)
+            phase = _enter_contact(t, y, p)
+            if phase == PHASE_SLIPPING:
+                _first(summary, S_SLIDE_TIME, t)
             continue
-        res = _roll_frustum(params, t, y, t_end, t_out, y_out, out_i, t_breaks, rtol, atol, h)
-        out_i, stalls = _book_phase(res, phase_out, out_i, summary, y, t, stalls)
+        opts[fk.OPT_PHASE] = phase
+        res = _integrate3d(p, t, y, t_end, t_out, y_out, out_i, t_breaks, rtol, atol, h)
+        out_i, stalls = _book_phase(res, phase, phase_out, out_i, summary, y, t, stalls)
         t, h = res.t, res.h_next
+        _sync_direction(t, y, p, phase)
         if res.status <= 0 or stalls > MAX_STALLS:  # end, failure or stall (status in the summary)
             break
         ev = res.event_index
@@ -287,81 +1060,481 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
             # a turning point: theta' is zero there, its 1e-17 residue is
             # round-off that could make the next call find this root again
             y[fk.DTHETA] = 0.0
-            diag = np.empty(fk.N_DIAGNOSTICS)
-            fk.diagnostics(t, y, params, diag)
-            _turning_point(summary, t, y[fk.THETA], diag[4], diag[2])
+            _peak(summary, t, y[fk.THETA])
+            if phase != PHASE_FLIGHT and opts[fk.OPT_THETA_K] > 0.0:
+                _near_contact_passage(t, y, p, phase, planar_e)
+            continue
+        if ev == EV_MODE:  # in or out of the slaved-direction layer (direction synced above)
+            opts[fk.OPT_SLAVED] = 1.0 - opts[fk.OPT_SLAVED]
+            continue
+        if ev == EV_PIVOT:  # the pivot's turning stopped, or its hold gave way
+            if opts[fk.OPT_PIVOT_HELD] == 0.0:
+                # stopped: make it exact (the spin that cancels omega_Z at this tilt)
+                e_before = energy3d(phase, y, c)
+                y[fk.OMEGA] = -y[fk.DPHI] * math.sin(y[fk.THETA]) ** 2 / math.cos(y[fk.THETA])
+                summary[S_TRANSITION] += energy3d(phase, y, c) - e_before
+            _pivot_mode(t, y, p)
+            continue
+        if ev == EV_SLIP and phase == PHASE_FLIGHT:
+            # the axis passes the vertical: the same orientation is (phi + pi, -theta, psi - pi)
+            y[fk.PHI] = y[fk.PHI] - math.pi if y[fk.PHI] > 0.0 else y[fk.PHI] + math.pi
+            y[fk.PSI] -= math.pi
+            y[fk.THETA] = -y[fk.THETA]
+            y[fk.DTHETA] = -y[fk.DTHETA]
             continue
         if ev == EV_LIE:
             out_i = _lie_down(summary, t, y[fk.THETA], y, y_out, phase_out, out_i)
+            moving = phase
+            phase = PHASE_OVERTURNED
             break
-        # landing
-        e_before = fk.energy(y[fk.THETA], y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA], c)
-        theta_land = y[fk.THETA]
-        contact.landing_impact(y, theta_land, c, y_new)
-        if restitution >= 0.0 and y_new[fk.DTHETA] != 0.0:
-            ratio = restitution * abs(y[fk.DTHETA]) / y_new[fk.DTHETA]
-            y_new[fk.DTHETA] *= ratio
-            y_new[fk.DPHI] *= ratio
-            y_new[fk.OMEGA] *= ratio
-        summary[S_N_IMPACTS] += 1
-        n_transitions += 1
-        e_after = fk.energy(y_new[fk.THETA], y_new[fk.DPHI], y_new[fk.DTHETA], y_new[fk.OMEGA], c)
-        kinetic = e_after - fk.energy(theta_land, 0.0, 0.0, 0.0, c)
         h = 0.0
+        n_transitions += 1
+        if ev == EV_SLIP:  # rolling -> slipping: against the friction sticking would need
+            phase = _enter_contact(t, y, p)
+            _first(summary, S_SLIDE_TIME, t)
+            continue
+        if ev == EV_STICK:
+            if phase == PHASE_SLIPPING:
+                y[fk.SLIP_SPEED] = 0.0
+                phase = _enter_contact(t, y, p)
+                continue
+            # flat sliding stopped: rest, or sliding on in the new direction
+            ax, ay, az = fk.ground_acceleration(t, record, dt)
+            y[fk.SLIP_SPEED] = 0.0
+            if math.hypot(ax, ay) > mu * (1.0 + az):
+                _start_slip(y, opts, math.atan2(-ay, -ax), 1.0 + az)
+            else:
+                phase = PHASE_REST
+            continue
+        if ev == EV_LIFT:
+            _first(summary, S_FLIGHT_TIME, t)
+            if phase == PHASE_SLIDING:
+                speed, cx, sx = y[fk.SLIP_SPEED], math.cos(y[fk.SLIP_DIR]), math.sin(y[fk.SLIP_DIR])
+                y[fk.ZC] = zc
+                y[fk.VX], y[fk.VY], y[fk.VZ] = speed * cx, speed * sx, 0.0
+                y[fk.SLIP_SPEED] = 0.0
+            else:
+                _to_flight(y, c, phase == PHASE_SLIPPING)
+            phase = PHASE_FLIGHT
+            continue
+        # EV_LAND
+        if phase == PHASE_FLIGHT:
+            e_before = energy3d(phase, y, c)
+            if y[fk.THETA] < theta_c:
+                # flat on the ground: the base stops the fall and the rotation;
+                # friction takes at most mu times the vertical impulse
+                speed = math.hypot(y[fk.VX], y[fk.VY])
+                cx = y[fk.VX] / speed if speed > 0.0 else 1.0
+                sx = y[fk.VY] / speed if speed > 0.0 else 0.0
+                left = speed - mu * abs(y[fk.VZ])
+                s_phi, c_phi = fk.sincos(y[fk.PHI])
+                lean = zc * math.sin(y[fk.THETA])
+                x, yy = y[fk.XP] - s_phi * lean, y[fk.YP] + c_phi * lean
+                rotation = y[fk.PHI] + y[fk.PSI]
+                work, dissipated, friction = y[fk.WORK], y[fk.DISSIPATED], y[fk.FRICTION]
+                y[:] = 0.0
+                y[fk.WORK], y[fk.DISSIPATED], y[fk.FRICTION] = work, dissipated, friction
+                y[fk.XP], y[fk.YP] = x, yy
+                if left > 0.0:
+                    y[fk.SLIP_SPEED] = left
+                    _az = fk.ground_acceleration(t, record, dt)[2]
+                    _start_slip(y, opts, math.atan2(sx, cx), 1.0 + _az)
+                    phase = PHASE_SLIDING
+                    if mu * zc >= 1.0:
+                        _tip_onto_rim(y, theta_c)
+                        opts[fk.OPT_PHI_REF] = y[fk.PHI]
+                        phase = PHASE_SLIPPING
+                else:
+                    phase = PHASE_REST
+            else:
+                slides = _touch_down_rim(y, c, mu)
+                if slides:
+                    _start_slip(y, opts, y[fk.SLIP_DIR], _slip_with(t, y, p, y[fk.SLIP_DIR])[0])
+                    phase = PHASE_SLIPPING
+                else:
+                    phase = _enter_contact(t, y, p)
+            summary[S_N_IMPACTS] += 1
+            e_after = energy3d(phase, y, c)
+            summary[S_TRANSITION] += e_after - e_before
+            _log_impact(impacts, summary, t, 0.0, y[fk.DTHETA], e_after - e_before)
+            continue
+        # landing near full contact
+        e_before = energy3d(phase, y, c)
+        theta_land = y[fk.THETA]
+        slip_xi = 0.0
+        slip_n = 0.0
+        if phase == PHASE_SLIPPING:
+            sp_, cp = fk.sincos(y[fk.PHI])
+            speed, cx, sx = y[fk.SLIP_SPEED], math.cos(y[fk.SLIP_DIR]), math.sin(y[fk.SLIP_DIR])
+            slip_xi = speed * (cx * cp + sx * sp_)
+            slip_n = speed * (-cx * sp_ + sx * cp)
+        contact.landing_impact(y, theta_land, c, y_new, slip_xi, slip_n)
+        _clear_free_slots(y_new)
+        if restitution >= 0.0 and y_new[fk.DTHETA] != 0.0:
+            scale = restitution * abs(y[fk.DTHETA]) / y_new[fk.DTHETA]
+            y_new[fk.DTHETA] *= scale
+            y_new[fk.DPHI] *= scale
+            y_new[fk.OMEGA] *= scale
+        e_after = energy3d(PHASE_ROLLING, y_new, c)
+        kinetic = e_after - fk.energy(theta_land, 0.0, 0.0, 0.0, c)
         settles = y_new[fk.DTHETA] <= 0.0 or kinetic < settle_kinetic
-        _log_impact(impacts, summary, t, y[fk.DTHETA], 0.0 if settles else y_new[fk.DTHETA],
-                    (rest_energy if settles else e_after) - e_before)
+        if y[fk.DTHETA] != 0.0:  # touching back down with no speed at all is no impact
+            summary[S_N_IMPACTS] += 1
+            _log_impact(impacts, summary, t, y[fk.DTHETA], 0.0 if settles else y_new[fk.DTHETA],
+                        (rest_energy if settles else e_after) - e_before)
         if settles:
             # full base contact, at rest on the ground
             s_phi, c_phi = fk.sincos(y[fk.PHI])
             rotation = y[fk.PHI] + y[fk.PSI]
             bx = y[fk.XP] - s_phi * math.cos(theta_land)
             by = y[fk.YP] + c_phi * math.cos(theta_land)
-            work, dissipated = y[fk.WORK], y[fk.DISSIPATED]
-            y[:] = 0.0 * y
+            work, dissipated, friction = y[fk.WORK], y[fk.DISSIPATED], y[fk.FRICTION]
+            y[:] = 0.0
             y[fk.XP], y[fk.YP] = bx, by
-            y[fk.WORK], y[fk.DISSIPATED] = work, dissipated
-            y_new[fk.WORK], y_new[fk.DISSIPATED] = work, dissipated
+            y[fk.WORK], y[fk.DISSIPATED], y[fk.FRICTION] = work, dissipated, friction
             summary[S_TRANSITION] += rest_energy - e_before
             phase = PHASE_REST
         else:
             summary[S_TRANSITION] += e_after - e_before
             y[:] = y_new
+            phase = _enter_contact(t, y, p)
+            if phase == PHASE_SLIPPING:
+                _first(summary, S_SLIDE_TIME, t)
+            elif phase == PHASE_FLIGHT:
+                _first(summary, S_FLIGHT_TIME, t)
     if n_transitions >= MAX_TRANSITIONS:
         summary[S_STATUS] = -10
     summary[S_END_TIME] = t
-    if phase == PHASE_REST:
+    summary[S_FINAL_PHASE] = phase
+    _close_budget(summary, energy3d(phase if phase != PHASE_OVERTURNED else moving, y, c),
+                  y[fk.WORK], y[fk.DISSIPATED], y[fk.FRICTION])
+    if phase == PHASE_REST or phase == PHASE_SLIDING:
         summary[S_ROTATION] = rotation
         summary[S_BASE_X], summary[S_BASE_Y] = y[fk.XP], y[fk.YP]
     else:
         s_phi, c_phi = fk.sincos(y[fk.PHI])
         summary[S_ROTATION] = y[fk.PHI] + y[fk.PSI]
-        summary[S_BASE_X] = y[fk.XP] - s_phi * math.cos(y[fk.THETA])
-        summary[S_BASE_Y] = y[fk.YP] + c_phi * math.cos(y[fk.THETA])
+        if phase == PHASE_FLIGHT:
+            lean = zc * math.sin(y[fk.THETA])  # the centre of mass leans away from the base centre
+            summary[S_BASE_X] = y[fk.XP] - s_phi * lean
+            summary[S_BASE_Y] = y[fk.YP] + c_phi * lean
+        else:
+            summary[S_BASE_X] = y[fk.XP] - s_phi * math.cos(y[fk.THETA])
+            summary[S_BASE_Y] = y[fk.YP] + c_phi * math.cos(y[fk.THETA])
     if summary[S_MIN_NORMAL] == math.inf:
         summary[S_MIN_NORMAL] = math.nan
     return out_i
 
 
+# --- planar rocking -------------------------------------------------------------------------
+
+
+@njit(cache=True)
+def _rocking_couple(theta, dtheta, load, opts):
+    """Rolling-damping couple of the contact patch on planar rocking [m g R], and its power."""
+    theta_k = opts[fk.OPT_THETA_K]
+    if theta_k <= 0.0:
+        return 0.0, 0.0
+    m = patch.couples(load, abs(theta), theta_k, opts[fk.OPT_PATCH_DAMPING], opts[fk.OPT_MU], dtheta, 0.0)[0]
+    return m, -m * dtheta
+
+
+@njit(cache=True)
+def _rocking_contact(theta, dtheta, a_u, a_z, c, opts):
+    """Planar rocking on a pivot that sticks: ``(F_u, N, theta'', damped)``.
+
+    Forces per m g; the centre of mass relative to the pivot is ``(C_u, C_z)``
+    (:func:`pipeline.dynamics.rocking.cm_offset`) and the contact force is
+    ``F = m (C'' + a_g + g e_z)``. theta'' includes the viscous couple nu and
+    the contact patch's rolling damping, whose power (with nu's) is ``damped``.
+    """
+    cu, cz = rk.cm_offset(theta, c[fk.C_ZC])
+    nu = opts[fk.OPT_NU]
+    ddtheta = rk.angular_acceleration(theta, a_u, a_z, c) - nu * dtheta / c[fk.C_IY]
+    damped = nu * dtheta * dtheta
+    w2 = dtheta * dtheta
+    if opts[fk.OPT_THETA_K] > 0.0:
+        m, power = _rocking_couple(theta, dtheta, -cu * ddtheta - cz * w2 + 1.0 + a_z, opts)
+        ddtheta += m / c[fk.C_IY]
+        damped += power
+    f_u = cz * ddtheta - cu * w2 + a_u
+    f_z = -cu * ddtheta - cz * w2 + 1.0 + a_z
+    return f_u, f_z, ddtheta, damped
+
+
+@njit(cache=True)
+def _rocking_slip(theta, dtheta, sigma, a_u, a_z, c, opts):
+    """Planar rocking on a slipping pivot with the patch's couple: ``(theta'', x'', N, damped)``."""
+    mu = opts[fk.OPT_MU]
+    ddtheta, ddx, normal, _den = rk.slip_accelerations(theta, dtheta, sigma, mu, a_u, a_z, c)
+    if opts[fk.OPT_THETA_K] <= 0.0:
+        return ddtheta, ddx, normal, 0.0
+    m, power = _rocking_couple(theta, dtheta, normal, opts)
+    ddtheta, ddx, normal, _den = rk.slip_accelerations(theta, dtheta, sigma, mu, a_u, a_z, c, m)
+    return ddtheta, ddx, normal, power
+
+
+@njit(cache=True)
+def _rhs2d_slipping(t, y, params, dydt):
+    c, record, dt, opts = params[0], params[1], params[2], params[3]
+    a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
+    mu = opts[fk.OPT_MU]
+    theta, dtheta = y[rk.THETA2], y[rk.DTHETA2]
+    ddtheta, ddx, normal, damped = _rocking_slip(theta, dtheta, opts[fk.OPT_SIGN], a_u, a_z, c, opts)
+    v_u, v_z = rk.cm_velocity(theta, dtheta, y[rk.V2], c[fk.C_ZC])
+    for i in range(dydt.shape[0]):
+        dydt[i] = 0.0
+    dydt[rk.THETA2] = dtheta
+    dydt[rk.DTHETA2] = ddtheta
+    dydt[rk.X2] = y[rk.V2]
+    dydt[rk.V2] = ddx
+    dydt[rk.WORK2] = -a_u * v_u - a_z * v_z
+    dydt[rk.DISSIPATED2] = damped
+    dydt[rk.FRICTION2] = mu * normal * abs(y[rk.V2])
+
+
+@njit(cache=True)
+def _rhs2d_rolling(t, y, params, dydt):
+    c, record, dt, opts = params[0], params[1], params[2], params[3]
+    a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
+    theta, dtheta = y[rk.THETA2], y[rk.DTHETA2]
+    _f_u, _f_z, ddtheta, damped = _rocking_contact(theta, dtheta, a_u, a_z, c, opts)
+    v_u, v_z = rk.cm_velocity(theta, dtheta, 0.0, c[fk.C_ZC])
+    for i in range(dydt.shape[0]):
+        dydt[i] = 0.0
+    dydt[rk.THETA2] = dtheta
+    dydt[rk.DTHETA2] = ddtheta
+    dydt[rk.WORK2] = -a_u * v_u - a_z * v_z
+    dydt[rk.DISSIPATED2] = damped
+
+
+@njit(cache=True)
+def rhs2d(t, y, params, dydt):
+    """Right-hand side of the phase ``params[3][OPT_PHASE]`` (planar rocking)."""
+    record, dt, opts = params[1], params[2], params[3]
+    phase = opts[fk.OPT_PHASE]
+    if phase == PHASE_ROLLING:
+        _rhs2d_rolling(t, y, params, dydt)
+        return
+    if phase == PHASE_SLIPPING:
+        _rhs2d_slipping(t, y, params, dydt)
+        return
+    a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
+    for i in range(dydt.shape[0]):
+        dydt[i] = 0.0
+    dydt[rk.X2] = y[rk.V2]
+    if phase == PHASE_FLIGHT:
+        dydt[rk.THETA2] = y[rk.DTHETA2]
+        dydt[rk.V2] = -a_u
+        dydt[rk.Z2] = y[rk.VZ2]
+        dydt[rk.VZ2] = -1.0 - a_z
+        dydt[rk.WORK2] = -a_u * y[rk.V2] - a_z * y[rk.VZ2]
+    else:  # sliding flat
+        mu = opts[fk.OPT_MU]
+        dydt[rk.V2] = -a_u - mu * (1.0 + a_z) * opts[fk.OPT_SIGN]
+        dydt[rk.WORK2] = -a_u * y[rk.V2]
+        dydt[rk.FRICTION2] = mu * (1.0 + a_z) * abs(y[rk.V2])
+
+
+@njit(cache=True)
+def events2d(t, y, params, g):
+    """Event functions of the current phase, planar rocking (``EV_*``)."""
+    c, record, dt, opts = params[0], params[1], params[2], params[3]
+    phase = opts[fk.OPT_PHASE]
+    for i in range(g.shape[0]):
+        g[i] = 1.0
+    a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
+    if phase == PHASE_SLIDING:
+        g[EV_LIFT] = 1.0 + a_z
+        g[EV_STICK] = opts[fk.OPT_SIGN] * y[rk.V2]
+        return
+    theta = y[rk.THETA2]
+    g[EV_LIE] = abs(theta) - opts[fk.OPT_THETA_LIE]
+    g[EV_TURN] = y[rk.DTHETA2]
+    if phase == PHASE_FLIGHT:
+        g[EV_LAND] = y[rk.Z2] - rk.cm_offset(theta, c[fk.C_ZC])[1]
+        return
+    # signed with the pivot side, so that theta_c = 0 is a crossing too
+    g[EV_LAND] = opts[fk.OPT_PIVOT] * theta - (1.0 - opts[fk.OPT_LANDING_MARGIN]) * opts[fk.OPT_THETA_C]
+    unilateral = opts[fk.OPT_UNILATERAL] != 0.0
+    if phase == PHASE_ROLLING:
+        f_u, f_z, _dd, _p = _rocking_contact(theta, y[rk.DTHETA2], a_u, a_z, c, opts)
+        if unilateral:
+            g[EV_LIFT] = f_z
+        if opts[fk.OPT_MU] < math.inf:
+            g[EV_SLIP] = opts[fk.OPT_MU] * f_z - abs(f_u)
+    else:
+        if unilateral:
+            g[EV_LIFT] = _rocking_slip(theta, y[rk.DTHETA2], opts[fk.OPT_SIGN], a_u, a_z, c, opts)[2]
+        g[EV_STICK] = opts[fk.OPT_SIGN] * y[rk.V2]
+
+
+@njit(cache=True)
+def monitor2d(t, y, params, g):
+    """Peak mobilized friction and lowest normal force at every accepted step (planar).
+
+    The event functions there (``g``) already hold N and ``mu N - |F_u|``.
+    """
+    c, record, dt, opts, summary = params[0], params[1], params[2], params[3], params[4]
+    phase = opts[fk.OPT_PHASE]
+    mu = opts[fk.OPT_MU]
+    fast = opts[fk.OPT_UNILATERAL] != 0.0 and mu < math.inf
+    if phase == PHASE_ROLLING:
+        if fast:
+            normal = g[EV_LIFT]
+            f_t = mu * normal - g[EV_SLIP]
+        else:
+            a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
+            f_u, normal, _dd, _p = _rocking_contact(y[rk.THETA2], y[rk.DTHETA2], a_u, a_z, c, opts)
+            f_t = abs(f_u)
+        _watch(summary, f_t / normal if normal > 0.0 else 0.0, normal)
+    elif phase == PHASE_SLIPPING:
+        if fast:
+            normal = g[EV_LIFT]
+        else:
+            a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
+            normal = _rocking_slip(y[rk.THETA2], y[rk.DTHETA2], opts[fk.OPT_SIGN], a_u, a_z, c, opts)[2]
+        _watch(summary, mu, normal)
+    elif phase == PHASE_SLIDING:
+        _watch(summary, mu, g[EV_LIFT])
+    elif phase == PHASE_FLIGHT:
+        _watch(summary, 0.0, 0.0)
+
+
+@njit(cache=True)
+def _integrate2d(params, t0, y0, t_end, t_out, y_out, out_start, t_breaks, rtol, atol, h0):
+    return dop853_monitored(rhs2d, events2d, monitor2d, params, t0, y0, t_end, t_out, y_out, out_start,
+                            EVENT_DIRECTIONS, t_breaks, rtol, atol, np.inf, h0, MAX_STEPS)
+
+
+@njit(cache=True)
+def energy2d(phase, y, c):
+    """Mechanical energy [m g R] of a planar state in a given phase."""
+    zc = c[fk.C_ZC]
+    if phase == PHASE_REST:
+        return zc
+    if phase == PHASE_SLIDING:
+        return zc + 0.5 * y[rk.V2] * y[rk.V2]
+    theta, dtheta = y[rk.THETA2], y[rk.DTHETA2]
+    if phase == PHASE_FLIGHT:
+        return rk.energy_moving(theta, dtheta, y[rk.V2], y[rk.VZ2], y[rk.Z2], c)
+    if phase == PHASE_SLIPPING:
+        v_u, v_z = rk.cm_velocity(theta, dtheta, y[rk.V2], zc)
+        return rk.energy_moving(theta, dtheta, v_u, v_z, rk.cm_offset(theta, zc)[1], c)
+    return rk.energy(theta, dtheta, c)
+
+
+@njit(cache=True)
+def _clear_free_slots2d(y):
+    y[rk.V2] = 0.0
+    y[rk.Z2] = 0.0
+    y[rk.VZ2] = 0.0
+
+
+@njit(cache=True)
+def _enter_contact2d(t, y, params):
+    """Rolling, slipping (direction in OPT_SIGN) or flight for a planar state whose pivot sticks.
+
+    The pivot side is ``OPT_PIVOT``, set by the caller (theta may be a signed zero).
+    """
+    c, record, dt, opts = params[0], params[1], params[2], params[3]
+    a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
+    f_u, f_z, ddtheta, _p = _rocking_contact(y[rk.THETA2], y[rk.DTHETA2], a_u, a_z, c, opts)
+    step = opts[fk.OPT_LOOK_AHEAD]
+    b_u, _unused, b_z = fk.ground_acceleration(t + step, record, dt)
+    theta_ahead = y[rk.THETA2] + step * y[rk.DTHETA2]
+    rate_ahead = y[rk.DTHETA2] + step * ddtheta
+    g_u, g_z, _dd, _p = _rocking_contact(theta_ahead, rate_ahead, b_u, b_z, c, opts)
+    unilateral = opts[fk.OPT_UNILATERAL] != 0.0
+    mu = opts[fk.OPT_MU]
+    y[rk.V2] = 0.0
+    pushes = (f_z >= 0.0 and g_z >= 0.0) or not unilateral
+    if pushes and (mu == math.inf or (abs(f_u) <= mu * f_z and abs(g_u) <= mu * g_z)):
+        return PHASE_ROLLING
+    if mu < math.inf:
+        # sticking fails: slipping against the friction it would need, if the plane then pushes
+        sigma = -1.0 if f_u > 0.0 else 1.0
+        normal = _rocking_slip(y[rk.THETA2], y[rk.DTHETA2], sigma, a_u, a_z, c, opts)[2]
+        if normal >= 0.0 or not unilateral:
+            opts[fk.OPT_SIGN] = sigma
+            return PHASE_SLIPPING
+    if not unilateral:
+        return PHASE_ROLLING
+    _to_flight2d(y, c)
+    return PHASE_FLIGHT
+
+
+@njit(cache=True)
+def _to_flight2d(y, c):
+    """Pivot contact -> flight: the centre of mass, its height and velocity."""
+    cu, cz = rk.cm_offset(y[rk.THETA2], c[fk.C_ZC])
+    v_u, v_z = rk.cm_velocity(y[rk.THETA2], y[rk.DTHETA2], y[rk.V2], c[fk.C_ZC])
+    y[rk.X2] += cu
+    y[rk.V2] = v_u
+    y[rk.Z2] = cz
+    y[rk.VZ2] = v_z
+
+
+@njit(cache=True)
+def _touch_down_corner(y, c, mu):
+    """Plastic impact of a flying column on its lowest base corner, with Coulomb friction.
+
+    Writes the pivot state after the impact; returns the slip velocity of the
+    pivot (0 if it sticks).
+    """
+    theta = y[rk.THETA2]
+    cu, cz = rk.cm_offset(theta, c[fk.C_ZC])
+    dtheta = y[rk.DTHETA2]
+    vp_u = y[rk.V2] - dtheta * cz
+    vp_z = y[rk.VZ2] + dtheta * cu
+    a11, a21, _w = rk.pivot_impulse_response(theta, 1.0, 0.0, c)
+    a12, a22, _w = rk.pivot_impulse_response(theta, 0.0, 1.0, c)
+    det = a11 * a22 - a12 * a21
+    j_u = (-vp_u * a22 + vp_z * a12) / det
+    j_z = (-vp_z * a11 + vp_u * a21) / det
+    if abs(j_u) > mu * j_z:
+        sense = 1.0 if vp_u > 0.0 else -1.0
+        u_u, u_z, _w = rk.pivot_impulse_response(theta, -mu * sense, 1.0, c)
+        j_z = -vp_z / u_z
+        j_u = -mu * sense * j_z
+    du, _dz, dw = rk.pivot_impulse_response(theta, j_u, j_z, c)
+    slip = vp_u + du
+    if abs(j_u) < mu * j_z:
+        slip = 0.0
+    x_c = y[rk.X2]
+    _clear_free_slots2d(y)
+    y[rk.DTHETA2] = dtheta + dw
+    y[rk.X2] = x_c - cu
+    y[rk.V2] = slip
+    return slip
+
+
 @njit(cache=True, nogil=True)
 def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_breaks, rtol, atol, summary, impacts):
-    """Run classical planar rocking; arguments as :func:`run_frustum`.
+    """Run classical planar rocking, with sliding and flight; arguments as :func:`run_frustum`.
 
     The record's column 0 is the acceleration along the plane's direction u;
-    ``y_out`` has ``N_STATE2`` columns (signed theta, theta', work,
-    dissipated). A negative ``restitution`` selects the angular-momentum
-    value ``1 - 2 / Iy`` (clipped at 0).
+    ``y_out`` has ``N_STATE2`` columns (:mod:`pipeline.dynamics.rocking`). A
+    negative ``restitution`` selects the angular-momentum value
+    ``1 - 2 / Iy`` (clipped at 0).
     """
     c, record, dt, opts = params
+    p = (c, record, dt, opts, summary)
     zc = c[fk.C_ZC]
+    mu = opts[fk.OPT_MU]
     theta_c = opts[fk.OPT_THETA_C]
+    ratio = departure_ratio(zc, mu)
     e = restitution if restitution >= 0.0 else max(0.0, 1.0 - 2.0 / c[fk.C_IY])
     _init_summary(summary)
     y = y0.copy()
     rest_energy = zc
-    lift_energy = rk.energy(theta_c, 0.0, c)
-    settle_kinetic = _settle_kinetic(theta_c, zc)
-    phase = PHASE_ROLLING if y0[rk.THETA2] != 0.0 else PHASE_REST
+    settle_kinetic = _settle_kinetic(theta_c, zc, opts[fk.OPT_MIN_REBOUND])
+    phase = PHASE_REST
+    if y0[rk.THETA2] != 0.0:
+        phase = PHASE_ROLLING
+        opts[fk.OPT_PIVOT] = math.copysign(1.0, y0[rk.THETA2])
+    summary[S_ENERGY_START] = energy2d(phase, y, c)
+    moving = phase
     t = 0.0
     out_i = 0
     h = 0.0
@@ -369,121 +1542,308 @@ def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
     stalls = 0
     while n_transitions < MAX_TRANSITIONS:
         if phase == PHASE_REST:
-            t_up, out_i = _rest_until_uplift(record, dt, zc, t, t_end, t_out, y_out, phase_out, out_i, y)
-            if t_up >= t_end:
+            t_dep, out_i = _rest_until_departure(record, dt, ratio, t, t_end, t_out, y_out, phase_out, out_i,
+                                                 y, summary)
+            if t_dep >= t_end:
                 t = t_end
                 break
-            a_u, _unused, az = fk.ground_acceleration(t_up, record, dt)
-            # the inertial force -a_u tips the column towards -u: pivot on the -u side
-            y[rk.THETA2] = -theta_c if a_u > 0.0 else theta_c
-            y[rk.DTHETA2] = 0.0
-            summary[S_TRANSITION] += lift_energy - rest_energy
-            if math.isnan(summary[S_UPLIFT_TIME]):
-                summary[S_UPLIFT_TIME] = t_up
-            t = t_up
+            t = t_dep
             h = 0.0
-            phase = PHASE_ROLLING
             n_transitions += 1
+            a_u, _unused, a_z = fk.ground_acceleration(t_dep, record, dt)
+            _clear_free_slots2d(y)
+            y[rk.THETA2] = 0.0
+            y[rk.DTHETA2] = 0.0
+            if 1.0 + a_z <= 0.0:
+                y[rk.Z2] = zc
+                _first(summary, S_FLIGHT_TIME, t)
+                phase = PHASE_FLIGHT
+                continue
+            # the inertial force -a_u pushes towards -u
+            toward = -1.0 if a_u > 0.0 else 1.0
+            if mu < 1.0 / zc:
+                opts[fk.OPT_SIGN] = toward
+                _first(summary, S_SLIDE_TIME, t)
+                phase = PHASE_SLIDING
+                continue
+            y[rk.THETA2] = toward * theta_c  # a signed zero when theta_c = 0
+            y[rk.X2] += toward * math.cos(theta_c)  # the pivot on that side of the base
+            opts[fk.OPT_PIVOT] = toward
+            summary[S_TRANSITION] += rk.energy(theta_c, 0.0, c) - rest_energy
+            _first(summary, S_UPLIFT_TIME, t)
+            phase = _enter_contact2d(t, y, p)
+            if phase == PHASE_SLIPPING:
+                _first(summary, S_SLIDE_TIME, t)
             continue
-        res = _roll_rocking(params, t, y, t_end, t_out, y_out, out_i, t_breaks, rtol, atol, h)
-        out_i, stalls = _book_phase(res, phase_out, out_i, summary, y, t, stalls)
+        opts[fk.OPT_PHASE] = phase
+        res = _integrate2d(p, t, y, t_end, t_out, y_out, out_i, t_breaks, rtol, atol, h)
+        out_i, stalls = _book_phase(res, phase, phase_out, out_i, summary, y, t, stalls)
         t, h = res.t, res.h_next
-        if res.status <= 0 or stalls > MAX_STALLS:  # end, failure or stall (status in the summary)
+        if res.status <= 0 or stalls > MAX_STALLS:
             break
         ev = res.event_index
         theta = abs(y[rk.THETA2])
         if ev == EV_TURN:
             y[rk.DTHETA2] = 0.0  # exactly a turning point (see run_frustum)
-            a_u, _unused, az = fk.ground_acceleration(t, record, dt)
-            mu, normal = _rocking_contact(y[rk.THETA2], y[rk.DTHETA2], a_u, az, c, opts[fk.OPT_NU])
-            _turning_point(summary, t, theta, mu, normal)
+            _peak(summary, t, theta)
             continue
         if ev == EV_LIE:
             out_i = _lie_down(summary, t, theta, y, y_out, phase_out, out_i)
+            moving = phase
+            phase = PHASE_OVERTURNED
             break
-        # landing: pivot to the other rim point, theta' scaled by e
-        e_before = rk.energy(theta, y[rk.DTHETA2], c)
-        summary[S_N_IMPACTS] += 1
-        n_transitions += 1
         h = 0.0
+        n_transitions += 1
+        if ev == EV_SLIP:
+            phase = _enter_contact2d(t, y, p)
+            _first(summary, S_SLIDE_TIME, t)
+            continue
+        if ev == EV_STICK:
+            y[rk.V2] = 0.0
+            if phase == PHASE_SLIPPING:
+                phase = _enter_contact2d(t, y, p)
+                continue
+            a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
+            if abs(a_u) > mu * (1.0 + a_z):
+                opts[fk.OPT_SIGN] = -1.0 if a_u > 0.0 else 1.0
+            else:
+                phase = PHASE_REST
+            continue
+        if ev == EV_LIFT:
+            _first(summary, S_FLIGHT_TIME, t)
+            if phase == PHASE_SLIDING:
+                y[rk.Z2] = zc
+                y[rk.VZ2] = 0.0
+            else:
+                _to_flight2d(y, c)
+            phase = PHASE_FLIGHT
+            continue
+        # EV_LAND
+        e_before = energy2d(phase, y, c)
+        if phase == PHASE_FLIGHT:
+            summary[S_N_IMPACTS] += 1
+            if theta < theta_c:
+                left = abs(y[rk.V2]) - mu * abs(y[rk.VZ2])
+                sense = 1.0 if y[rk.V2] > 0.0 else -1.0
+                y[rk.X2] -= zc * math.sin(y[rk.THETA2])  # centre of mass -> base centre
+                y[rk.THETA2] = 0.0
+                y[rk.DTHETA2] = 0.0
+                _clear_free_slots2d(y)
+                if left > 0.0:
+                    y[rk.V2] = sense * left
+                    opts[fk.OPT_SIGN] = sense
+                    phase = PHASE_SLIDING
+                    if mu * zc >= 1.0:  # tips onto the leading corner
+                        y[rk.THETA2] = sense * theta_c
+                        y[rk.X2] += sense * math.cos(theta_c)
+                        opts[fk.OPT_PIVOT] = sense
+                        phase = PHASE_SLIPPING
+                else:
+                    phase = PHASE_REST
+            else:
+                opts[fk.OPT_PIVOT] = math.copysign(1.0, y[rk.THETA2])
+                slip = _touch_down_corner(y, c, mu)
+                if slip != 0.0:
+                    opts[fk.OPT_SIGN] = 1.0 if slip > 0.0 else -1.0
+                    phase = PHASE_SLIPPING
+                else:
+                    phase = _enter_contact2d(t, y, p)
+            e_after = energy2d(phase, y, c)
+            summary[S_TRANSITION] += e_after - e_before
+            _log_impact(impacts, summary, t, 0.0, y[rk.DTHETA2], e_after - e_before)
+            continue
+        # landing near full contact: pivot to the other rim point, theta' scaled by e
         new_rate = e * y[rk.DTHETA2]
         kinetic = 0.5 * c[fk.C_IY] * new_rate * new_rate
         settles = kinetic < settle_kinetic
         e_after = rk.energy(theta, new_rate, c)
-        _log_impact(impacts, summary, t, y[rk.DTHETA2], 0.0 if settles else new_rate,
-                    (rest_energy if settles else e_after) - e_before)
+        if y[rk.DTHETA2] != 0.0:  # touching back down with no speed at all is no impact
+            summary[S_N_IMPACTS] += 1
+            _log_impact(impacts, summary, t, y[rk.DTHETA2], 0.0 if settles else new_rate,
+                        (rest_energy if settles else e_after) - e_before)
+        side = opts[fk.OPT_PIVOT]
+        _clear_free_slots2d(y)
+        reach = side * math.cos(y[rk.THETA2])  # pivot -> base centre is -reach
         if settles:
             summary[S_TRANSITION] += rest_energy - e_before
+            y[rk.X2] -= reach
             y[rk.THETA2] = 0.0
             y[rk.DTHETA2] = 0.0
             phase = PHASE_REST
         else:
             summary[S_TRANSITION] += e_after - e_before
-            y[rk.THETA2] = -y[rk.THETA2]
+            y[rk.X2] -= 2.0 * reach
+            # the other rim point: its side explicitly (theta ~ 0 has no reliable sign)
+            opts[fk.OPT_PIVOT] = -side
+            y[rk.THETA2] = math.copysign(abs(y[rk.THETA2]), -side)
             y[rk.DTHETA2] = new_rate
+            phase = _enter_contact2d(t, y, p)
+            if phase == PHASE_SLIPPING:
+                _first(summary, S_SLIDE_TIME, t)
+            elif phase == PHASE_FLIGHT:
+                _first(summary, S_FLIGHT_TIME, t)
     if n_transitions >= MAX_TRANSITIONS:
         summary[S_STATUS] = -10
     summary[S_END_TIME] = t
+    summary[S_FINAL_PHASE] = phase
+    _close_budget(summary, energy2d(phase if phase != PHASE_OVERTURNED else moving, y, c),
+                  y[rk.WORK2], y[rk.DISSIPATED2], y[rk.FRICTION2])
+    if phase == PHASE_REST or phase == PHASE_SLIDING:
+        summary[S_BASE_X] = y[rk.X2]
+    elif phase == PHASE_FLIGHT:
+        summary[S_BASE_X] = y[rk.X2] - zc * math.sin(y[rk.THETA2])
+    else:
+        summary[S_BASE_X] = y[rk.X2] - opts[fk.OPT_PIVOT] * math.cos(y[rk.THETA2])
     if summary[S_MIN_NORMAL] == math.inf:
         summary[S_MIN_NORMAL] = math.nan
     return out_i
 
 
-@njit(cache=True)
-def _rocking_contact(theta, dtheta, a_u, a_z, c, nu):
-    """Mobilized friction and normal force (per m g) of planar rocking.
+# --- per-row diagnostics --------------------------------------------------------------------
 
-    The centre of mass relative to the pivot, for signed theta, is
-    ``C_u = -sgn cos(theta) + zc sin(theta)``, ``C_z = sgn sin(theta) + zc cos(theta)``;
-    the contact force is ``F = m (C'' + a_g + g e_z)``.
-    """
-    zc = c[fk.C_ZC]
-    sgn = 1.0 if theta >= 0.0 else -1.0
-    s, co = math.sin(theta), math.cos(theta)
-    ddtheta = rk.angular_acceleration(theta, a_u, a_z, c) - nu * dtheta / c[fk.C_IY]
-    w2 = dtheta * dtheta
-    f_u = (sgn * s + zc * co) * ddtheta + (sgn * co - zc * s) * w2 + a_u
-    f_z = (sgn * co - zc * s) * ddtheta - (sgn * s + zc * co) * w2 + 1.0 + a_z
-    mu = abs(f_u) / f_z if f_z > 0.0 else math.inf
-    return mu, f_z
+(
+    D_OMEGA,  # spin omega_zeta [1/tau]
+    D_ENERGY,  # [m g R]
+    D_NORMAL,  # normal force [m g]
+    D_TANGENTIAL,  # |F_t| [m g]
+    D_MU,  # |F_t| / N, nan in flight
+    D_AX,  # ground acceleration [g]
+    D_AY,
+    D_AZ,
+    D_BASE_X,  # base centre relative to the ground [R]
+    D_BASE_Y,
+    D_CONTACT_X,  # contact point on the rim, nan unless on the rim [R]
+    D_CONTACT_Y,
+    D_SLIP,  # speed of the sliding base or rim point [sqrt(g R)]
+) = range(13)
+N_DIAGNOSTICS = 13
 
 
 @njit(cache=True, nogil=True)
 def diagnostics_rows(tau, states, phase, params, model_3d, out):
-    """Diagnostics of every output row (compiled loop), written to ``out``.
+    """Derived quantities of every output row (compiled loop), written to ``out`` (``D_*`` columns).
 
-    Columns as :func:`pipeline.dynamics.frustum.diagnostics`: omega_zeta,
-    energy, normal force, |F_t|, mu_mob, a_X, a_Y, a_Z (dimensionless). At
-    rest (or on rows never reached) the base carries the weight and the
-    ground's push: N = 1 + a_z, |F_t| = |a_h|.
+    Rows after the column lies down, or never reached, get NaN forces.
     """
     c, record, dt, opts = params
-    buf = np.empty(fk.N_DIAGNOSTICS)
+    zc = c[fk.C_ZC]
+    mu = opts[fk.OPT_MU]
     for i in range(tau.shape[0]):
         t = tau[i]
         ax, ay, az = fk.ground_acceleration(t, record, dt)
-        if phase[i] == PHASE_REST or math.isnan(states[i, 0]):
+        y = states[i]
+        ph = phase[i]
+        for k in range(N_DIAGNOSTICS):
+            out[i, k] = math.nan
+        out[i, D_AX], out[i, D_AY], out[i, D_AZ] = ax, ay, az
+        out[i, D_SLIP] = 0.0
+        if math.isnan(y[0]):
+            continue
+        if ph == PHASE_REST or ph == PHASE_SLIDING:
             normal = 1.0 + az
-            tangential = math.sqrt(ax * ax + ay * ay)
-            out[i, 0] = 0.0
-            out[i, 1] = c[fk.C_ZC]
-            out[i, 2] = normal
-            out[i, 3] = tangential
-            out[i, 4] = tangential / normal if normal > 0.0 else math.inf
-            out[i, 5] = ax
-            out[i, 6] = ay
-            out[i, 7] = az
-        elif model_3d:
-            fk.diagnostics(t, states[i], params, buf)
-            out[i, :] = buf
+            out[i, D_OMEGA] = 0.0
+            out[i, D_NORMAL] = normal
+            out[i, D_BASE_X] = y[fk.XP] if model_3d else y[rk.X2]
+            out[i, D_BASE_Y] = y[fk.YP] if model_3d else 0.0
+            if ph == PHASE_REST:
+                out[i, D_ENERGY] = zc
+                out[i, D_TANGENTIAL] = math.sqrt(ax * ax + ay * ay)
+            else:
+                out[i, D_ENERGY] = energy3d(ph, y, c) if model_3d else energy2d(ph, y, c)
+                out[i, D_TANGENTIAL] = mu * normal
+                out[i, D_SLIP] = y[fk.SLIP_SPEED] if model_3d else abs(y[rk.V2])
+            out[i, D_MU] = out[i, D_TANGENTIAL] / normal if normal > 0.0 else math.nan
+            continue
+        if ph == PHASE_OVERTURNED:
+            continue
+        if model_3d:
+            _diagnose3d(t, y, ph, (c, record, dt, opts), out[i])
         else:
-            theta, dtheta = states[i, rk.THETA2], states[i, rk.DTHETA2]
-            mu, normal = _rocking_contact(theta, dtheta, ax, az, c, opts[fk.OPT_NU])
-            out[i, 0] = 0.0
-            out[i, 1] = rk.energy(theta, dtheta, c)
-            out[i, 2] = normal
-            out[i, 3] = mu * normal
-            out[i, 4] = mu
-            out[i, 5] = ax
-            out[i, 6] = ay
-            out[i, 7] = az
+            _diagnose2d(t, y, ph, (c, record, dt, opts), out[i])
+
+
+@njit(cache=True)
+def _pivot_from_row(y, opts):
+    """The drilling state of an output row, from its turning about the vertical through P."""
+    om_z = _horizontal_spin(y[fk.THETA], y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA])[2]
+    scale = abs(y[fk.DPHI]) + abs(y[fk.OMEGA]) + abs(y[fk.DTHETA])
+    held = opts[fk.OPT_THETA_K] > 0.0 and abs(om_z) <= 1e-9 * scale
+    opts[fk.OPT_PIVOT_HELD] = 1.0 if held else 0.0
+    opts[fk.OPT_DRILL_SIGN] = 0.0 if held or opts[fk.OPT_THETA_K] <= 0.0 else math.copysign(1.0, om_z)
+
+
+@njit(cache=True)
+def _row_direction(t, y, params):
+    """Slip direction of an output row: stored, or slaved (consistent) inside the slow layer."""
+    normal = _slip_with(t, y, params, y[fk.SLIP_DIR])[0]
+    if y[fk.SLIP_SPEED] >= params[3][fk.OPT_SLAVE_TIME] * params[3][fk.OPT_MU] * max(normal, 0.0):
+        return y[fk.SLIP_DIR]
+    return consistent_direction(t, y, params, y[fk.SLIP_DIR])
+
+
+@njit(cache=True)
+def _diagnose3d(t, y, ph, params, row):
+    c = params[0]
+    zc = c[fk.C_ZC]
+    theta = y[fk.THETA]
+    sp_, cp = fk.sincos(y[fk.PHI])
+    row[D_OMEGA] = y[fk.OMEGA]
+    if ph == PHASE_SLIPPING:
+        synced = y.copy()
+        synced[fk.SLIP_DIR] = _row_direction(t, y, params)
+        row[D_ENERGY] = energy3d(ph, synced, c)
+    else:
+        row[D_ENERGY] = energy3d(ph, y, c)
+    if ph == PHASE_FLIGHT:
+        lean = zc * math.sin(theta)
+        row[D_BASE_X] = y[fk.XP] - sp_ * lean
+        row[D_BASE_Y] = y[fk.YP] + cp * lean
+        row[D_NORMAL] = 0.0
+        row[D_TANGENTIAL] = 0.0
+        return
+    row[D_BASE_X] = y[fk.XP] - sp_ * math.cos(theta)
+    row[D_BASE_Y] = y[fk.YP] + cp * math.cos(theta)
+    row[D_CONTACT_X] = y[fk.XP]
+    row[D_CONTACT_Y] = y[fk.YP]
+    if ph == PHASE_ROLLING:
+        # the pivot was held where the column does not turn about the vertical through P
+        _pivot_from_row(y, params[3])
+        f_xi, f_n, f_z, _ax, _ay, _az = _rolling_contact(t, y, params)
+        f_t = math.sqrt(f_xi * f_xi + f_n * f_n)
+    else:
+        f_z = _slip_with(t, y, params, synced[fk.SLIP_DIR])[0]
+        f_t = params[3][fk.OPT_MU] * f_z
+        row[D_SLIP] = y[fk.SLIP_SPEED]
+    row[D_NORMAL] = f_z
+    row[D_TANGENTIAL] = f_t
+    row[D_MU] = f_t / f_z if f_z > 0.0 else math.nan
+
+
+@njit(cache=True)
+def _diagnose2d(t, y, ph, params, row):
+    c, record, dt, opts = params
+    zc = c[fk.C_ZC]
+    theta = y[rk.THETA2]
+    row[D_OMEGA] = 0.0
+    row[D_ENERGY] = energy2d(ph, y, c)
+    row[D_BASE_Y] = 0.0
+    if ph == PHASE_FLIGHT:
+        row[D_BASE_X] = y[rk.X2] - zc * math.sin(theta)
+        row[D_NORMAL] = 0.0
+        row[D_TANGENTIAL] = 0.0
+        return
+    side = math.copysign(1.0, theta)
+    row[D_BASE_X] = y[rk.X2] - side * math.cos(theta)
+    row[D_CONTACT_X] = y[rk.X2]
+    row[D_CONTACT_Y] = 0.0
+    a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
+    if ph == PHASE_ROLLING:
+        f_u, f_z, _dd, _p = _rocking_contact(theta, y[rk.DTHETA2], a_u, a_z, c, opts)
+        f_t = abs(f_u)
+    else:
+        f_z = _rocking_slip(theta, y[rk.DTHETA2], math.copysign(1.0, y[rk.V2]), a_u, a_z, c, opts)[2]
+        f_t = opts[fk.OPT_MU] * f_z
+        row[D_SLIP] = abs(y[rk.V2])
+    row[D_NORMAL] = f_z
+    row[D_TANGENTIAL] = f_t
+    row[D_MU] = f_t / f_z if f_z > 0.0 else math.nan

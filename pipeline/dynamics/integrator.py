@@ -104,7 +104,9 @@ from numba import njit
 
 __all__ = [
     "dop853",
+    "dop853_monitored",
     "no_events",
+    "no_monitor",
     "Dop853Result",
     "STATUS_END",
     "STATUS_EVENT",
@@ -362,6 +364,11 @@ def no_events(t, y, params, g_out):
 
 
 @njit(cache=True)
+def no_monitor(t, y, params, g):
+    """Step monitor for problems that watch nothing (does nothing)."""
+
+
+@njit(cache=True)
 def _rms_norm(x, scale):
     """RMS norm of ``x / scale`` (scipy's ``norm``)."""
     s = 0.0
@@ -610,6 +617,34 @@ def dop853(
 ):
     """Integrate dy/dt = rhs(t, y) from t0 to t_end with DOP853, dense output and events.
 
+    :func:`dop853_monitored` without a step monitor; see it for the parameters.
+    """
+    return dop853_monitored(rhs, events, no_monitor, params, t0, y0, t_end, t_out, y_out, out_start,
+                            event_direction, t_breaks, rtol, atol, max_step, first_step, max_steps)
+
+
+@njit(inline="always")
+def dop853_monitored(
+    rhs,
+    events,
+    monitor,
+    params,
+    t0,
+    y0,
+    t_end,
+    t_out,
+    y_out,
+    out_start,
+    event_direction,
+    t_breaks,
+    rtol,
+    atol,
+    max_step,
+    first_step,
+    max_steps,
+):
+    """Integrate dy/dt = rhs(t, y) from t0 to t_end with DOP853, dense output and events.
+
     Call it from an ``@njit(cache=True)`` wrapper in the caller's module (see the module
     docstring); all arguments are positional.
 
@@ -620,6 +655,13 @@ def dop853(
     events : numba-jitted function
         ``events(t, y, params, g_out)``; writes the event functions into ``g_out``.
         :func:`no_events` when ``event_direction`` is empty.
+    monitor : numba-jitted function
+        ``monitor(t, y, params, g)``, called once per accepted step with the state at its
+        end (at the event, for the step that ends on one) and the event functions' values
+        there, and never at trial or interpolated points. It may update accumulators held
+        in ``params`` (peaks of derived quantities, say, which the event functions often
+        already hold): the steps do not depend on ``t_out``, so what it sees is the same
+        for every output grid. :func:`no_monitor` for none.
     params : any numba-typable value
         Passed unchanged to ``rhs`` and ``events``.
     t0 : float
@@ -674,7 +716,7 @@ def dop853(
     F = np.empty((_INTERPOLATOR_POWER, n))
     atol_v = np.empty(n)
     atol_v[:] = atol  # a scalar broadcasts; an array is copied
-    g_old = np.empty(n_ev)
+    g_old = np.full(n_ev, np.nan)  # NaN triggers nothing: no sign is ever read before it is set
     g_new = np.empty(n_ev)
     g_buf = np.empty(n_ev)
 
@@ -787,7 +829,9 @@ def dop853(
         # return to zero after the window still is. Steps inside the window report nothing.
         first_step_of_call = n_acc == 1
         if n_ev > 0 and first_step_of_call:
-            restart_end = t_old + _START_WINDOW * max(h, h_wanted)
+            # at a late time a tiny first step's window can round away (t + 1e-16 == t):
+            # it still ends at least one float after the start, so the first step reads signs
+            restart_end = max(t_old + _START_WINDOW * max(h, h_wanted), np.nextafter(t_old, np.inf))
         in_window = n_ev > 0 and t_old < restart_end
         read_in_step = in_window and t_new > restart_end
         if need_dense or read_in_step:
@@ -832,6 +876,8 @@ def dop853(
                 _dense_eval(F, y, (t_ev - t_old) / h, y_new)
                 t = t_ev
                 y[:] = y_new
+                events(t, y, params, g_buf)
+                monitor(t, y, params, g_buf)
                 status = STATUS_EVENT
                 break
         if n_ev > 0:
@@ -847,6 +893,7 @@ def dop853(
 
         t = t_new
         y[:] = y_new
+        monitor(t, y, params, g_new)
         K[0, :] = K[_N_STAGES]  # FSAL: f at the new point starts the next step
 
     return Dop853Result(

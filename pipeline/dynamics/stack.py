@@ -75,8 +75,8 @@ BS_PEAK, BS_PEAK_TIME, BS_ROTATION = range(3)
 N_BODY_STATS = 3
 # Per-joint statistics.
 (JS_UPLIFT_TIME, JS_RETURNS, JS_MIN_NORMAL, JS_PEAK_MU, JS_MIN_AREA, JS_ON_RIM,
- JS_SLIDE_TIME) = range(7)  # JS_RETURNS: landings, from the rim back into the base
-N_JOINT_STATS = 7
+ JS_SLIDE_TIME, JS_FLIGHT_TIME) = range(8)  # JS_RETURNS: landings, from the rim back into the base
+N_JOINT_STATS = 8
 # History diagnostics of the base joint (and the whole column).
 (D_NORMAL, D_TANGENTIAL, D_MU, D_COP_X, D_COP_Y, D_AREA, D_ENERGY, D_AX, D_AY, D_AZ, D_ON_RIM) = range(11)
 N_DIAG = 11
@@ -473,6 +473,8 @@ def _monitor(t, y, params, theta_commit, summary, body_stats, joint_stats, joint
         tangential = math.sqrt(mon[j, M_TX] ** 2 + mon[j, M_TY] ** 2)
         if normal < joint_stats[j, JS_MIN_NORMAL]:
             joint_stats[j, JS_MIN_NORMAL] = normal
+        if normal <= 0.0 and math.isnan(joint_stats[j, JS_FLIGHT_TIME]):
+            joint_stats[j, JS_FLIGHT_TIME] = t
         if mon[j, M_AREA] < joint_stats[j, JS_MIN_AREA]:
             joint_stats[j, JS_MIN_AREA] = mon[j, M_AREA]
         if normal > 0.0:
@@ -577,6 +579,7 @@ def run(params, y0, t_mon, stride, t_breaks, rtol, atol, max_step, event_directi
     joint_stats[:, :] = 0.0
     joint_stats[:, JS_UPLIFT_TIME] = math.nan
     joint_stats[:, JS_SLIDE_TIME] = math.nan
+    joint_stats[:, JS_FLIGHT_TIME] = math.nan
     joint_stats[:, JS_MIN_NORMAL] = math.inf
     joint_stats[:, JS_MIN_AREA] = math.inf
     for b in range(n_bodies):

@@ -31,10 +31,11 @@ import numpy as np
 from obspy import Stream, Trace
 from obspy.core.util import AttribDict
 
+from pipeline.atomic import atomic_open
 from pipeline.errors import InputError
 from pipeline.units import G
 
-__all__ = ["is_at2", "read_at2", "write_at2"]
+__all__ = ["is_at2", "read_at2", "write_at2", "component_orientation"]
 
 _NPTS_DT_WEST2 = re.compile(
     r"NPTS\s*=\s*(?P<npts>\d+)\s*,?\s*DT\s*=\s*(?P<dt>[-+0-9.EeDd]+)", re.IGNORECASE
@@ -95,6 +96,44 @@ def _parse_npts_dt(line, name):
     return npts, dt
 
 
+# Component names of the vertical, and horizontal directions named by letters (azimuth, degree
+# clockwise from north). FN/FP (fault normal/parallel) and L/T (longitudinal/transverse) name
+# no compass direction.
+_VERTICAL = {"UP", "DWN", "DOWN", "V", "VER", "VERT", "UD", "Z"}
+_LETTERS = {"N": 0.0, "NS": 0.0, "E": 90.0, "EW": 90.0, "S": 180.0, "W": 270.0}
+_TRAILING_AZIMUTH = re.compile(r"(?<!\d)(\d{1,3})$")
+
+
+def component_orientation(component):
+    """What an AT2 header's component name says about its direction.
+
+    PEER names components by azimuth (``"090"``, ``"360"``, or the
+    NGA-West1 station-and-azimuth ``"HOS090"``), by letters after the
+    station (``"CHY101-N"``, ``"TCU065-E"``) or as vertical (``"UP"``,
+    ``"DWN"``, ``"V"``).
+
+    Parameters
+    ----------
+    component : str
+
+    Returns
+    -------
+    tuple
+        ``("vertical", None)``, ``("horizontal", azimuth)`` with the
+        azimuth [degree] clockwise from north in [0, 360), or
+        ``(None, None)`` when the name gives no direction (``"FN"``, ``"L"``).
+    """
+    token = re.split(r"[-_ ]", (component or "").strip().upper())[-1]
+    if token in _VERTICAL:
+        return "vertical", None
+    if token in _LETTERS:
+        return "horizontal", _LETTERS[token]
+    match = _TRAILING_AZIMUTH.search(token)
+    if match and int(match.group(1)) <= 360:
+        return "horizontal", float(int(match.group(1)) % 360)
+    return None, None
+
+
 def _parse_title(line):
     """Split the second header line into event, date, station and component."""
     parts = [p.strip() for p in line.split(",")]
@@ -123,7 +162,9 @@ def read_at2(filename, headonly=False, **kwargs):
     obspy.Stream
         One trace: samples in g (as stored), ``stats.calib`` = g [m/s^2 per g],
         ``stats.at2`` with the header fields (``title``, ``event``, ``date``,
-        ``station``, ``component``, ``units``).
+        ``station``, ``component``, ``units``) and what the component name
+        says of its direction: ``orientation`` ("horizontal", "vertical" or
+        None) and ``azimuth`` [degree from north] (:func:`component_orientation`).
 
     Raises
     ------
@@ -156,7 +197,8 @@ def read_at2(filename, headonly=False, **kwargs):
         "calib": G,
         "station": title["station"],
         "channel": title["component"],
-        "at2": AttribDict(title=lines[0].strip(), units="g", **title),
+        "at2": AttribDict(title=lines[0].strip(), units="g", **title,
+                          **dict(zip(("orientation", "azimuth"), component_orientation(title["component"])))),
     }
     if headonly:
         return Stream([Trace(header=header)])
@@ -215,10 +257,8 @@ def _write_one(trace, target, digits, event, date):
     if hasattr(target, "write"):
         target.write(text if isinstance(target, io.TextIOBase) else text.encode("latin-1"))
         return
-    tmp = f"{target}.part"
-    with open(tmp, "w", encoding="latin-1") as fh:
+    with atomic_open(target, "w", encoding="latin-1") as fh:  # never a half-written file under the real name
         fh.write(text)
-    os.replace(tmp, target)  # never leave a half-written file under the real name
 
 
 def write_at2(stream, filename, digits=7, event=None, date=None, **kwargs):

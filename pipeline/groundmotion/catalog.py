@@ -131,15 +131,17 @@ def _load_entry(record_id, rec, verify):
     return gm
 
 
-def load(id_or_path, *, units=None, components=None, missing_y="error", format=None, verify=True, **kwargs):
-    """Load a ground motion from a catalog id or a file.
+def load(id_or_path, *, units=None, components=None, missing_y="error", format=None, verify=True, dt=None,
+         record_id=None, processing=None, **kwargs):
+    """Load a ground motion from a catalog id, a file, a list of files or ObsPy traces.
 
     Parameters
     ----------
-    id_or_path : str or path-like or list
+    id_or_path : str or path-like or list or obspy.Stream or obspy.Trace
         A catalog record id (``FEMA-FF-01``, ``SYN-ONESINE``, ...), a file path
-        that ``obspy.read`` knows, an AT2 file, a text/CSV file, or a list of
-        files forming one record (e.g. two AT2 components, x first).
+        that ``obspy.read`` knows, an AT2 file, a text/CSV file or a file of
+        bare numbers, a list of 2 or 3 files forming one record (e.g. two AT2
+        components), or an ObsPy Stream/Trace already in memory.
     units : str, optional
         Units of files that do not carry a calibration (MiniSEED, SAC, text):
         'm/s^2', 'cm/s^2' (= 'gal'), 'mm/s^2' or 'g'.
@@ -147,23 +149,53 @@ def load(id_or_path, *, units=None, components=None, missing_y="error", format=N
         See :func:`pipeline.groundmotion.files.read_file`.
     verify : bool
         Check a catalog record against its digest (default True).
+    dt : float, optional
+        Time step [s] of a text file without a time column.
+    record_id : str, optional
+        Id of a file or stream record (default: the file name, or the first trace's id).
+    processing : list, optional
+        Steps run after loading (:func:`pipeline.groundmotion.processing.apply`),
+        e.g. ``[{"step": "baseline", "type": "linear"}]``.
     **kwargs
-        Passed to the file reader (e.g. ``dt`` for text without a time column).
+        Passed to the file reader.
 
     Returns
     -------
     GroundMotion
+
+    Warns
+    -----
+    RecordWarning
+        A file or stream whose record has an offset or a drifting velocity
+        (:mod:`pipeline.groundmotion.checks`), after ``processing``.
     """
-    if isinstance(id_or_path, (list, tuple)):
-        return files.read_file(list(id_or_path), units=units, components=components, missing_y=missing_y, format=format, **kwargs)
-    text = str(id_or_path)
-    if not isinstance(id_or_path, Path) and text in catalog().get("records", {}):
-        return _load_entry(text, entry(text), verify)
-    if Path(text).exists():
-        return files.read_file(text, units=units, components=components, missing_y=missing_y, format=format, **kwargs)
-    if text in catalog().get("sets", {}):
-        raise InputError(f"{text!r} is a record set, not a record; use load_set({text!r})")
-    raise InputError(_unknown(text, list(catalog().get("records", {})), "record id or missing file"))
+    from obspy import Stream, Trace
+
+    from pipeline.groundmotion.checks import warn_if_unprocessed
+    from pipeline.groundmotion.processing import apply
+
+    options = dict(units=units, components=components, missing_y=missing_y, record_id=record_id)
+    if isinstance(id_or_path, (Stream, Trace)):
+        first = id_or_path if isinstance(id_or_path, Trace) else (id_or_path[0] if len(id_or_path) else None)
+        where = record_id or (first.id if first is not None else "stream")
+        if dt is not None:
+            raise InputError(f"{where}: dt is for text files; an ObsPy trace carries its own sampling")
+        gm = files.read_stream(id_or_path, where=where, **options)
+    elif isinstance(id_or_path, (list, tuple)):
+        gm = files.read_file(list(id_or_path), format=format, dt=dt, **options, **kwargs)
+    else:
+        text = str(id_or_path)
+        if not isinstance(id_or_path, Path) and text in catalog().get("records", {}):
+            gm = _load_entry(text, entry(text), verify)
+            return apply(gm, processing) if processing else gm  # catalog records are vetted: no warning
+        if not Path(text).exists():
+            if text in catalog().get("sets", {}):
+                raise InputError(f"{text!r} is a record set, not a record; use load_set({text!r})")
+            raise InputError(_unknown(text, list(catalog().get("records", {})), "record id or missing file"))
+        gm = files.read_file(text, format=format, dt=dt, **options, **kwargs)
+    if processing:
+        gm = apply(gm, processing)
+    return warn_if_unprocessed(gm)
 
 
 def load_set(set_id, verify=True):

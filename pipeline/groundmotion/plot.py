@@ -10,20 +10,19 @@ _COLOURS = {"x": "tab:blue", "y": "tab:orange", "z": "tab:green"}
 
 
 def plot_motion(gm, out, periods=None, damping=0.05):
-    """Write a PNG with the histories and the response spectrum of ``gm``.
+    """Draw the histories and the response spectrum of ``gm`` to a file.
 
     Parameters
     ----------
     gm : GroundMotion
     out : str or path-like
-        PNG file (written under a temporary name, then renamed).
+        Figure file, in any format matplotlib writes (by suffix: .png, .pdf,
+        .svg, ...), written under a temporary name, then renamed.
     periods : array_like, optional
         Spectrum periods [s]; default 100 log-spaced from 0.02 to 5 s.
     damping : float
         Damping ratio of the spectrum [1].
     """
-    import os
-
     import matplotlib
 
     matplotlib.use("Agg")
@@ -57,8 +56,6 @@ def plot_motion(gm, out, periods=None, damping=0.05):
     meta = gm.metadata
     subtitle = ", ".join(str(meta[k]) for k in ("event", "year", "station") if meta.get(k))
     fig.suptitle(f"{gm.record_id}" + (f" — {subtitle}" if subtitle else "") + f"   (dt = {gm.dt:g} s, {gm.npts} samples)")
-    tmp = f"{out}.part.png"
-    fig.savefig(tmp, dpi=110)
-    plt.close(fig)
-    os.replace(tmp, out)
-    return out
+    from pipeline.figfile import save_figure
+
+    return save_figure(fig, out, dpi=110, option="--out")

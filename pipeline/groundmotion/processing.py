@@ -104,9 +104,9 @@ def trim_arias(gm, lower=0.05, upper=0.95):
     return gm.with_stream(st)
 
 
-def rotate(gm, angle_rad):
-    """Rotate the horizontal pair by an incidence angle [rad] (see GroundMotion.rotated)."""
-    return gm.rotated(angle_rad)
+def rotate(gm, angle):
+    """Rotate the horizontal pair by an incidence angle [degree] (see GroundMotion.rotated)."""
+    return gm.rotated(angle)
 
 
 def scale(gm, factor):

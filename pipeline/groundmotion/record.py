@@ -18,6 +18,8 @@ from obspy import Stream, Trace
 
 from pipeline import __version__
 from pipeline.errors import InputError
+from pipeline.groundmotion.options import how_to_give
+from pipeline.units import deg_to_rad
 
 __all__ = ["GroundMotion", "COMPONENTS", "log_step"]
 
@@ -66,13 +68,14 @@ class GroundMotion:
             raise InputError(
                 f"{where}: a ground motion needs 2 horizontal components (+ optional vertical), "
                 f"got {len(stream)} traces ({', '.join(tr.id for tr in stream) or 'none'}); "
-                "select the components with components=(x, y[, z])"
+                f"select the components with {how_to_give('components')}"
             )
         traces = []
         for name, tr in zip(COMPONENTS, stream):
             rate = tr.stats.sampling_rate
             if not (math.isfinite(rate) and rate > 0):
-                raise InputError(f"{where}: component {name} ({tr.id}) has no sampling rate (got {rate!r}); give dt [s]")
+                raise InputError(f"{where}: component {name} ({tr.id}) has no sampling rate (got {rate!r}); "
+                                 "set the trace's stats.delta [s]")
             if tr.stats.npts < 2:
                 raise InputError(f"{where}: component {name} ({tr.id}) has {tr.stats.npts} samples; a record needs at least 2")
             if np.ma.isMaskedArray(tr.data):
@@ -201,11 +204,11 @@ class GroundMotion:
         return self._acc[COMPONENTS.index(name)]
 
     # -- transformations (new objects) ------------------------------------------------
-    def rotated(self, angle_rad):
+    def rotated(self, angle):
         """Rotate the horizontal motion by an incidence angle.
 
         The motion vector is turned counter-clockwise (x towards y) by
-        ``angle_rad`` [rad] in the fixed x-y frame of the column::
+        ``angle`` [degree] in the fixed x-y frame of the column::
 
             x' = x cos(a) - y sin(a)
             y' = x sin(a) + y cos(a)
@@ -213,14 +216,14 @@ class GroundMotion:
         so a record with motion on x only arrives along the direction at angle
         ``a`` from the x axis. The vertical is unchanged.
         """
-        angle = float(angle_rad)
-        c, s = math.cos(angle), math.sin(angle)
+        angle = float(angle)
+        c, s = math.cos(deg_to_rad(angle)), math.sin(deg_to_rad(angle))
         st = self._stream.copy()
         x, y = self._acc[0], self._acc[1]
         st[0].data = c * x - s * y
         st[1].data = s * x + c * y
         for tr in st:
-            log_step(tr, f"rotated(angle_rad={angle!r})")
+            log_step(tr, f"rotated(angle={angle!r} deg)")
         return self.with_stream(st)
 
     def scaled(self, factor):
@@ -271,8 +274,9 @@ class GroundMotion:
         component, ``<stem>_HNX<suffix>`` etc. Each file is written under a
         temporary name and then renamed. Returns the list of paths written.
         """
-        import os
         from pathlib import Path
+
+        from pipeline.atomic import atomic_path
 
         st = self.stream
         for name, tr in zip(COMPONENTS, st):
@@ -287,9 +291,8 @@ class GroundMotion:
             jobs = [(st, target)]
         written = []
         for part, path in jobs:
-            tmp = path.with_name(path.name + ".part")
-            part.write(str(tmp), format=format, **kwargs)
-            os.replace(tmp, path)
+            with atomic_path(path) as tmp:
+                part.write(tmp, format=format, **kwargs)
             written.append(path)
         return written
 

@@ -3,7 +3,7 @@
 Every generator is a pure function of its arguments (stochastic ones of their
 ``seed`` through ``numpy.random.default_rng``), samples at ``t_k = k dt`` from
 t = 0 (ground at rest before), and puts the motion in the horizontal plane
-along ``direction`` [rad] from the x axis: x = a cos(direction),
+along ``direction`` [degree] from the x axis: x = a cos(direction),
 y = a sin(direction). The default direction 0 gives motion on x only and
 y exactly zero. No vertical component.
 
@@ -49,7 +49,7 @@ from scipy.signal import cont2discrete, lfilter
 
 from pipeline.errors import InputError
 from pipeline.groundmotion.record import GroundMotion
-from pipeline.units import G
+from pipeline.units import deg_to_rad
 
 __all__ = [
     "one_sine_pulse",
@@ -82,14 +82,14 @@ def _grid(dt, duration, generator):
 
 def _planar(acc, dt, direction, record_id, generator, params):
     direction = float(direction)
-    c, s = math.cos(direction), math.sin(direction)
+    c, s = math.cos(deg_to_rad(direction)), math.sin(deg_to_rad(direction))
     acc_x = acc * c
     acc_y = acc * s if direction != 0.0 else np.zeros_like(acc)
     text = ", ".join(f"{k}={v!r}" for k, v in params.items())
     meta = dict(_SYNTH_META, generator=generator, parameters=dict(params, direction=direction))
     return GroundMotion.from_arrays(
         acc_x, acc_y, dt, record_id=record_id or f"{generator}({text})", metadata=meta,
-        processing=f"synthesised {generator}({text}, direction={direction!r})",
+        processing=f"synthesised {generator}({text}, direction={direction!r} deg)",
     )
 
 
@@ -111,7 +111,7 @@ def one_sine_pulse(ap, tp, *, dt=0.001, duration=None, direction=0.0, record_id=
     duration : float, optional
         Record length [s] (zeros after the pulse); default T_p.
     direction : float
-        Direction of motion from the x axis [rad].
+        Direction of motion from the x axis [degree].
     """
     ap = float(ap)
     tp = _positive("tp", tp, "one_sine_pulse")

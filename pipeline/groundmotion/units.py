@@ -1,6 +1,7 @@
 """Acceleration units accepted at the edges (files, text, command line)."""
 
 from pipeline.errors import InputError
+from pipeline.groundmotion.options import how_to_give
 from pipeline.units import G
 
 __all__ = ["ACCELERATION_UNITS", "to_ms2_factor"]
@@ -25,7 +26,7 @@ def to_ms2_factor(units, where):
     """Factor from ``units`` to m/s^2; InputError naming ``where`` if unknown."""
     if units is None:
         raise InputError(
-            f"{where}: the file does not state its units; give units= one of "
+            f"{where}: the file does not state its units; give {how_to_give('units')} with U one of "
             f"{', '.join(sorted(set(ACCELERATION_UNITS)))}"
         )
     key = str(units).strip().lower().replace(" ", "")

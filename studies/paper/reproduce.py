@@ -141,7 +141,7 @@ def figure5(out):
     fig, ax = plt.subplots(figsize=(7.5, 4))
     for label, dphi0 in (("IC1", 0.0), ("IC2", 0.01), ("IC3", 0.1)):
         # contact_tilt 1e-5 (project default): IC1 comes to rest after its impacts
-        r = run(math.radians(1.0), dphi0, 0.0, 50.0, 0.01, contact_tilt=1e-5)
+        r = run(math.radians(1.0), dphi0, 0.0, 50.0, 0.01, contact_tilt=math.degrees(1e-5))
         text = f"{label}: " + r"$\varphi'_0$" + f" = {dphi0:g}"
         rest = np.flatnonzero(np.isnan(r["x_hat"]))
         if len(rest):

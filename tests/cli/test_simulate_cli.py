@@ -22,8 +22,9 @@ def test_free_simulation_writes_annotated_netcdf(tmp_path):
         for name in REQUIRED:
             assert name in nc.variables, name
             assert nc.variables[name].units and nc.variables[name].long_name, name
-    ds = xr.open_dataset(out)
+    ds = xr.open_dataset(out).sel(column="R0.5-r0.4-h4", record="free-motion", model="3d")
     assert ds.theta.values[0] == pytest.approx(math.radians(10))
+    assert ds.theta_deg.values[0] == pytest.approx(10)
     assert ds.phi_dot.values[0] == pytest.approx(0.44)
     assert ds.time.values[-1] == pytest.approx(2.0)
     # normal force in newtons: about the weight of the column at rest on its rim
@@ -36,7 +37,7 @@ def test_free_simulation_writes_annotated_netcdf(tmp_path):
     (["--column", "0.5,0,4"], "column r = 0.0"),
     (["--column", "0.5,0.4"], "R,r,h"),
     (["--column", "0.5,0.4,4", "--theta0", "95"], "theta = 95 deg"),
-    (["--column", "0.5,0.4,4", "--theta0", "5", "--duration", "-1"], "duration = -1"),
+    (["--column", "0.5,0.4,4", "--theta0", "5", "--duration", "-1"], "--duration -1.0: give a positive number"),
 ])
 def test_bad_input_is_named(argv, message, tmp_path, capsys):
     argv = ["simulate", *argv, "--out", str(tmp_path / "x.nc")]
@@ -54,11 +55,10 @@ def test_earthquake_simulation_writes_netcdf_and_plot(tmp_path, capsys):
     assert status == 0
     text = capsys.readouterr().out
     assert "stands" in text and "impacts" in text
-    ds = xr.open_dataset(out)
+    ds = xr.open_dataset(out).sel(column="R0.5-r0.4-h4", record="FEMA-FF-01", model="3d")
     for name in REQUIRED + ["ground_acc_x", "ground_acc_y", "phase", "x_b"]:
         assert name in ds and ds[name].attrs.get("long_name"), name
-    assert ds.attrs["record_id"] == "FEMA-FF-01"
-    assert ds.attrs["incidence_angle_rad"] == pytest.approx(math.radians(30))
+    assert float(ds.angle) == pytest.approx(30) and ds.angle.attrs["units"] == "degree"
     assert np.all(ds.theta.values[ds.time.values < 3.0] == 0.0)  # at rest before the strong motion
     assert png.stat().st_size > 20_000
 
@@ -72,3 +72,70 @@ def test_earthquake_simulation_writes_netcdf_and_plot(tmp_path, capsys):
 def test_earthquake_bad_input(argv, message, tmp_path, capsys):
     assert main(["simulate", "--column", "0.5,0.4,4", *argv, "--out", str(tmp_path / "x.nc")]) == 2
     assert message in capsys.readouterr().err
+
+
+@pytest.fixture
+def no_computing(monkeypatch):
+    """Make any simulation fail the test: what is refused must be refused before computing."""
+    import pipeline.simulate
+
+    def forbidden(*args, **kwargs):
+        raise AssertionError("computed before refusing")
+
+    monkeypatch.setattr(pipeline.simulate, "simulate", forbidden)
+    monkeypatch.setattr(pipeline.simulate, "simulate_free", forbidden)
+
+
+FREE = ["--column", "0.5,0.4,4", "--theta0", "5", "--duration", "2"]
+QUAKE = ["--column", "0.5,0.4,4", "--record", "FEMA-FF-01"]
+
+
+@pytest.mark.parametrize("argv, message", [
+    # 1e9 s every 0.01 s: 1e11 rows of 1 KiB; it once tried to allocate 745 GiB and died
+    (FREE[:-1] + ["1e9"], "1e+09 s of histories every 0.01 s (100,000,000,001 rows) needs about 93.1 TiB of memory"),
+    (QUAKE + ["--output-step", "1e-9"], "rows) needs about"),
+    (QUAKE + ["--rtol", "0"], "--rtol 0.0: give a number in [1e-14, 0.1]"),
+    (QUAKE + ["--rtol", "1e-20"], "--rtol 1e-20: give a number in [1e-14, 0.1]"),
+    (FREE + ["--atol", "0"], "--atol 0.0: give a number in [1e-300, 0.01]"),
+    (QUAKE + ["--plot", "x.txt"], "--plot 'x.txt': not a figure format matplotlib writes"),
+    (QUAKE + ["--dt", "0"], "--dt 0.0: give the time step as a positive number of seconds"),
+])
+def test_impossible_requests_are_refused_before_computing(argv, message, tmp_path, capsys, no_computing,
+                                                          monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert main(["simulate", *argv, "--out", str(tmp_path / "x.nc")]) == 2
+    err = capsys.readouterr().err
+    assert message in err and len(err.splitlines()) == 1
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_bad_outputs_are_refused_before_computing(tmp_path, capsys, no_computing):
+    a_file = tmp_path / "a_file"
+    a_file.write_text("")
+    for out, message in [("/", "--out '/' is a folder; give the path of a file"),
+                         (str(tmp_path), "is a folder; give the path of a file"),
+                         (str(tmp_path / "new") + "/", "is a folder"),
+                         (str(a_file / "x.nc"), f"{a_file} is not a folder"),
+                         ("/proc/x.nc", "/proc cannot be written (read-only or no permission)")]:
+        assert main(["simulate", *QUAKE, "--out", out]) == 2, out
+        err = capsys.readouterr().err
+        assert message in err and len(err.splitlines()) == 1, (out, err)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a_file"]
+
+
+@pytest.mark.parametrize("error, message", [
+    (OSError(28, "No space left on device"), "cannot write (No space left on device)"),
+    (RuntimeError("NetCDF: HDF error"), "the netCDF library could not write (NetCDF: HDF error); "),
+])
+def test_a_full_disk_gives_one_line_and_no_partial_file(tmp_path, capsys, monkeypatch, error, message):
+    def full(self, path, *args, **kwargs):
+        with open(path, "wb") as fh:  # half a file, then the disk is full
+            fh.write(b"CDF")
+        raise error
+
+    monkeypatch.setattr(xr.Dataset, "to_netcdf", full)
+    out = tmp_path / "r.nc"
+    assert main(["simulate", *FREE, "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"frustum: error: {out}: {message}") and len(err.splitlines()) == 1
+    assert list(tmp_path.iterdir()) == []

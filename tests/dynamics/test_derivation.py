@@ -132,3 +132,17 @@ def test_damping_couple_accelerations_match_symbolic():
         # dissipated power = -M . omega = nu |omega|^2
         w2 = s["dtheta"] ** 2 + (s["dphi"] * np.sin(s["theta"])) ** 2 + omega**2
         assert got[3] == pytest.approx(nu_val * w2, rel=1e-13)
+
+
+def test_any_couple_accelerations_match_symbolic():
+    """fk.couple_accelerations (the patch's couples) against the symbolic inverse mass matrix."""
+    (dp, dt_, ds), (mx, me, mz) = d.general_couple_accelerations()
+    f = sp.lambdify((d.theta, mx, me, mz, d.Iy, d.Iz, d.zc), (dp, dt_, ds), "math")
+    rng = np.random.default_rng(12)
+    for c, s in _random_states(50, seed=5):
+        m = rng.normal(size=3)
+        got = fk.couple_accelerations(s["theta"], *m, c)
+        ddphi, ddtheta, ddpsi = f(s["theta"], *m, c[fk.C_IY], c[fk.C_IZ], c[fk.C_ZC])
+        domega = ddphi * np.cos(s["theta"]) + ddpsi  # the rates are unchanged by a couple
+        np.testing.assert_allclose(got, (ddphi, ddtheta, domega), rtol=1e-10,
+                                   atol=1e-12 * (1 + abs(ddphi)))

@@ -87,9 +87,9 @@ def test_report_files_and_numbers_equal_the_dataset(study_file, tmp_path):
     assert len(rows) == ds.sizes["column"] * ds.sizes["model"]
     for row in rows:
         cell = frag.sel(state="overturning", column=row["column"], model=row["model"])
-        assert float(row["median_pga_overturning_m_s2"]) == float(cell["median"])  # written with repr
-        assert float(row["beta_overturning"]) == float(cell["beta"])
-        assert float(row["median_pga_overturning_g"]) == pytest.approx(float(cell["median"]) / G, rel=1e-15)
+        assert float(row["median_pga_overturning_m_s2"]) == pytest.approx(float(cell["median"]), rel=5e-4)  # 4 digits
+        assert float(row["beta_overturning"]) == pytest.approx(float(cell["beta"]), rel=5e-4)
+        assert float(row["median_pga_overturning_g"]) == pytest.approx(float(cell["median"]) / G, rel=5e-4)
         one = ds.sel(column=row["column"], model=row["model"])
         if row["model"] == "3d":
             one = one.isel(angle=[0])
@@ -98,7 +98,7 @@ def test_report_files_and_numbers_equal_the_dataset(study_file, tmp_path):
         assert int(row["runs_overturned"]) == int(((one["overturned"] == 1) & valid).sum())
         for level in DEFAULT_PGA_LEVELS_G:
             p = F.probability(level * G, float(cell["median"]), float(cell["beta"]))
-            assert float(row[f"p_overturning_at_{level:g}g"]) == pytest.approx(float(p), abs=1e-15)
+            assert float(row[f"p_overturning_at_{level:g}g"]) == pytest.approx(float(p), rel=5e-4, abs=1e-300)
             # ... and the same number, as printed, is in the Markdown
             assert _pct(float(p)) in text
         assert _fmt(float(cell["median"]) / G) in text

@@ -41,7 +41,9 @@ def test_committed_2d_vs_3d_conclusions_are_the_dataset_numbers(name):
     for c in frag["column"].values:
         m3 = float(frag["median"].sel(state="overturning", column=c, model="3d"))
         m2 = float(frag["median"].sel(state="overturning", column=c, model="2d"))
-        assert f"| {c} | {_fmt(m3 / G)} | {_fmt(m2 / G)} | {_fmt(m2 / m3)} |" in text
+        marked = r"( \(extrapolated\))?"  # a median beyond the strongest shaking simulated says so
+        assert re.search(rf"\| {re.escape(c)} \| {re.escape(_fmt(m3 / G))}{marked} \| {re.escape(_fmt(m2 / G))}{marked} "
+                         rf"\| {re.escape(_fmt(m2 / m3))} \|", text), c
         ratios.append(m2 / m3)
     summary = re.search(r"\*\*In short:\*\* 2D is unconservative for (\d+) of (\d+)", text)
     assert summary and int(summary.group(1)) == sum(r > 1 for r in ratios)

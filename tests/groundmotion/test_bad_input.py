@@ -84,7 +84,7 @@ def test_text_missing_sampling(tmp_path):
         load(p, units="g")
     named = tmp_path / "named.txt"
     named.write_text("x\n" + "\n".join("0.0" for _ in range(10)))
-    with pytest.raises(InputError, match=r"named\.txt: no sampling: give dt \[s\] or a time column"):
+    with pytest.raises(InputError, match=r"named\.txt: no sampling: give dt=DT \[s\] \(command line: --dt DT; .*or a time column"):
         read_text(named, units="g", missing_y="zero")
 
 
@@ -113,7 +113,7 @@ def test_missing_sampling_rate_on_stream():
     tr.stats.sampling_rate = 1.0
     tr2 = tr.copy()
     tr.stats.__dict__["sampling_rate"] = 0.0  # a header without sampling
-    with pytest.raises(InputError, match=r"rec: component x .* has no sampling rate .*give dt"):
+    with pytest.raises(InputError, match=r"rec: component x .* has no sampling rate .*set the trace.s stats.delta"):
         GroundMotion(obspy.Stream([tr, tr2]), record_id="rec")
 
 

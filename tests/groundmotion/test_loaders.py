@@ -6,21 +6,27 @@ import pytest
 
 from pipeline.errors import InputError
 from pipeline.groundmotion import GroundMotion, kanai_tajimi, load
+from pipeline.groundmotion import intensity as im
 from pipeline.groundmotion.at2 import is_at2, read_at2
 from pipeline.units import G
 
 
-def test_knet_uses_header_calibration(knet_file):
-    # test.knet: one E-W component, "Scale Factor 2000(gal)/8388608",
-    # "Max. Acc. (gal) 4.383" in its header.
+def test_knet_uses_header_calibration_and_removes_the_offset_as_nied(knet_file):
+    # test.knet: one E-W component, "Scale Factor 2000(gal)/8388608", "Max. Acc. (gal) 4.383".
+    # NIED computes Max. Acc. after subtracting the mean of the whole record; so does the loader.
     gm = load(knet_file, missing_y="zero")
     raw = obspy.read(str(knet_file))[0]
-    np.testing.assert_array_equal(gm.acc_x, raw.data * raw.stats.calib)
+    counts = raw.data.astype(np.float64)
+    np.testing.assert_allclose(gm.acc_x, (counts - counts.mean()) * raw.stats.calib, rtol=1e-12, atol=1e-15)
     assert np.all(gm.acc_y == 0.0)
     assert gm.dt == pytest.approx(0.01)
-    # The header's own peak (after the K-NET convention of removing the mean):
-    # 4.383 gal, printed to 0.001 gal.
-    assert np.max(np.abs(gm.acc_x - gm.acc_x.mean())) == pytest.approx(0.04383, abs=0.5e-5)
+    # PGA equals the header's 4.383 gal within 1 % (it is 4.3833 gal: the header rounds to 0.001 gal)
+    assert im.pga(gm.acc_x) == pytest.approx(0.04383, rel=0.01)
+    assert im.pga(gm.acc_x) == pytest.approx(0.04383, abs=0.5e-5)
+    # as read, with the offset (-4.29 gal), it was 8.42 gal: twice the header's value
+    assert np.max(np.abs(counts * raw.stats.calib)) == pytest.approx(0.0842, rel=1e-3)
+    assert any("offset" in p and "NIED" in p and "Max. Acc. 4.383 gal" in p for p in gm.processing)
+    assert any("detrend" in p for p in gm.processing)  # ObsPy's own line for the step
     assert gm.metadata["magnitude"] == 5.9
     assert gm.metadata["distance_km"] > 0
     assert any("header calibration" in p for p in gm.processing)

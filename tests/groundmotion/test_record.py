@@ -23,12 +23,12 @@ def test_arrays_are_read_only_and_stream_is_a_copy(pulse):
 
 
 def test_rotation_convention(pulse):
-    r = pulse.rotated(math.pi / 2)  # motion on x turned to +y
+    r = pulse.rotated(90.0)  # degrees: motion on x turned to +y
     np.testing.assert_allclose(r.acc_y, pulse.acc_x, atol=1e-15)
     np.testing.assert_allclose(r.acc_x, 0.0, atol=1e-15)
-    back = r.rotated(-math.pi / 2)
+    back = r.rotated(-90.0)
     np.testing.assert_allclose(back.acc_x, pulse.acc_x, atol=1e-15)
-    assert "rotated(angle_rad=1.5707963267948966)" in r.processing[-1]
+    assert "rotated(angle=90.0 deg)" in r.processing[-1]
     assert pulse.processing == [pulse.processing[0]]  # original untouched
 
 

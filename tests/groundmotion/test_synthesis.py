@@ -63,6 +63,6 @@ def test_ricker_and_rectangular():
 def test_direction_option():
     x_only = ricker_wavelet(1.0, 2.0, dt=0.01)
     assert np.all(x_only.acc_y == 0.0)
-    d = ricker_wavelet(1.0, 2.0, dt=0.01, direction=math.radians(30))
+    d = ricker_wavelet(1.0, 2.0, dt=0.01, direction=30.0)  # degrees
     np.testing.assert_allclose(d.acc_x, x_only.acc_x * math.cos(math.radians(30)))
     np.testing.assert_allclose(d.acc_y, x_only.acc_x * math.sin(math.radians(30)))

@@ -231,3 +231,40 @@ def test_a_task_that_keeps_failing_marks_its_cells_failed(write_study, small_ref
     np.testing.assert_array_equal(good.peak_theta.values, small_reference[1].isel(record=1).peak_theta.values)
     # the failed task was not checkpointed: a rerun tries it again
     assert Path(report.path + ".checkpoint", "task-000001.npz").exists() is False
+
+
+def test_a_port_that_is_not_dask_fails_within_10_s(write_study, capsys):
+    """A plain TCP server that accepts and never answers: Dask's client once waited for ever."""
+    import socket
+    import threading
+    import time
+
+    server = socket.socket()
+    server.bind(("127.0.0.1", 0))
+    server.listen(8)
+    accepted = []
+    threading.Thread(target=lambda: accepted.append(server.accept()), daemon=True).start()
+    try:
+        t0 = time.monotonic()
+        address = f"tcp://127.0.0.1:{server.getsockname()[1]}"
+        assert main(["study", "run", str(write_study()), "--scheduler", address, "--quiet"]) == 2
+        elapsed = time.monotonic() - t0
+    finally:
+        server.close()
+    err = capsys.readouterr().err
+    assert elapsed < 10.0, elapsed
+    assert accepted  # it did connect: the refusal comes from the silence, not from a closed port
+    assert f"--scheduler {address}: no Dask scheduler answered within 8 s" in err
+    assert "Traceback" not in err
+
+
+@pytest.mark.parametrize("address", ["tcp://localhost", "localhost:abc", "foo://host:8786", "tcp//host:8786",
+                                     "tcp://:8786", "tcp://host:99999"])
+def test_a_malformed_scheduler_address_fails_at_once(write_study, capsys, address):
+    import time
+
+    t0 = time.monotonic()
+    assert main(["study", "run", str(write_study()), "--scheduler", address, "--quiet"]) == 2
+    assert time.monotonic() - t0 < 10.0
+    err = capsys.readouterr().err
+    assert f"--scheduler {address!r}: not a scheduler address; give PROTOCOL://HOST:PORT" in err

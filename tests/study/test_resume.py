@@ -26,6 +26,9 @@ CHILD = textwrap.dedent("""\
         time.sleep(0.4)
         return real(task, motion)
     sweep.run_task = slow
+    if sys.argv[2] == "cli":  # the command, as a user runs it
+        from pipeline.cli import main
+        sys.exit(main(["study", "run", sys.argv[1], "--serial", "--quiet"]))
     mode = {"serial": True} if sys.argv[2] == "serial" else {"workers": 2}
     sweep.run_study(load_study(sys.argv[1]), progress=False, **mode)
 """)
@@ -33,7 +36,11 @@ CHILD = textwrap.dedent("""\
 MANY_TASKS = 'block_columns = 1'  # 4 columns x 2 records = 8 tasks
 
 
-def _kill_after(path, checkpoint, n_done, mode="serial", timeout=120.0):
+def _kill_after(path, checkpoint, n_done, mode="serial", timeout=120.0, sig=None):
+    """Run CHILD, kill it after ``n_done`` checkpointed tasks (SIGKILL to its group, or ``sig`` to it).
+
+    Returns the finished process (``returncode``; ``stdout`` holds its output and errors).
+    """
     proc = subprocess.Popen([sys.executable, "-c", CHILD, str(path), mode], start_new_session=True,
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
     try:
@@ -46,11 +53,14 @@ def _kill_after(path, checkpoint, n_done, mode="serial", timeout=120.0):
             assert proc.poll() is None, proc.stdout.read().decode()
             assert time.monotonic() < deadline, "the study did not checkpoint in time"
             time.sleep(0.02)
+        if sig is not None:
+            os.kill(proc.pid, sig)
+            proc.wait(timeout=30)
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)  # the process group we started (with its workers)
         proc.wait(timeout=30)
-    return proc.returncode
+    return proc
 
 
 def test_killed_study_resumes_without_recomputing(write_study, small_reference, same_results):
@@ -59,7 +69,7 @@ def test_killed_study_resumes_without_recomputing(write_study, small_reference, 
     path = write_study(SMALL_STUDY.replace("block_columns = 2", MANY_TASKS))
     out = path.parent / "small.nc"
     checkpoint = str(out) + ".checkpoint"
-    assert _kill_after(path, checkpoint, 3) == -signal.SIGKILL
+    assert _kill_after(path, checkpoint, 3).returncode == -signal.SIGKILL
     assert not out.exists()  # killed: no results file, not even a partial one
     assert not [p for p in os.listdir(path.parent) if p.startswith(".partial-")]
     finished = sorted(int(p[5:11]) for p in os.listdir(checkpoint) if p.startswith("task-"))
@@ -89,7 +99,7 @@ def test_study_killed_on_the_cluster_resumes_on_the_cluster(write_study, small_r
     path = write_study(SMALL_STUDY.replace("block_columns = 2", MANY_TASKS))
     out = path.parent / "small.nc"
     checkpoint = str(out) + ".checkpoint"
-    assert _kill_after(path, checkpoint, 3, mode="cluster") == -signal.SIGKILL
+    assert _kill_after(path, checkpoint, 3, mode="cluster").returncode == -signal.SIGKILL
     assert not out.exists()
     finished = sorted(int(p[5:11]) for p in os.listdir(checkpoint) if p.startswith("task-"))
     assert 3 <= len(finished) < 8
@@ -146,3 +156,16 @@ def test_two_runs_of_one_study_do_not_share_a_checkpoint(write_study):
     finally:
         held.release()
     assert run_study(load_study(path), serial=True, progress=False).failed == 0
+
+
+def test_ctrl_c_on_the_command_line_exits_130_with_one_line(write_study):
+    """A real SIGINT: one line, status 130, the finished tasks kept (issue 11)."""
+    from conftest import SMALL_STUDY
+
+    path = write_study(SMALL_STUDY.replace("block_columns = 2", MANY_TASKS))
+    checkpoint = str(path.parent / "small.nc") + ".checkpoint"
+    proc = _kill_after(path, checkpoint, 1, mode="cli", sig=signal.SIGINT)
+    output = proc.stdout.read().decode()
+    assert proc.returncode == 130, output
+    assert output.splitlines()[-1] == "frustum: interrupted: run again to resume" and "Traceback" not in output
+    assert 1 <= len([p for p in os.listdir(checkpoint) if p.startswith("task-")]) < 8

@@ -59,8 +59,13 @@ BAD = {
     "block_columns": (_broken("block_columns = 2", "block_columns = 0"), "execution.block_columns"),
     "duplicate column label": (_broken('name = "squat"', 'name = "paper"'), "columns"),
     "duplicate record id": (_broken('id = "kt-1"', 'id = "ricker"'), "records"),
+    "intensity without units": (_broken("scales = [0.5, 1.0, 2.0]", 'intensity = {measure = "pga", values = [0.3]}'),
+                                "excitation.intensity.units"),
+    "intensity in a unit of another measure": (_broken("scales = [0.5, 1.0, 2.0]",
+                                                       'intensity = {measure = "pgv", units = "g", values = [0.3]}'),
+                                               "excitation.intensity.units"),
     "scales and intensity": (_broken("scales = [0.5, 1.0, 2.0]",
-                                     'scales = [1.0]\nintensity = {measure = "pga", values = [1.0]}'),
+                                     'scales = [1.0]\nintensity = {measure = "pga", units = "g", values = [0.1]}'),
                              "excitation.intensity"),
 }
 
@@ -142,3 +147,38 @@ def test_record_file_with_units_loads_as_the_catalog_record(write_study):
     study = load_study(write_study(text))
     assert [r.id for r in study.records] == ["ricker-file"] and study.records[0].kind == "file"
     assert load_motions(study)[0].sha256() == load("SYN-RICKER").sha256()
+
+
+@pytest.mark.parametrize("measure, wrong, choices", [
+    ("pga", None, 'units = "g" or units = "m/s2"'),
+    ("pga", '"gal"', 'units = "g" or units = "m/s2"'),
+    ("pgv", '"m/s2"', 'units = "m/s" or units = "cm/s"'),
+])
+def test_intensity_units_are_required_and_the_choices_named(write_study, measure, wrong, choices):
+    units = f", units = {wrong}" if wrong else ""
+    text = _broken("scales = [0.5, 1.0, 2.0]", f'intensity = {{measure = "{measure}"{units}, values = [0.3]}}')
+    with pytest.raises(InputError, match="field excitation.intensity.units: ") as info:
+        load_study(write_study(text))
+    assert choices in str(info.value)
+
+
+def test_intensity_targets_in_g_are_converted_once(write_study):
+    """``values = [0.3]`` with ``units = "g"`` is 0.3 g = 2.941995 m/s^2, never 0.3 m/s^2 (issue 11)."""
+    g = load_study(write_study(_broken("scales = [0.5, 1.0, 2.0]",
+                                       'intensity = {measure = "pga", units = "g", values = [0.1, 0.3]}')))
+    si = load_study(write_study(_broken("scales = [0.5, 1.0, 2.0]",
+                                        'intensity = {measure = "pga", units = "m/s2", values = [0.980665, 2.941995]}'),
+                                name="si.toml"))
+    assert g.intensity.values == si.intensity.values == (0.980665, 2.941995)  # exact: 0.1 * 9.80665 == 0.980665
+    assert g.intensity.stated == (0.1, 0.3) and g.intensity.units == "g"
+    assert g.levels == si.levels
+
+
+def test_shipped_studies_state_their_intensity_units():
+    from pathlib import Path
+
+    root = Path(__file__).parents[2]
+    for path in sorted(root.glob("studies/**/*.toml")):
+        study = load_study(path, load_records=False)
+        if study.intensity is not None:
+            assert study.intensity.units in ("g", "m/s2", "m/s", "cm/s"), path

@@ -14,7 +14,7 @@ from conftest import SMALL_STUDY  # noqa: E402
 
 def _direct(study, motions, ci, ri, ai, si, mi):
     column = study.columns[ci].column
-    return simulate(column, motions[ri], Excitation(angle=math.radians(study.angles[ai]), scale=study.scales[si]),
+    return simulate(column, motions[ri], Excitation(angle=study.angles[ai], scale=study.scales[si]),
                     study.settings(study.models[mi]), histories=False).summary
 
 
@@ -95,7 +95,7 @@ def test_same_study_same_numbers(write_study, small_reference, same_results):
 
 
 def test_intensity_levels_scale_each_record_to_the_target(write_study):
-    text = SMALL_STUDY.replace("scales = [0.5, 1.0, 2.0]", 'intensity = {measure = "pgv", values = [0.2, 0.4]}')
+    text = SMALL_STUDY.replace("scales = [0.5, 1.0, 2.0]", 'intensity = {measure = "pgv", units = "m/s", values = [0.2, 0.4]}')
     ds = sweep.run_study(load_study(write_study(text)), serial=True, progress=False).dataset
     np.testing.assert_allclose(ds.pgv.values, [[0.2, 0.4], [0.2, 0.4]], rtol=1e-12)
     assert ds.scale.attrs["units"] == "m s-1"
@@ -109,7 +109,7 @@ def test_pga_is_the_peak_of_the_horizontal_vector_and_angle_independent(small_re
     kt = kanai_tajimi(1, duration=6.0, dt=0.01, pga=3.0)
     expected = np.max(np.hypot(kt.acc_x, kt.acc_y))
     np.testing.assert_allclose(ds.pga.sel(record="kt-1").values, expected * np.array([0.5, 1.0, 2.0]), rtol=1e-12)
-    turned = kt.rotated(math.radians(30.0))
+    turned = kt.rotated(30.0)
     assert sweep.record_intensity(turned)["pga"] == pytest.approx(expected, rel=1e-12)
     assert sweep.record_intensity(turned)["pgv"] == pytest.approx(sweep.record_intensity(kt)["pgv"], rel=1e-12)
 

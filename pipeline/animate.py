@@ -1,0 +1,427 @@
+"""The motion of a column, animated: a solid frustum in 3D moving with the ground.
+
+:func:`animate_file` reads a histories file of ``frustum simulate`` (one
+column, one record, one or both models) and writes a GIF (matplotlib's
+Pillow writer) or an MP4 (matplotlib's ffmpeg writer with the ffmpeg of the
+``imageio-ffmpeg`` package: ``pip install -e '.[video]'``). Each model gets a
+3D view, side by side when the file holds both: the column as a shaded
+solid with a stripe along one generator (so that its spin shows), the ground
+as a plate that moves with the ground displacement, the path of the contact
+point on that plate, an arrow for the horizontal ground acceleration, and the
+time and tilt in the title. By default one second of animation is one second
+of motion (``speed`` 1).
+
+The drawing is per body: :func:`frustum_faces` turns one frustum
+(:class:`Shape`) at one :class:`Pose` into shaded polygons, and
+:class:`ModelView` draws a list of bodies per frame. A rigid column is one
+body (:func:`rigid_bodies`); a column of drums is one body per drum, so a
+model whose histories carry a ``drum`` dimension needs only its own
+function from a run and a frame to a list of (Shape, Pose).
+
+Ground displacement is the double trapezoidal integral of the ground
+acceleration from rest, without baseline correction: it shows how the ground
+moves, not a survey of where it ends.
+"""
+
+import math
+import os
+from dataclasses import dataclass
+
+import numpy as np
+
+from pipeline.atomic import atomic_path
+from pipeline.errors import InputError
+
+#: Segments around the circumference of a drawn frustum.
+SEGMENTS = 32
+#: Light direction (towards the light) for the shading of the faces.
+LIGHT = np.array([-0.4, -0.7, 0.6]) / np.linalg.norm([-0.4, -0.7, 0.6])
+STONE = np.array([0.87, 0.82, 0.72])  # marble, lit
+STRIPE = np.array([0.55, 0.25, 0.18])
+
+
+@dataclass(frozen=True)
+class Shape:
+    """A frustum body: base radius, top radius and height [m]."""
+
+    R: float
+    r: float
+    h: float
+
+
+@dataclass(frozen=True)
+class Pose:
+    """Where a body is: centre of its base [m] and orientation (body -> ground rotation matrix).
+
+    Attributes
+    ----------
+    centre : numpy.ndarray
+        (3,) position of the centre of the base in the drawing frame [m].
+    rotation : numpy.ndarray
+        (3, 3) rotation taking body axes (z along the body's axis) to the
+        drawing frame.
+    """
+
+    centre: np.ndarray
+    rotation: np.ndarray
+
+
+def euler_rotation(phi, theta, psi):
+    """Rotation matrix of the paper's Euler angles (Z-X-Z: precession phi, inclination theta, spin psi) [rad].
+
+    The body axis is ``R @ (0, 0, 1) = (sin phi sin theta, -cos phi sin theta,
+    cos theta)``; the contact point is at ``-R_base`` along ``Rz(phi) Rx(theta)
+    (0, 1, 0)`` from the centre of the base, as in :mod:`pipeline.simulate`.
+    """
+    cf, sf = math.cos(phi), math.sin(phi)
+    ct, st = math.cos(theta), math.sin(theta)
+    cp, sp = math.cos(psi), math.sin(psi)
+    rz_phi = np.array([[cf, -sf, 0.0], [sf, cf, 0.0], [0.0, 0.0, 1.0]])
+    rx = np.array([[1.0, 0.0, 0.0], [0.0, ct, -st], [0.0, st, ct]])
+    rz_psi = np.array([[cp, -sp, 0.0], [sp, cp, 0.0], [0.0, 0.0, 1.0]])
+    return rz_phi @ rx @ rz_psi
+
+
+def _unit_rings(segments=SEGMENTS):
+    angle = np.linspace(0.0, 2.0 * math.pi, segments, endpoint=False)
+    return np.cos(angle), np.sin(angle)
+
+
+_COS, _SIN = _unit_rings()
+
+
+def frustum_faces(shape, pose):
+    """Shaded polygons of one frustum body at one pose.
+
+    Parameters
+    ----------
+    shape : Shape
+    pose : Pose
+
+    Returns
+    -------
+    (list of numpy.ndarray, numpy.ndarray)
+        Polygons (each (k, 3) vertices [m] in the drawing frame: the side
+        quadrilaterals, the base and the top) and their RGB face colours
+        (n_faces, 3), lit by :data:`LIGHT`; the first side face is the stripe.
+    """
+    n = _COS.size
+    bottom = np.stack([shape.R * _COS, shape.R * _SIN, np.zeros(n)], axis=1)
+    top = np.stack([shape.r * _COS, shape.r * _SIN, np.full(n, shape.h)], axis=1)
+    bottom = bottom @ pose.rotation.T + pose.centre
+    top = top @ pose.rotation.T + pose.centre
+    nxt = np.roll(np.arange(n), -1)
+    sides = np.stack([bottom, bottom[nxt], top[nxt], top], axis=1)  # (n, 4, 3)
+    normals = np.cross(sides[:, 1] - sides[:, 0], sides[:, 3] - sides[:, 0])
+    axis = pose.rotation[:, 2]
+    cap_normals = np.stack([-axis, axis])
+    normals = np.concatenate([normals, cap_normals])
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    light = 0.35 + 0.65 * np.clip(normals @ LIGHT, 0.0, None)
+    colours = np.tile(STONE, (n + 2, 1))
+    colours[0] = STRIPE
+    colours = np.clip(colours * light[:, None], 0.0, 1.0)
+    return list(sides) + [bottom, top], colours
+
+
+def ground_displacement(acc, time):
+    """Displacement [m] of the ground from its acceleration [m/s^2] (trapezoidal, twice, from rest)."""
+    from scipy.integrate import cumulative_trapezoid
+
+    acc = np.nan_to_num(np.asarray(acc, dtype=float))
+    velocity = cumulative_trapezoid(acc, time, initial=0.0)
+    return cumulative_trapezoid(velocity, time, initial=0.0)
+
+
+def _filled(values, default=0.0):
+    """Carry the last finite value forward over NaN (angles undefined at rest)."""
+    values = np.asarray(values, dtype=float).copy()
+    good = np.isfinite(values)
+    if not good.any():
+        return np.full(values.shape, default)
+    index = np.where(good, np.arange(values.size), 0)
+    np.maximum.accumulate(index, out=index)
+    out = values[index]
+    out[: np.argmax(good)] = default
+    return out
+
+
+class Motion:
+    """The arrays of one run needed to draw it (all over ``time``), in SI.
+
+    Parameters
+    ----------
+    run : xarray.Dataset
+        One simulation, histories over ``time`` alone
+        (:func:`pipeline.dataset.one_run`).
+    """
+
+    def __init__(self, run):
+        self.run = run
+        self.time = run["time"].values
+        self.shape = Shape(float(run["column_R"]), float(run["column_r"]), float(run["column_h"]))
+        self.model = str(run.attrs.get("model", "3d"))
+        theta = np.nan_to_num(run["theta"].values)
+        phi = _filled(run["phi"].values)
+        psi = _filled(run["psi"].values) if "psi" in run else np.zeros_like(theta)
+        psi = np.nan_to_num(psi)
+        R = self.shape.R
+        x_p, y_p = run["x_p"].values, run["y_p"].values
+        if "x_b" in run and np.isfinite(run["x_b"].values).any():
+            x_b, y_b = _filled(run["x_b"].values), _filled(run["y_b"].values)
+        else:  # planar rocking: the centre follows from the pivot (at rest the base sits at the origin)
+            x_b = np.where(np.isfinite(x_p), x_p - np.sin(phi) * np.cos(theta) * R, 0.0)
+            y_b = np.where(np.isfinite(y_p), y_p + np.cos(phi) * np.cos(theta) * R, 0.0)
+        self.phi, self.theta, self.psi = phi, theta, psi
+        self.base = np.stack([x_b, y_b, R * np.sin(theta)], axis=1)
+        self.contact = np.stack([x_p, y_p], axis=1)
+        acc = [run[f"ground_acc_{c}"].values if f"ground_acc_{c}" in run else np.zeros_like(theta) for c in "xyz"]
+        self.acc = np.nan_to_num(np.stack(acc, axis=1))
+        self.ground = np.stack([ground_displacement(a, self.time) for a in self.acc.T], axis=1)
+        self.theta_crit = float(run["theta_crit"])
+        self.overturn_time = math.nan
+        if "phase" in run:
+            over = np.flatnonzero(run["phase"].values == 2)
+            if over.size:
+                self.overturn_time = float(self.time[over[0]])
+
+    def index(self, t):
+        """Row of the histories at time ``t`` [s] (the last at or before it)."""
+        return int(np.clip(np.searchsorted(self.time, t + 1e-9, side="right") - 1, 0, self.time.size - 1))
+
+
+def rigid_bodies(motion, i):
+    """The bodies of a rigid column at row ``i``: one frustum at its Euler angles, moving with the ground."""
+    rotation = euler_rotation(motion.phi[i], motion.theta[i], motion.psi[i])
+    return [(motion.shape, Pose(motion.base[i] + motion.ground[i], rotation))]
+
+
+class ModelView:
+    """The 3D view of one model: the plate, the bodies, the contact path, the acceleration arrow.
+
+    Parameters
+    ----------
+    ax : mpl_toolkits.mplot3d.Axes3D
+    motion : Motion
+    bodies : callable
+        ``bodies(motion, i) -> list of (Shape, Pose)`` (default
+        :func:`rigid_bodies`).
+    """
+
+    def __init__(self, ax, motion, bodies=rigid_bodies):
+        from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+        self.ax, self.motion, self.bodies = ax, motion, bodies
+        shape = motion.shape
+        reach = shape.h + shape.R
+        ground = motion.ground[:, :2]
+        centre = 0.5 * (ground.min(axis=0) + ground.max(axis=0))
+        half = 0.5 * float(np.max(ground.max(axis=0) - ground.min(axis=0))) + 0.55 * reach
+        self.plate_half = 0.5 * reach
+        ax.set_xlim(centre[0] - half, centre[0] + half)
+        ax.set_ylim(centre[1] - half, centre[1] + half)
+        ax.set_zlim(0.0, 1.05 * reach)
+        ax.set_box_aspect((2.0 * half, 2.0 * half, 1.05 * reach))  # one scale on every axis
+        ax.set_axis_off()
+        ax.view_init(elev=16, azim=-62)
+        # draw in a fixed order (ground, path, arrow, bodies): mplot3d's sorting of whole collections by
+        # their mean depth would put the large plate in front of the column
+        ax.computed_zorder = False
+        self.plate = Poly3DCollection([np.zeros((4, 3))], facecolors=[(0.80, 0.83, 0.78)], edgecolors="0.55",
+                                      linewidths=0.5, zorder=0)
+        ax.add_collection3d(self.plate)
+        (self.path,) = ax.plot([], [], [], color="C0", lw=1.2, zorder=1)
+        (self.arrow,) = ax.plot([], [], [], color="C3", lw=2.5, zorder=2)
+        (self.head,) = ax.plot([], [], [], color="C3", marker="o", ms=5, ls="none", zorder=2)
+        self.solids = []
+        for _ in bodies(motion, 0):
+            solid = Poly3DCollection([np.zeros((3, 3))], linewidths=0.0, zorder=3)
+            ax.add_collection3d(solid)
+            self.solids.append(solid)
+        self.arrow_scale = 0.8 * self.plate_half / max(float(np.max(np.hypot(*motion.acc[:, :2].T))), 1e-9)
+        self.title = ax.set_title("", fontsize=8)
+
+    def draw(self, t):
+        """Move every artist to time ``t`` [s]."""
+        m = self.motion
+        i = m.index(t)
+        g = m.ground[i]
+        h = self.plate_half
+        corners = np.array([[-h, -h, 0.0], [h, -h, 0.0], [h, h, 0.0], [-h, h, 0.0]]) + [g[0], g[1], 0.0]
+        self.plate.set_verts([corners])
+        for solid, (shape, pose) in zip(self.solids, self.bodies(m, i)):
+            faces, colours = frustum_faces(shape, pose)
+            solid.set_verts(faces)
+            solid.set_facecolor(colours)
+        drawn = np.isfinite(m.contact[: i + 1, 0])
+        if math.isfinite(m.overturn_time):  # the path ends with the fall
+            drawn &= m.time[: i + 1] < m.overturn_time
+        path = m.contact[: i + 1][drawn] + g[:2]
+        self.path.set_data_3d(path[:, 0], path[:, 1], np.zeros(len(path)))
+        base = g[:2] + np.array([-0.55 * h, -0.55 * h])  # from a corner of the plate, clear of the column
+        tip = base + m.acc[i, :2] * self.arrow_scale
+        self.arrow.set_data_3d([base[0], tip[0]], [base[1], tip[1]], [0.0, 0.0])
+        self.head.set_data_3d([tip[0]], [tip[1]], [0.0])
+        tilt = math.degrees(m.theta[i])
+        state = (f", overturned at {m.overturn_time:.2f} s" if math.isfinite(m.overturn_time)
+                 and t >= m.overturn_time else "")
+        name = {"3d": "3D rolling frustum", "2d": "2D planar rocking"}.get(m.model, m.model)
+        accel = float(np.hypot(*m.acc[i, :2])) / 9.80665
+        self.title.set_text(f"{name}\nt = {m.time[i]:5.2f} s   tilt θ = {tilt:5.2f}° "
+                            f"(θ_crit {math.degrees(m.theta_crit):.1f}°){state}\n"
+                            f"ground acceleration (red arrow) {accel:.2f} g")
+
+
+def frame_times(time, fps, speed=1.0):
+    """Times [s] of the frames: every ``speed / fps`` seconds of motion from the first to the last row.
+
+    With ``speed`` 1 the animation plays in real time.
+    """
+    if not (fps > 0 and speed > 0):
+        raise InputError(f"--fps {fps} and --speed {speed} must be positive numbers")
+    step = speed / fps
+    n = int(math.floor((time[-1] - time[0]) / step + 1e-9)) + 1
+    return time[0] + step * np.arange(n)
+
+
+def check_animation_path(path, option="--out"):
+    """The suffix of ``path`` (``.gif`` or ``.mp4``) if it can be written here; else an InputError saying why."""
+    suffix = os.path.splitext(os.fspath(path))[1].lower()
+    if suffix not in (".gif", ".mp4"):
+        raise InputError(f"{option} {path}: give a file name ending in .gif or .mp4")
+    if suffix == ".mp4":
+        try:
+            import imageio_ffmpeg  # noqa: F401
+        except ImportError:
+            raise InputError(f"{option} {path}: MP4 needs the ffmpeg of imageio-ffmpeg (pip install -e '.[video]'); "
+                             "or write a .gif") from None
+    return suffix
+
+
+def _writer(path, fps):
+    """A matplotlib movie writer for the suffix of ``path``: .gif (Pillow) or .mp4 (ffmpeg of imageio-ffmpeg)."""
+    from matplotlib import animation
+
+    if check_animation_path(path) == ".gif":
+        return animation.PillowWriter(fps=fps)
+    import imageio_ffmpeg
+    import matplotlib
+
+    matplotlib.rcParams["animation.ffmpeg_path"] = imageio_ffmpeg.get_ffmpeg_exe()
+    return animation.FFMpegWriter(fps=fps, codec="libx264", extra_args=["-pix_fmt", "yuv420p"])
+
+
+def _figure(runs, dpi):
+    """(figure, views): one 3D view per run, side by side."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    motions = [Motion(run) for run in runs]
+    fig = plt.figure(figsize=(4.8 * len(motions), 5.2), dpi=dpi)
+    fig.subplots_adjust(left=0.0, right=1.0, bottom=0.0, top=0.86, wspace=0.0)
+    views = [ModelView(fig.add_subplot(1, len(motions), k + 1, projection="3d"), m) for k, m in enumerate(motions)]
+    record = runs[0].attrs.get("record_id", "")
+    fig.suptitle(f"{record}: the column moving with the ground" if record and record != "free-motion"
+                 else "free motion of the column", fontsize=10)
+    return fig, views
+
+
+def render_frame(runs, t, dpi=80):
+    """One frame of :func:`animate` at time ``t`` [s], as an RGB array (height, width, 3) of uint8."""
+    import matplotlib.pyplot as plt
+
+    fig, views = _figure(runs, dpi)
+    try:
+        for view in views:
+            view.draw(t)
+        fig.canvas.draw()
+        return np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()
+    finally:
+        plt.close(fig)
+
+
+def animate(runs, path, fps=10.0, speed=1.0, dpi=80, progress=None):
+    """Write an animation of one or more runs side by side (one 3D view each).
+
+    Parameters
+    ----------
+    runs : list of xarray.Dataset
+        One simulation each (histories over ``time`` alone, same time grid);
+        :func:`pipeline.dataset.one_run`.
+    path : str or os.PathLike
+        ``.gif`` or ``.mp4``; written under a temporary name, then renamed.
+    fps : float
+        Frames per second of the animation [1/s].
+    speed : float
+        Seconds of motion per second of animation [1]: 1 is real time.
+    dpi : float
+        Resolution [dots per inch]; each view is 4.8 x 5.2 inches.
+    progress : callable, optional
+        Called with (frame, n_frames) after each frame.
+
+    Returns
+    -------
+    int
+        Number of frames written.
+    """
+    import matplotlib.pyplot as plt
+
+    path = os.fspath(path)
+    writer = _writer(path, fps)
+    fig, views = _figure(runs, dpi)
+    times = frame_times(views[0].motion.time, fps, speed)
+    try:
+        os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+        with atomic_path(path) as tmp, writer.saving(fig, tmp, dpi):  # the temporary name keeps the suffix
+            for k, t in enumerate(times):
+                for view in views:
+                    view.draw(t)
+                writer.grab_frame()
+                if progress is not None:
+                    progress(k + 1, len(times))
+    finally:
+        plt.close(fig)
+    return len(times)
+
+
+def animate_file(path, out, fps=10.0, speed=1.0, models=None, dpi=80):
+    """Animate a histories file of ``frustum simulate`` (:func:`animate`); every model in it side by side.
+
+    Parameters
+    ----------
+    path : str
+        netCDF written by ``frustum simulate``.
+    out : str
+        ``.gif`` or ``.mp4``.
+    models : list of str, optional
+        Models to draw (default: all in the file).
+
+    Returns
+    -------
+    int
+        Number of frames.
+    """
+    from pipeline.dataset import one_run, open_results
+
+    if not os.path.exists(path):
+        raise InputError(f"{path}: no such file; give the netCDF written by 'frustum simulate'")
+    ds = open_results(path)
+    missing = [name for name in ("time", "theta", "phi", "x_p", "y_p", "column_R") if name not in ds.variables]
+    if missing or "model" not in ds.dims:
+        raise InputError(f"{path}: not a histories file of 'frustum simulate' (missing {', '.join(missing) or 'model'})")
+    if "drum" in ds.dims:
+        raise InputError(f"{path}: a column of drums; its poses per drum are not wired into the animation yet "
+                         "(pipeline.animate: add a bodies function for the drum variables)")
+    available = [str(m) for m in ds["model"].values]
+    models = models or available
+    unknown = [m for m in models if m not in available]
+    if unknown:
+        raise InputError(f"{path}: model(s) {', '.join(unknown)} not in the file; it has {', '.join(available)}")
+    runs = [one_run(ds, model=m) for m in models]
+    return animate(runs, out, fps=fps, speed=speed, dpi=dpi)
+
+
+__all__ = ["check_animation_path", "render_frame", "Shape", "Pose", "euler_rotation", "frustum_faces", "rigid_bodies", "Motion", "ModelView",
+           "frame_times", "animate", "animate_file"]
