@@ -90,6 +90,14 @@ VARIABLES = {
     "ground_acc_x": Var("m s-2", "ground acceleration, X component"),
     "ground_acc_y": Var("m s-2", "ground acceleration, Y component"),
     "ground_acc_z": Var("m s-2", "ground acceleration, vertical component (upwards)"),
+    # compliant-contact model (pipeline.compliant): the base's joint, and per drum
+    "slip": Var("m", "slip path of the base: area-weighted mean plastic slip of its contact points"),
+    "contact_area_fraction": Var("1", "fraction of the base's contact area that carries load"),
+    "drum": Var("1", "drum index, 0 at the bottom (a capital is the last)"),
+    "drum_dx": Var("m", "X displacement of the drum's centre of mass relative to the ground"),
+    "drum_dy": Var("m", "Y displacement of the drum's centre of mass relative to the ground"),
+    "drum_theta": Var("rad", "inclination of the drum's axis from the vertical", degrees=True),
+    "drum_rotation": Var("rad", "rotation of the drum about the vertical (phi + psi), unwrapped"),
     # study results (pipeline.sweep): one value per column, record, angle, scale, model
     "peak_theta": Var("rad", "peak inclination of the column axis from the vertical", degrees=True),
     "peak_theta_ratio": Var("1", "peak inclination over the critical (static overturning) inclination"),
@@ -120,7 +128,7 @@ VARIABLES = {
     # label dimensions: strings on the dimension itself (module docstring)
     "column": Var("1", "label of the column"),
     "record": Var("1", "identifier of the ground-motion record"),
-    "model": Var("1", "model: 3d rolling frustum or 2d planar rocking"),
+    "model": Var("1", "model: 3d rolling frustum, 2d planar rocking or 3d-compliant drums on joints"),
     "earthquake": Var("1", "earthquake (event) of the record"),
     "station": Var("1", "recording station"),
     "year": Var("1", "year of the earthquake (-1: unknown)"),
@@ -343,17 +351,20 @@ def histories_file(runs, column, record):
 
     first = runs[0].attrs
     names = list(dict.fromkeys(n for run in runs for n in run.data_vars))
+    shapes = {n: run[n] for run in reversed(runs) for n in run.data_vars}  # a run that has each variable
     stacked = []
     for run in runs:
         run = run.copy()
-        for name in names:  # 2D has no spin or base-centre path: NaN there
+        for name in names:  # 2D has no spin or base-centre path, the rigid models no drums: NaN there
             if name not in run:
-                run[name] = ("time", np.full(run.sizes["time"], np.nan))
+                like = shapes[name]
+                run[name] = (like.dims, np.full((run.sizes["time"],) + like.shape[1:], np.nan))
+                run = run.assign_coords({d: like[d] for d in like.dims[1:] if d in like.coords})
         stacked.append(run.expand_dims(model=[str(run.attrs["model"])]))
     ds = xr.concat(stacked, dim="model", join="exact", combine_attrs="drop_conflicts")
     for name in ("model", "column_R_m", "column_r_m", "column_h_m", "theta_crit_rad", "incidence_angle_rad", "scale"):
         ds.attrs.pop(name, None)
-    ds = ds.expand_dims(column=[column], record=[record]).transpose("column", "record", "model", "time")
+    ds = ds.expand_dims(column=[column], record=[record]).transpose("column", "record", "model", "time", ...)
     ds = ds.assign_coords(
         column_R=("column", [first["column_R_m"]]),
         column_r=("column", [first["column_r_m"]]),

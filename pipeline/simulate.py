@@ -7,7 +7,9 @@ a :class:`Response`: a summary (peaks, overturning, energy budget, ...) and,
 on request, an ``xarray.Dataset`` of time histories named as in
 :mod:`pipeline.dataset`.
 
-Two models share this interface (``ModelSettings.model``):
+Three models share this interface (``ModelSettings.model``); the third,
+``"3d-compliant"`` (rigid drums on joints of contact points, monolith or
+multi-drum, :mod:`pipeline.compliant`), is dispatched to its own module:
 
 * ``"3d"``: the rolling frustum of the paper. The column is axisymmetric, so
   its response to a record turned by the incidence angle is its response to
@@ -31,9 +33,11 @@ from pipeline.dynamics import frustum as fk
 from pipeline.dynamics import hybrid as hy
 from pipeline.dynamics import rocking as rk
 from pipeline.errors import InputError
+from pipeline.geometry import Column
 from pipeline.units import MARBLE_DENSITY, G, deg_to_rad, time_scale
 
-MODELS = ("3d", "2d")
+MODELS = ("3d", "2d", "3d-compliant")
+COMPLIANT_MODELS = ("3d-compliant",)  # pipeline.compliant: rigid drums on compliant joints
 
 # Geometry the model is meant for: free-standing columns and drums, from
 # squat drums to slender monoliths, from pebbles to the largest monoliths.
@@ -94,8 +98,9 @@ class ModelSettings:
 
     Parameters
     ----------
-    model : {"3d", "2d"}
-        Rolling frustum (the paper) or planar rocking (Housner).
+    model : {"3d", "2d", "3d-compliant"}
+        Rolling frustum (the paper), planar rocking (Housner), or rigid drums
+        on joints of contact points (:mod:`pipeline.compliant`).
     restitution : float, optional
         theta' after / before a landing [1]. Default (None): the impact
         conserves angular momentum about the new pivot (for planar rocking
@@ -126,7 +131,10 @@ class ModelSettings:
     contact_damping : float or None
         Normal dashpots of the joint per unit area, c_n [Pa s/m]; None: the
         critical damping of the column bouncing on its base,
-        ``2 sqrt(k_n m / A)``.
+        ``2 sqrt(k_n m / A)``. The compliant model calibrates it to
+        ``restitution`` instead (:func:`pipeline.compliant.calibrated_damping`);
+        its default target, the rigid value, is out of its reach and gives
+        that critical damping too.
     numerics : tuple of (str, float)
         Overrides of the rigid kernels' numerical thresholds
         (:data:`pipeline.dynamics.hybrid.NUMERICS`: ``landing_margin``,
@@ -138,6 +146,12 @@ class ModelSettings:
         Integration tolerances (dimensionless state).
     output_step : float
         Sampling interval of the time histories [s].
+    joint_stiffness, stiffness_ratio, contact_rings, contact_sectors, joint_friction, \
+anathyrosis, base_anathyrosis, monitor_step
+        Options of the compliant-contact model ``"3d-compliant"`` (there
+        ``normal_stiffness`` and ``friction`` are the base's and
+        ``restitution`` the target of the damping calibration); see
+        :mod:`pipeline.compliant`.
     """
 
     model: str = "3d"
@@ -153,6 +167,14 @@ class ModelSettings:
     rtol: float = 1e-9
     atol: float = 1e-12
     output_step: float = 0.01
+    joint_stiffness: float | None = None
+    stiffness_ratio: float = 0.5
+    contact_rings: int = 3
+    contact_sectors: int = 24
+    joint_friction: float | tuple | None = None
+    anathyrosis: float | tuple = 0.0
+    base_anathyrosis: float = 0.0
+    monitor_step: float = 0.001
 
     def __post_init__(self):
         if self.model not in MODELS:
@@ -191,6 +213,9 @@ class ModelSettings:
                 raise InputError(f"{name} = {value!r} must be a positive number")
         if self.restitution is not None and not (0.0 <= self.restitution <= 1.0):
             raise InputError(f"restitution = {self.restitution!r} must be between 0 and 1 (or omitted)")
+        from pipeline.compliant import check_settings
+
+        check_settings(self)
 
 
 @dataclass(frozen=True)
@@ -336,7 +361,8 @@ def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), 
 
     Parameters
     ----------
-    column : pipeline.geometry.Column
+    column : pipeline.geometry.Column or pipeline.drums.DrumColumn
+        A multi-drum column needs the model ``"3d-compliant"``.
     motion : pipeline.groundmotion.GroundMotion
     excitation : Excitation
         Incidence angle, scale and whether to use the vertical component.
@@ -348,6 +374,10 @@ def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), 
     -------
     Response
     """
+    if settings.model in COMPLIANT_MODELS or not isinstance(column, Column):
+        from pipeline.compliant import simulate_compliant
+
+        return simulate_compliant(column, motion, excitation, settings, histories)
     check_column(column)
     if not isinstance(excitation, Excitation):
         raise InputError(f"excitation must be an Excitation, got {type(excitation).__name__}")

@@ -11,7 +11,7 @@ see docs/studies.md for the full reference)::
 
     title = "Quickstart"
     output = "out/quickstart.nc"     # relative to the study file's folder
-    models = ["3d", "2d"]            # default ["3d"]
+    models = ["3d", "2d"]            # default ["3d"]; also "3d-compliant" (run at every angle)
 
     [[columns]]                      # explicit dimensions ...
     name = "paper"
@@ -72,7 +72,11 @@ _RECORDS = {"ids", "sets", "files", "synthetic"}
 _FILE = {"path", "units", "id", "components", "missing_y", "dt", "processing"}
 _EXCITATION = {"angles", "scales", "intensity", "vertical", "sa_period"}
 _INTENSITY = {"measure", "values", "units"}
-_OPTIONS = {"restitution", "contact_tilt", "damping", "friction", "tail", "rtol", "atol"}
+_OPTIONS = {"restitution", "contact_tilt", "damping", "friction", "tail", "rtol", "atol",
+            # the joints of contact points (normal_stiffness and contact_damping also set the rigid
+            # models' contact patch; the others only the compliant model, models = ["3d-compliant"])
+            "normal_stiffness", "joint_stiffness", "stiffness_ratio", "contact_damping", "contact_rings",
+            "contact_sectors", "joint_friction", "anathyrosis", "base_anathyrosis", "monitor_step"}
 _EXECUTION = {"block_columns"}
 _GENERATORS = ("one_sine_pulse", "cycloidal_pulse", "rectangular_pulse", "ricker_wavelet",
                "mavroeidis_papageorgiou", "harmonic", "kanai_tajimi", "clough_penzien")

@@ -11,7 +11,8 @@ recorded, turned by that angle (:mod:`pipeline.simulate` already runs 3D in the
 record's frame). Every 3D summary value is therefore exactly independent of
 the angle: a task runs 3D once per (column, record, scale) and broadcasts the
 values over the angles. The 2D model (rocking in the plane of the X component
-of the turned pair) is run at every angle.
+of the turned pair) is run at every angle, as is the compliant-contact model
+(``3d-compliant``), whose discrete contact points are not axisymmetric.
 
 Nothing is lost: each finished task is written, atomically, to a checkpoint
 folder next to the output (``OUTPUT.checkpoint/``) by the process that drives
@@ -1035,7 +1036,9 @@ def assemble(study, motions, measures, factors, arrays):
         ds["sa"].attrs["long_name"] += f" (period {study.sa_period:g} s)"
     ds["angle"].attrs["comment"] = "degrees counter-clockwise; 3D results do not depend on it (axisymmetry)"
     ds["model"].attrs["comment"] = ("3d: rigid conical frustum rolling on the rim of its base (the paper); "
-                                    "2d: planar rocking in the vertical plane of the X component of the turned pair")
+                                    "2d: planar rocking in the vertical plane of the X component of the turned pair; "
+                                    "3d-compliant: rigid body on a joint of contact points (spring-dashpots, "
+                                    "elastic-Coulomb friction), run at every angle")
     ds.attrs.update({
         "title": study.title,
         "summary": study.summary or (

@@ -24,6 +24,9 @@ examples:
     frustum simulate --column 0.5,0.4,4 --record RSN6_ELC180.AT2 --missing-y zero --out r.nc
   an OpenSees input: one column in g, 0.01 s apart:
     frustum simulate --column 0.5,0.4,4 --record elcentro.g3 --units g --dt 0.01 --missing-y zero --out r.nc
+  the compliant-contact model: the same column as 6 drums on joints of contact points:
+    frustum simulate --column 0.5,0.4,4 --model 3d-compliant --drums 6 --joint-friction 0.6 \\
+        --record FEMA-FF-01 --out drums.nc
   free motion released on the rim (the paper's Section 4 case, rates in rad/s):
     frustum simulate --column 0.5,0.4,4 --theta0 10 --phi-dot0 0.44 --psi-dot0 -0.89 \\
         --duration 20 --out free.nc
@@ -55,9 +58,10 @@ def register(subparsers):
                        help="incidence angle: the horizontal pair is turned counter-clockwise [deg] (default 0)")
     quake.add_argument("--scale", type=float, default=1.0, help="factor on the record [1] (default 1)")
     quake.add_argument("--no-vertical", action="store_true", help="ignore the record's vertical component")
-    quake.add_argument("--model", default="3d", metavar="3d|2d|3d,2d",
-                       help="3d: rolling frustum (the paper); 2d: planar rocking in the X plane; 3d,2d: both, "
-                       "in one file along the model dimension (default 3d)")
+    quake.add_argument("--model", default="3d", metavar="3d|2d|3d-compliant|3d,2d",
+                       help="3d: rolling frustum (the paper); 2d: planar rocking in the X plane; 3d-compliant: "
+                       "rigid drums on joints of contact points; several, comma-separated: in one file along "
+                       "the model dimension (default 3d)")
     quake.add_argument("--tail", type=float, default=5.0, metavar="S",
                        help="free motion after the record ends [s] (default 5)")
     quake.add_argument("--contact-tilt", type=float, default=None, metavar="DEG",
@@ -71,6 +75,21 @@ def register(subparsers):
     quake.add_argument("--plot", metavar="FILE.png",
                        help="also draw theta, contact path, mu_mob and excitation (any format matplotlib writes: "
                        ".png, .pdf, .svg, ...; with two models, one file per model: FILE_3d.png, FILE_2d.png)")
+    joints = p.add_argument_group("compliant-contact model (--model 3d-compliant)")
+    joints.add_argument("--drums", type=int, default=None, metavar="N",
+                        help="cut the column into N drums of equal height (1: the monolith)")
+    joints.add_argument("--drum-heights", default=None, metavar="H1,H2,...",
+                        help="heights of the drums bottom first [m], adding up to h (instead of --drums)")
+    joints.add_argument("--capital", default=None, metavar="SIDE,HEIGHT",
+                        help="a square capital block on top, side and height [m]")
+    joints.add_argument("--joint-friction", type=float, default=None, metavar="MU",
+                        help="friction coefficient of the bed joints [1] (default: --friction, the base's)")
+    joints.add_argument("--normal-stiffness", type=float, default=None, metavar="PA_M",
+                        help="normal stiffness of the base per unit area [Pa/m] (default 1e10)")
+    joints.add_argument("--joint-stiffness", type=float, default=None, metavar="PA_M",
+                        help="normal stiffness of the bed joints per unit area [Pa/m] (default: the base's)")
+    joints.add_argument("--anathyrosis", type=float, default=0.0, metavar="RATIO",
+                        help="inner/outer radius of the bed joints' contact ring [1] (default 0: full)")
     free = p.add_argument_group("initial state (free motion)")
     for name, unit, default, text in [  # noqa: B007
         ("phi0", "deg", 0.0, "precession angle"),
@@ -113,7 +132,7 @@ def run_simulate(args):
     for name in ("rtol", "atol"):
         if getattr(args, name) is not None:
             check_tolerance(name, getattr(args, name), f"--{name}")
-    column = Column.parse(args.column, density=args.density)
+    column = _drum_column(args, Column.parse(args.column, density=args.density))
     models = _models(args.model)
     if args.animate:
         from pipeline.animate import check_animation_path
@@ -122,10 +141,12 @@ def run_simulate(args):
     if args.record:
         runs = _earthquake(args, column, models)
     else:
-        if models != ["3d"]:
-            raise InputError(f"--model {args.model}: a free motion is the 3D rolling frustum only (drop --model)")
+        if models != ["3d"] or not isinstance(column, Column):
+            raise InputError(f"--model {args.model}: a free motion is the 3D rolling frustum only (drop --model "
+                             "and the drum options)")
         runs = [_free(args, column)]
-    label = f"R{column.R:g}-r{column.r:g}-h{column.h:g}"
+    outline = getattr(column, "column", column)
+    label = f"R{outline.R:g}-r{outline.r:g}-h{outline.h:g}"
     ds = histories_file([h for h, _ in runs], column=label, record=runs[0][0].attrs.get("record_id", "free-motion"))
     append_history(ds, "frustum simulate " + " ".join(_argv_echo(args)))
     write_netcdf(ds, args.out)
@@ -136,6 +157,8 @@ def run_simulate(args):
             line += (f" ({summary['peak_theta_ratio']:.2f} theta_crit), "
                      f"{'overturned at %.2f s' % summary['overturn_time'] if summary['overturned'] else 'stands'}, "
                      f"{summary['n_impacts']} impacts, peak mu_mob = {summary['peak_mu_mob']:.2f}")
+            if model == "3d-compliant":
+                line += _joints_line(summary)
         print(line)
     print(f"wrote {args.out}")
     if args.plot:
@@ -154,10 +177,48 @@ def run_simulate(args):
 
 
 def _models(text):
+    from pipeline.simulate import MODELS
+
     models = [m.strip() for m in str(text).split(",") if m.strip()]
-    if not models or any(m not in ("3d", "2d") for m in models) or len(set(models)) != len(models):
-        raise InputError(f"--model {text}: give 3d, 2d or 3d,2d")
+    if not models or any(m not in MODELS for m in models) or len(set(models)) != len(models):
+        raise InputError(f"--model {text}: give one or more of {', '.join(MODELS)}, comma-separated (e.g. 3d,2d)")
     return models
+
+
+def _joints_line(summary):
+    """The compliant model's slip and, for drums, their peak tilts and residual joint slips."""
+    line = f", slip at the base {summary['slip']:.3g} m"
+    if summary["n_drums"] > 1:
+        line += "; drum peak tilts " + ", ".join(f"{math.degrees(t):.2f}" for t in summary["drum_peak_theta"])
+        line += " deg; residual joint slips " + ", ".join(f"{x * 1e3:.1f}" for x in summary["joint_slip"]) + " mm"
+    return line
+
+
+def _drum_column(args, column):
+    """The column as drums when any drum option is given (the compliant model then)."""
+    from pipeline.drums import Capital, DrumColumn
+
+    if args.drums is None and args.drum_heights is None and args.capital is None:
+        return column
+    if args.drums is not None and args.drum_heights is not None:
+        raise InputError("give --drums N or --drum-heights H1,H2,..., not both")
+    capital = None
+    if args.capital is not None:
+        parts = _floats(args.capital, "--capital", "SIDE,HEIGHT")
+        if len(parts) != 2:
+            raise InputError(f"--capital {args.capital!r}: give the side and the height of the block in metres, "
+                             "e.g. 2.0,0.6")
+        capital = Capital(*parts)
+    if args.drum_heights is not None:
+        return DrumColumn.from_heights(column, _floats(args.drum_heights, "--drum-heights", "H1,H2,..."), capital)
+    return DrumColumn.equal(column, 1 if args.drums is None else args.drums, capital)
+
+
+def _floats(text, option, form):
+    try:
+        return [float(x) for x in str(text).split(",")]
+    except ValueError:
+        raise InputError(f"{option} {text!r}: give numbers in metres as {form}") from None
 
 
 def _suffixed(path, model):
@@ -180,7 +241,8 @@ def _earthquake(args, column, models):
         settings = ModelSettings(
             model=model, restitution=args.restitution, contact_tilt=args.contact_tilt, damping=args.damping,
             friction=args.friction, tail=args.tail, rtol=_given(args.rtol, 1e-9), atol=_given(args.atol, 1e-12),
-            output_step=args.output_step,
+            output_step=args.output_step, normal_stiffness=_given(args.normal_stiffness, 1.0e10),
+            joint_stiffness=args.joint_stiffness, joint_friction=args.joint_friction, anathyrosis=args.anathyrosis,
         )
         response = simulate(column, motion, excitation, settings)
         runs.append((response.histories, response.summary))
@@ -228,6 +290,7 @@ def _check_history_memory(duration, output_step, what):
 
 def _argv_echo(args):
     keys = ("column", "density", "record", "units", "components", "missing_y", "dt", "baseline", "angle", "scale", "model", "tail", "contact_tilt", "damping",
-            "friction", "phi0", "theta0", "psi0", "phi_dot0", "theta_dot0", "psi_dot0",
+            "friction", "drums", "drum_heights", "capital", "joint_friction", "normal_stiffness", "joint_stiffness",
+            "anathyrosis", "phi0", "theta0", "psi0", "phi_dot0", "theta_dot0", "psi_dot0",
             "duration", "output_step", "rtol", "atol", "restitution", "out")
     return [f"--{k.replace('_', '-')} {getattr(args, k)}" for k in keys if getattr(args, k, None) is not None]

@@ -1,0 +1,165 @@
+"""Speed of the compliant-contact model (3d-compliant): one record, a fragility, the discretisation, drums.
+
+Parts (run by hand, one or several):
+
+* ``record``: the paper's column (R = 0.5, r = 0.4, h = 4 m) under FEMA P695 far-field record
+  1, both components, 30.0 s + 5 s of free tail, scales 1 and 2: wall time of ``simulate()``
+  (no histories, best of ``--repeat``), steps, rejected steps, right-hand sides, and the rigid
+  3d model's time in the same run.
+* ``fragility``: the 22 far-field pairs at ``--stripes`` scale levels (default 0.5, 1, 2, 3):
+  the mean cost per run, and what a 22 x 11 fragility of one column (242 runs) takes on two
+  cores, one run per core at a time (the sweep's layout).
+* ``discretisation``: contact rings x sectors on records 1-6 at scale 1: cost, and the change of
+  peak tilt against a fine reference (4 x 48). Single runs of a wobbling column are chaotic
+  (docs/model.md), so the pooled mean and median of |peak change| are what to read.
+* ``drums``: the paper's column cut into 1, 3 and 10 drums (joint friction 0.6) under record 1:
+  cost per run and per drum.
+
+The first call compiles the kernel (~40 s) unless the numba cache is warm; it is not timed.
+
+Run by hand:  python benchmarks/bench_compliant.py record fragility discretisation drums [--json out.json]
+"""
+
+import argparse
+import json
+import math
+import os
+import platform
+import statistics
+import time
+
+PAPER = (0.5, 0.4, 4.0)
+
+
+def _simulate(column, motion, scale=1.0, angle=0.0, **options):
+    from pipeline.simulate import Excitation, ModelSettings, simulate
+
+    settings = ModelSettings(**{"model": "3d-compliant", **options})
+    t0 = time.perf_counter()
+    s = simulate(column, motion, Excitation(angle=angle, scale=scale), settings, histories=False).summary
+    return time.perf_counter() - t0, s
+
+
+def _warm(motion):
+    from pipeline.geometry import Column
+
+    _simulate(Column(*PAPER), motion, tail=0.0)  # compiles (or loads) the kernel, calibrates once
+
+
+def bench_record(repeat):
+    from pipeline.geometry import Column
+    from pipeline.groundmotion import load
+
+    column, motion = Column(*PAPER), load("FEMA-FF-01")
+    _warm(motion)
+    rows = []
+    for scale in (1.0, 2.0):
+        best, s = min((_simulate(column, motion, scale) for _ in range(repeat)), key=lambda x: x[0])
+        rigid = min(_simulate(column, motion, scale, model="3d")[0] for _ in range(repeat))
+        rows.append({"scale": scale, "seconds": best, "rigid_3d_seconds": rigid, "steps": s["steps"],
+                     "rejected": s["rejected_steps"], "rhs": s["rhs_evaluations"],
+                     "peak_theta_ratio": s["peak_theta_ratio"], "overturned": s["overturned"],
+                     "balance_over_work": s["energy_balance_error"] / s["work_ground"]})
+        print(f"record FEMA-FF-01 x {scale:g}: {best:.2f} s per run (rigid 3d {rigid * 1e3:.1f} ms), "
+              f"{s['steps']} steps + {s['rejected_steps']} rejected, {s['rhs_evaluations']} rhs, "
+              f"{best / s['rhs_evaluations'] * 1e6:.2f} us per rhs; peak {s['peak_theta_ratio']:.2f} theta_crit, "
+              f"{'overturned' if s['overturned'] else 'stands'}; energy balance "
+              f"{s['energy_balance_error'] / s['work_ground']:.1e} of the work", flush=True)
+    return rows
+
+
+def bench_fragility(stripes):
+    from pipeline.geometry import Column
+    from pipeline.groundmotion import list_records, load
+
+    column = Column(*PAPER)
+    ids = list_records("FEMA-FF")
+    motions = [load(i) for i in ids]
+    _warm(motions[0])
+    costs, over = [], 0
+    for motion in motions:
+        for scale in stripes:
+            seconds, s = _simulate(column, motion, scale, angle=17.0)
+            costs.append(seconds)
+            over += s["overturned"]
+    mean = statistics.mean(costs)
+    total = 242 * mean / 2.0
+    print(f"fragility: {len(costs)} runs ({len(ids)} pairs x scales {', '.join(f'{x:g}' for x in stripes)}), "
+          f"{over} overturned; mean {mean:.2f} s per run (median {statistics.median(costs):.2f}, max "
+          f"{max(costs):.2f}); 242 runs on 2 cores: {total / 60:.1f} min "
+          f"({'under' if total < 900 else 'over'} the 15 min budget of 7.4 s per run per core)", flush=True)
+    return {"runs": len(costs), "mean_seconds": mean, "median_seconds": statistics.median(costs),
+            "max_seconds": max(costs), "overturned": over, "minutes_242_on_2_cores": total / 60}
+
+
+def bench_discretisation():
+    from pipeline.geometry import Column
+    from pipeline.groundmotion import load
+
+    column = Column(*PAPER)
+    motions = [load(f"FEMA-FF-{i:02d}") for i in range(1, 7)]
+    _warm(motions[0])
+    variants = [(3, 48), (4, 48), (3, 16), (3, 24), (3, 32), (2, 24), (4, 24)]
+    results = {}
+    for rings, sectors in variants:
+        runs = [_simulate(column, m, contact_rings=rings, contact_sectors=sectors) for m in motions]
+        results[(rings, sectors)] = runs
+    reference = results[(4, 48)]
+    rows = []
+    for (rings, sectors), runs in results.items():
+        cost = statistics.mean(r[0] for r in runs)
+        change = [abs(r[1]["peak_theta"] / ref[1]["peak_theta"] - 1) for r, ref in zip(runs, reference)]
+        same = sum(r[1]["overturned"] == ref[1]["overturned"] for r, ref in zip(runs, reference))
+        rows.append({"rings": rings, "sectors": sectors, "mean_seconds": cost, "mean_peak_change": statistics.mean(change),
+                     "median_peak_change": statistics.median(change), "same_outcome": same})
+        print(f"{rings} rings x {sectors:2d} sectors: {cost:.2f} s per run; |peak change| vs 4 x 48: mean "
+              f"{statistics.mean(change):.1%}, median {statistics.median(change):.1%}; same outcome {same}/{len(runs)}",
+              flush=True)
+    return rows
+
+
+def bench_drums():
+    from pipeline.drums import DrumColumn
+    from pipeline.geometry import Column
+    from pipeline.groundmotion import load
+
+    column, motion = Column(*PAPER), load("FEMA-FF-01")
+    _warm(motion)
+    rows = []
+    for n in (1, 3, 10):
+        seconds, s = _simulate(DrumColumn.equal(column, n), motion, joint_friction=0.6)
+        rows.append({"drums": n, "seconds": seconds, "per_drum": seconds / n, "steps": s["steps"],
+                     "rejected": s["rejected_steps"], "peak_theta_ratio": s["peak_theta_ratio"],
+                     "overturned": s["overturned"], "balance_over_work": s["energy_balance_error"] / s["work_ground"]})
+        print(f"{n:2d} drum(s): {seconds:.1f} s per run, {seconds / n:.1f} s per drum, {s['steps']} steps + "
+              f"{s['rejected_steps']} rejected; peak {s['peak_theta_ratio']:.2f} theta_crit, "
+              f"{'overturned' if s['overturned'] else 'stands'}; energy balance "
+              f"{s['energy_balance_error'] / s['work_ground']:.1e} of the work", flush=True)
+    return rows
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("parts", nargs="+", choices=("record", "fragility", "discretisation", "drums"))
+    parser.add_argument("--repeat", type=int, default=2)
+    parser.add_argument("--stripes", default="0.5,1,2,3", help="scale levels of the fragility sample")
+    parser.add_argument("--json", help="also write the numbers to this file")
+    args = parser.parse_args()
+    print(f"{platform.machine()} {platform.processor() or ''}, {os.cpu_count()} cores, load average "
+          f"{', '.join(f'{x:.2f}' for x in os.getloadavg())}", flush=True)
+    out = {}
+    if "record" in args.parts:
+        out["record"] = bench_record(args.repeat)
+    if "fragility" in args.parts:
+        out["fragility"] = bench_fragility([float(x) for x in args.stripes.split(",")])
+    if "discretisation" in args.parts:
+        out["discretisation"] = bench_discretisation()
+    if "drums" in args.parts:
+        out["drums"] = bench_drums()
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump(out, f, indent=2)
+
+
+if __name__ == "__main__":
+    main()

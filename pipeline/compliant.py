@@ -1,0 +1,660 @@
+"""The compliant-contact model: a column of rigid drums on joints of contact points.
+
+Friendly layer over :mod:`pipeline.dynamics.stack`: builds the dimensionless tables of a
+monolith or of a multi-drum column (:class:`pipeline.drums.DrumColumn`), sets the normal
+damping from a target coefficient of restitution (:func:`calibrated_damping`), runs the
+compiled kernel and returns a :class:`pipeline.simulate.Response` with the rigid models'
+summary keys and history names (docs/model.md, "The compliant-contact model").
+"""
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+from scipy.optimize import brentq
+
+from pipeline.drums import DrumColumn
+from pipeline.dynamics import joint as jl
+from pipeline.dynamics import stack as sk
+from pipeline.errors import InputError
+from pipeline.geometry import Column
+from pipeline.units import G
+
+# Joint defaults for marble and limestone drums (docs/model.md, "Joint parameters").
+NORMAL_STIFFNESS = 1.0e10  # k_n [Pa/m]
+STIFFNESS_RATIO = 0.5  # k_s / k_n [1]
+CONTACT_RINGS = 3  # Gauss-Lobatto nodes in radius (centre dropped): rings at R/2 and R
+CONTACT_SECTORS = 24  # points per ring
+
+
+@dataclass(frozen=True)
+class Assembly:
+    """Dimensionless tables of one column for the kernel, and the reference scales.
+
+    Attributes
+    ----------
+    bodies, points, joint_start, joints : numpy.ndarray
+        Tables of :mod:`pipeline.dynamics.stack` (weights not yet set).
+    length : float
+        Reference length L, the base radius [m].
+    mass : float
+        Total mass M [kg].
+    time : float
+        sqrt(L/g) [s].
+    body_lie : tuple of float
+        Lying tilt of each body [rad].
+    """
+
+    bodies: np.ndarray
+    points: np.ndarray
+    joint_start: np.ndarray
+    joints: np.ndarray
+    length: float
+    mass: float
+    time: float
+    body_lie: tuple
+
+    @property
+    def n_bodies(self):
+        return self.bodies.shape[0]
+
+    def params(self, record=None, dt=1.0):
+        """Kernel parameters with a record (n, 3) [g] sampled every dt [tau]."""
+        record = np.zeros((0, 3)) if record is None else record
+        return sk.make_params(self.bodies.copy(), self.points, self.joint_start, self.joints, record, dt)
+
+
+def lying_tilt(R, r, h):
+    """Tilt at which the side of a frustum (R, r, h) touches the ground [rad].
+
+    Pivoting on its rim, the generator through the pivot leans inwards by atan((R - r)/h)
+    when upright, so it reaches the ground at ``pi/2 + atan((R - r)/h)`` (91.43 deg for
+    R = 0.5, r = 0.4, h = 4 m; 90 deg for a cylinder or a block).
+    """
+    return 0.5 * math.pi + math.atan((R - r) / h)
+
+
+def as_stack(column):
+    """A :class:`DrumColumn` from a Column (the monolith) or a DrumColumn."""
+    if isinstance(column, DrumColumn):
+        return column
+    if isinstance(column, Column):
+        return DrumColumn(column)
+    raise InputError(f"column must be a Column or a DrumColumn, got {type(column).__name__}")
+
+
+def _per_joint(value, n, name, default):
+    """One value per bed joint (n of them) from None, a number or a sequence."""
+    if value is None:
+        return [default] * n
+    if isinstance(value, (int, float)):
+        return [float(value)] * n
+    values = [float(v) for v in value]
+    if len(values) != n:
+        raise InputError(f"{name} has {len(values)} values for {n} bed joint(s): give one number, or one per joint")
+    return values
+
+
+def assemble(column, settings, damping):
+    """Dimensionless tables of a column for :mod:`pipeline.dynamics.stack`.
+
+    Parameters
+    ----------
+    column : pipeline.geometry.Column or pipeline.drums.DrumColumn
+    settings : pipeline.simulate.ModelSettings
+        Joint stiffness, ratio, friction, contact points, anathyrosis.
+    damping : float
+        Normal damping per unit area c_n [Pa s/m] of the base; a bed joint of another
+        stiffness gets the same damping ratio, c_n sqrt(k_joint / k_n).
+
+    Returns
+    -------
+    Assembly
+    """
+    stack = as_stack(column)
+    density = stack.density
+    drums = stack.drums()
+    L = stack.column.R
+    # bodies: (mass [kg], transverse and axial central inertia [kg m^2], z_cm, top height,
+    # top radius, contact radius of the base [m], lying tilt)
+    rows = []
+    for d in drums:
+        m = density * d.volume
+        a, c = d.central_inertia_hat
+        rows.append((m, a * m * d.R**2, c * m * d.R**2, d.z_cm, d.h, d.r, d.R, lying_tilt(d.R, d.r, d.h)))
+    if stack.capital is not None:
+        cap = stack.capital
+        it, ia = cap.inertia(density)
+        rows.append((cap.mass(density), it, ia, 0.5 * cap.height, cap.height, 0.5 * cap.side, drums[-1].r,
+                     0.5 * math.pi))
+    M = sum(r[0] for r in rows)
+    T = math.sqrt(L / G)
+    n = len(rows)
+    bodies = np.zeros((n, sk.N_BODY_COLS))
+    for b, (m, it, ia, zc, top, top_r, _base_r, lie) in enumerate(rows):
+        bodies[b, sk.B_MASS] = m / M
+        bodies[b, sk.B_IT] = it / (M * L * L)
+        bodies[b, sk.B_IA] = ia / (M * L * L)
+        bodies[b, sk.B_ZC] = zc / L
+        bodies[b, sk.B_TOP] = top / L
+        bodies[b, sk.B_TOP_R] = top_r / L
+        bodies[b, sk.B_WEIGHT] = m / M
+        bodies[b, sk.B_COS_LIE] = math.cos(lie)
+    friction = [settings.friction] + _per_joint(settings.joint_friction, n - 1, "joint_friction", settings.friction)
+    inner = [settings.base_anathyrosis] + _per_joint(settings.anathyrosis, n - 1, "anathyrosis", 0.0)
+    force = M * G  # force unit
+    # the base on the ground, then the bed joints (their own stiffness if given); the damping
+    # keeps its ratio to the stiffness, as the calibrated c_n has at the base
+    stiffness = [settings.normal_stiffness] + [settings.joint_stiffness or settings.normal_stiffness] * (n - 1)
+    points, starts = [], [0]
+    joints = np.zeros((n, sk.N_JOINT_COLS))
+    above = np.cumsum(bodies[::-1, sk.B_MASS])[::-1]
+    for b, row in enumerate(rows):
+        radius = row[6] / L
+        kn = stiffness[b] * L**3 / force
+        ks = settings.stiffness_ratio * kn
+        cn = damping * math.sqrt(stiffness[b] / settings.normal_stiffness) * L**3 / (force * T)
+        pts = jl.contact_points(radius, inner[b] * radius, settings.contact_rings, settings.contact_sectors)
+        table = np.zeros((len(pts), sk.N_POINT_COLS))
+        table[:, sk.P_X], table[:, sk.P_Y], table[:, sk.P_AREA] = pts[:, 0], pts[:, 1], pts[:, 2]
+        table[:, sk.P_Z] = -bodies[b, sk.B_ZC]
+        points.append(table)
+        starts.append(starts[-1] + len(pts))
+        area = sum(pts[:, 2].tolist())  # summed in the kernel's order: full contact is exactly 1
+        ring_radii = np.unique(np.round(np.hypot(pts[:, 0], pts[:, 1]), 9))  # one radius per ring
+        joints[b, sk.J_KN] = kn
+        joints[b, sk.J_KS] = ks
+        joints[b, sk.J_MU] = friction[b]
+        joints[b, sk.J_CN] = cn
+        # returns to the friction cone on the time scale of the joint's own shear vibration
+        joints[b, sk.J_TAU] = math.sqrt(above[b] / (ks * area))
+        # the rim patch runs off the face below over half the spacing of the outer rings
+        joints[b, sk.J_BAND] = 0.5 * (ring_radii[-1] - ring_radii[-2]) if len(ring_radii) > 1 else 0.5 * radius
+        joints[b, sk.J_AREA] = area
+        # rocking on the rim: the centre of pressure beyond the chord joining the neighbours
+        # of a rim point (any share of the load among a pivot point and its two neighbours,
+        # which a compliant pivot presses in too); landed again: back inside half the radius
+        joints[b, sk.J_RIM] = radius * math.cos(2.0 * math.pi / settings.contact_sectors)
+        joints[b, sk.J_LAND] = 0.5 * radius
+        joints[b, sk.J_DELTA] = above[b] / (kn * area)  # the static penetration
+        # the elastic shear displacement at the cap under the joint's mean pressure
+        joints[b, sk.J_UFLOOR] = friction[b] * joints[b, sk.J_DELTA] / settings.stiffness_ratio
+    return Assembly(bodies, np.concatenate(points), np.array(starts, dtype=np.int64), joints, L, M, T,
+                    tuple(r[7] for r in rows))
+
+
+# -- settings --------------------------------------------------------------------------------
+
+_STIFFNESS = (1e6, 1e14, "Pa/m", "normal stiffness of the joints per unit area")
+_RANGES = {  # name: (low, high, unit, what)
+    "stiffness_ratio": (1e-3, 10.0, "", "shear/normal stiffness ratio of the joints"),
+    "base_anathyrosis": (0.0, 0.95, "", "inner/outer radius of the base's contact ring (0: full disc)"),
+    "monitor_step": (1e-5, 1.0, "s", "sampling interval of the peak and contact statistics"),
+}
+
+
+def _number(value, name, lo, hi, unit, what):
+    ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+    if not (ok and lo <= value <= hi):
+        raise InputError(f"{name} = {value!r} {unit}: the {what} must be a number in [{lo:g}, {hi:g}]".replace("  ", " "))
+    return float(value)
+
+
+def _whole(settings, name, lo, hi, even=False):
+    value = getattr(settings, name)
+    ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value) and value == int(value)
+    if not (ok and lo <= value <= hi and (not even or int(value) % 2 == 0)):
+        kind = "an even whole number" if even else "a whole number"
+        raise InputError(f"{name} = {value!r} must be {kind} from {lo} to {hi}")
+    object.__setattr__(settings, name, int(value))
+
+
+def _number_or_list(settings, name, lo, hi, what):
+    value = getattr(settings, name)
+    if value is None:
+        return
+    if isinstance(value, (list, tuple)):
+        checked = tuple(_number(v, f"{name}[{i}]", lo, hi, "", what) for i, v in enumerate(value))
+        if not checked:
+            raise InputError(f"{name} is an empty list: give one number, or one per bed joint (bottom first)")
+        object.__setattr__(settings, name, checked)
+    else:
+        object.__setattr__(settings, name, _number(value, name, lo, hi, "", what))
+
+
+def check_settings(settings):
+    """Check (and normalise) the compliant-model fields of a ModelSettings, naming the field.
+
+    Called by ``ModelSettings.__post_init__`` for every model: the fields exist for all.
+    Whole-number fields given as floats (study files) become ints; lists become tuples.
+    """
+    for name, (lo, hi, unit, what) in _RANGES.items():
+        object.__setattr__(settings, name, _number(getattr(settings, name), name, lo, hi, unit, what))
+    _whole(settings, "contact_rings", 2, 8)
+    _whole(settings, "contact_sectors", 4, 256, even=True)
+    if settings.joint_stiffness is not None:
+        lo, hi, unit, _ = _STIFFNESS
+        object.__setattr__(settings, "joint_stiffness", _number(
+            settings.joint_stiffness, "joint_stiffness", lo, hi, unit, "normal stiffness of the bed joints per unit area"))
+    if settings.contact_damping is not None:
+        object.__setattr__(settings, "contact_damping", _number(
+            settings.contact_damping, "contact_damping", 0.0, 1e12, "Pa s/m",
+            "normal damping of the joints per unit area (omit it to calibrate it to the restitution)"))
+    _number_or_list(settings, "joint_friction", 1e-3, 100.0, "friction coefficient of the bed joints")
+    _number_or_list(settings, "anathyrosis", 0.0, 0.95, "inner/outer radius of the bed joints' contact ring")
+    if settings.model == "3d-compliant":
+        # the rigid models also take an infinite stiffness and friction (the paper's point contact
+        # rolling without slip); the joints of contact points need finite ones
+        _number(settings.normal_stiffness, "normal_stiffness", *_STIFFNESS)
+        if not math.isfinite(settings.friction):
+            raise InputError("friction = inf is the rigid models' rolling without slip; the compliant model "
+                             "needs a finite friction coefficient at the base (e.g. 10 for no sliding)")
+
+
+# -- damping from a coefficient of restitution -------------------------------------------------
+
+# Largest damping the calibration considers: critical damping of the column bouncing on its
+# full base. Beyond it the restitution hardly changes (docs/model.md) and the stiff dashpot
+# only shortens the steps.
+MAX_DAMPING_RATIO = 1.0
+RELEASE_TILT = 0.3  # release tilt of the calibration, per theta_crit
+
+
+def critical_damping(column, settings):
+    """Normal damping per unit area [Pa s/m] that critically damps the monolith's bounce.
+
+    ``2 sqrt(k_n A M) / A`` for the column (mass M) on its full base (area A).
+    """
+    stack = as_stack(column)
+    c = stack.column
+    mass = stack.density * c.volume + (stack.capital.mass(stack.density) if stack.capital else 0.0)
+    area = math.pi * c.R**2 * (1.0 - settings.base_anathyrosis**2)
+    return 2.0 * math.sqrt(settings.normal_stiffness * mass / area)
+
+
+def released_state(asm, params, theta):
+    """A monolith tilted by theta [rad] towards +x, still, on its rim point at (R, 0).
+
+    The pivot point is pressed in by the whole weight (its static penetration); the rest of
+    the base is in the air.
+    """
+    y = sk.rest_state(params)
+    bodies = params[0]
+    q = (math.cos(0.5 * theta), 0.0, math.sin(0.5 * theta), 0.0)
+    rot = np.empty(9)
+    sk.rotation_matrix(*q, rot)
+    rot = rot.reshape(3, 3)
+    radius = float(np.max(np.hypot(asm.points[:, sk.P_X], asm.points[:, sk.P_Y])))
+    pivot = rot @ np.array([radius, 0.0, -bodies[0, sk.B_ZC]])
+    rim = int(np.argmax(asm.points[:, sk.P_X]))  # the rim point on the +x axis
+    sink = bodies[0, sk.B_WEIGHT] / (asm.joints[0, sk.J_KN] * asm.points[rim, sk.P_AREA])
+    y[sk.QW:sk.QZ + 1] = q
+    y[sk.X] = -pivot[0]
+    y[sk.Z] = -pivot[2] - sink
+    return y
+
+
+def planar_restitution(column, settings, damping, amplitude=RELEASE_TILT):
+    """Coefficient of restitution of planar rocking of the compliant monolith [1].
+
+    The column is released still, tilted by ``amplitude`` theta_crit towards a rim point; it
+    falls, lands on its base and rocks up on the other side. As in the rigid model,
+    ``theta'_after = e theta'_before``; the rebound peak theta_1 gives it through the energy
+    of rocking: ``e^2 = (cos(a - theta_1) - cos a) / (cos(a - theta_0) - cos a)``,
+    a = theta_crit.
+
+    Parameters
+    ----------
+    column : pipeline.geometry.Column or pipeline.drums.DrumColumn
+        Its outline is used, as one body.
+    settings : pipeline.simulate.ModelSettings
+    damping : float
+        Normal damping per unit area c_n [Pa s/m].
+    amplitude : float
+        Release tilt per theta_crit [1].
+
+    Returns
+    -------
+    float
+    """
+    outline = as_stack(column).column
+    outline = Column(outline.R, outline.r, outline.h, density=as_stack(column).density)
+    asm = assemble(outline, settings, damping)
+    params = asm.params()
+    alpha = outline.critical_tilt
+    theta0 = amplitude * alpha
+    y0 = released_state(asm, params, theta0)
+    # the rigid column falls in (1/p) acosh(alpha / (alpha - theta0)) (linearised rocking)
+    fall = math.acosh(alpha / (alpha - theta0)) / outline.frequency_parameter()
+    tilt, _raw = _run_free(asm, params, y0, 2.6 * fall, monitor=min(2e-4, fall / 200.0))
+    low = int(np.argmax(tilt < 0.5 * theta0))
+    bottom = low + int(np.argmax(np.diff(tilt[low:]) > 0.0))
+    top = bottom + int(np.argmax(np.diff(tilt[bottom:]) < 0.0))
+    if top <= bottom or top >= len(tilt) - 1:
+        raise RuntimeError("the calibration's rocking found no rebound peak; check the joint parameters")
+    theta1 = _parabola_peak(tilt[top - 1:top + 2])
+    drop = math.cos(alpha - theta0) - math.cos(alpha)
+    return math.sqrt(max(0.0, math.cos(alpha - theta1) - math.cos(alpha)) / drop)
+
+
+def _parabola_peak(three):
+    """Peak of the parabola through three equally spaced samples around a maximum."""
+    a, b, c = three
+    curv = a - 2.0 * b + c
+    return b if curv >= 0.0 else b - 0.125 * (c - a) ** 2 / curv
+
+
+def _run_free(asm, params, y0, duration, monitor):
+    """Run without ground motion; the top body's tilt every ``monitor`` seconds, and the raw run."""
+    raw = _integrate(asm, params, y0, duration, monitor, 1, rtol=1e-9, atol=1e-12, histories=True)
+    return raw.hist_body[:, -1, sk.H_TILT], raw
+
+
+@lru_cache(maxsize=256)
+def _calibrated(outline, settings_key, target):
+    settings = _settings_from_key(settings_key)
+    critical = critical_damping(outline, settings)
+
+    def e(ratio):
+        return planar_restitution(outline, settings, ratio * critical)
+
+    e_most = e(MAX_DAMPING_RATIO)
+    if target <= e_most:
+        return MAX_DAMPING_RATIO * critical, e_most
+    e_none = e(0.0)
+    if target >= e_none:
+        return 0.0, e_none
+    ratio = brentq(lambda z: e(z) - target, 0.0, MAX_DAMPING_RATIO, xtol=1e-5, rtol=1e-6)
+    return ratio * critical, e(ratio)
+
+
+_CALIBRATION_FIELDS = ("normal_stiffness", "stiffness_ratio", "friction", "contact_rings", "contact_sectors",
+                       "base_anathyrosis")
+
+
+def _settings_key(settings):
+    return tuple(getattr(settings, name) for name in _CALIBRATION_FIELDS)
+
+
+def _settings_from_key(key):
+    from pipeline.simulate import ModelSettings
+
+    return ModelSettings(model="3d-compliant", **dict(zip(_CALIBRATION_FIELDS, key)))
+
+
+def calibrated_damping(column, settings, target=None):
+    """Normal damping per unit area that gives the column a planar restitution, and that restitution.
+
+    Root-finding (Brent) on :func:`planar_restitution` of the column's outline as a monolith,
+    for the joint stiffness, friction and contact points of ``settings``, between no damping
+    and :data:`MAX_DAMPING_RATIO` of :func:`critical_damping`. A target outside what the
+    compliant contact can give is met as closely as it can: a column landing flat on a disc
+    of contact points spreads the impact over the landing side, so it loses less energy than
+    the rigid model's point impulse at the opposite rim point (docs/model.md); the returned
+    restitution says what was reached. Cached per process (outline, joint parameters, target).
+
+    Parameters
+    ----------
+    column : pipeline.geometry.Column or pipeline.drums.DrumColumn
+    settings : pipeline.simulate.ModelSettings
+    target : float, optional
+        Target restitution [1]; default ``settings.restitution``, or else the rigid model's
+        own ``1 - 2 / I_y_hat`` (:func:`pipeline.simulate.housner_restitution`).
+
+    Returns
+    -------
+    tuple of float
+        ``(c_n [Pa s/m], restitution reached [1])``.
+    """
+    from pipeline.simulate import housner_restitution
+
+    stack = as_stack(column)
+    outline = Column(stack.column.R, stack.column.r, stack.column.h, density=stack.density)
+    if target is None:
+        target = settings.restitution if settings.restitution is not None else housner_restitution(outline)
+    return _calibrated(outline, _settings_key(settings), float(target))
+
+
+# -- running -----------------------------------------------------------------------------------
+
+@dataclass
+class _Raw:
+    """Dimensionless arrays of one kernel run."""
+
+    t_mon: np.ndarray
+    stride: int
+    hist_y: np.ndarray
+    hist_diag: np.ndarray
+    hist_body: np.ndarray
+    summary: np.ndarray
+    body_stats: np.ndarray
+    joint_stats: np.ndarray
+    joint_committed: np.ndarray
+    y0: np.ndarray
+    y_end: np.ndarray
+
+
+def _integrate(asm, params, y0, duration, monitor, stride, rtol, atol, histories, theta_commit=math.inf):
+    """Run the kernel for ``duration`` [s], monitoring every ``monitor`` [s]; history every ``stride``."""
+    n_bodies = asm.n_bodies
+    step = monitor / asm.time
+    m = int(math.ceil(duration / monitor - 1e-9)) + 1
+    t_mon = np.arange(m) * step
+    n_hist = (m - 1) // stride + 1 if histories else 0
+    raw = _Raw(
+        t_mon=t_mon, stride=stride,
+        hist_y=np.full((n_hist, sk.kept_size(n_bodies)), np.nan),
+        hist_diag=np.full((n_hist, sk.N_DIAG), np.nan),
+        hist_body=np.full((n_hist, n_bodies, sk.N_HBODY), np.nan),
+        summary=np.zeros(sk.N_SUMMARY), body_stats=np.zeros((n_bodies, sk.N_BODY_STATS)),
+        joint_stats=np.zeros((n_bodies, sk.N_JOINT_STATS)), joint_committed=np.zeros((n_bodies, sk.N_JOINT_STATS)),
+        y0=y0, y_end=np.zeros_like(y0))
+    record, dt = params[4], params[5]
+    breaks = np.arange(record.shape[0]) * dt  # kinks of the linearly interpolated record
+    sk.run(params, y0, t_mon, stride, breaks, rtol, np.full(y0.shape[0], atol), np.inf,
+           np.ones(2 * n_bodies), theta_commit, raw.hist_y, raw.hist_diag, raw.hist_body, raw.summary,
+           raw.body_stats, raw.joint_stats, raw.joint_committed, raw.y_end)
+    if raw.summary[sk.S_STATUS] < 0:
+        raise RuntimeError(
+            f"integration failed at t = {raw.summary[sk.S_END_TIME] * asm.time:.6g} s "
+            f"(status {raw.summary[sk.S_STATUS]:.0f}); try other tolerances or joint parameters")
+    return raw
+
+
+def turned_record(motion, excitation):
+    """The record turned by the incidence angle and scaled: (n, 3) [g].
+
+    The compliant column is not axisymmetric (its contact points are not), so it really
+    feels the direction of the motion: the pair is turned counter-clockwise as
+    :meth:`pipeline.groundmotion.GroundMotion.rotated` does.
+    """
+    gamma = excitation.angle_rad
+    ax = np.asarray(motion.acc_x, dtype=np.float64) * excitation.scale
+    ay = np.asarray(motion.acc_y, dtype=np.float64) * excitation.scale
+    az = motion.acc_z
+    az = np.zeros_like(ax) if (az is None or not excitation.vertical) else np.asarray(az) * excitation.scale
+    c, s = math.cos(gamma), math.sin(gamma)
+    return np.ascontiguousarray(np.stack([c * ax - s * ay, s * ax + c * ay, az], axis=1) / G)
+
+
+def simulate_compliant(column, motion, excitation, settings, histories=True):
+    """Response of a column at rest (monolith or drums) to a ground motion, compliant contact.
+
+    The friendly entry of :func:`pipeline.simulate.simulate` for ``model="3d-compliant"``;
+    same arguments and the same :class:`pipeline.simulate.Response`.
+    """
+    from pipeline.simulate import COMPLIANT_MODELS, Excitation, Response, check_column
+
+    stack = as_stack(column)
+    if settings.model not in COMPLIANT_MODELS:
+        raise InputError(f"model = {settings.model!r} is a rigid model of a monolith: a column of "
+                         f"{stack.n_drums} drum(s) needs model='3d-compliant'")
+    check_column(stack.column)
+    if not isinstance(excitation, Excitation):
+        raise InputError(f"excitation must be an Excitation, got {type(excitation).__name__}")
+    if settings.contact_damping is None:
+        damping, restitution = calibrated_damping(stack, settings)
+    else:
+        damping, restitution = settings.contact_damping, math.nan
+    asm = assemble(stack, settings, damping)
+    params = asm.params(turned_record(motion, excitation), motion.dt / asm.time)
+    y0 = sk.rest_state(params)
+    stride = max(1, int(math.ceil(settings.output_step / settings.monitor_step - 1e-9)))
+    raw = _integrate(asm, params, y0, motion.duration + settings.tail, settings.output_step / stride, stride,
+                     settings.rtol, settings.atol, histories, stack.column.critical_tilt)
+    summary = _summary(stack, asm, params, settings, raw, damping, restitution)
+    summary.update(record_id=motion.record_id, angle=float(excitation.angle), scale=float(excitation.scale))
+    ds = _histories(stack, asm, settings, raw, motion, excitation, damping) if histories else None
+    return Response(summary, ds, np.empty((0, 4)))
+
+
+# -- results -----------------------------------------------------------------------------------
+
+def _summary(stack, asm, params, settings, raw, damping, restitution):
+    """The rigid models' summary keys (SI, energies per unit weight [m]) and the compliant ones."""
+    s, L, T = raw.summary, asm.length, asm.time
+    n = asm.n_bodies
+    overturned = not math.isnan(s[sk.S_OVERTURN_TIME])
+    # peaks of friction and contact before any final fall past theta_crit
+    stats = raw.joint_committed if overturned else raw.joint_stats
+    acc = raw.y_end[sk.NB * n + 2 * asm.points.shape[0]:]
+    work, friction, damping_loss = acc[sk.A_WORK], acc[sk.A_FRICTION], acc[sk.A_DAMPING]
+    e0, e1 = s[sk.S_ENERGY_START], s[sk.S_ENERGY_END]
+    uplift_times = raw.joint_stats[:, sk.JS_UPLIFT_TIME]
+    uplift = float(np.nanmin(uplift_times)) if np.any(np.isfinite(uplift_times)) else math.nan
+    dislocation = np.zeros((n, 4))
+    sk.dislocations(raw.y_end, params, dislocation)
+    out = {
+        "model": settings.model,
+        "peak_theta": float(s[sk.S_PEAK_THETA]),
+        "peak_theta_ratio": float(s[sk.S_PEAK_THETA] / stack.column.critical_tilt),
+        "peak_time": float(s[sk.S_PEAK_TIME] * T),
+        "overturned": overturned,
+        "overturn_time": float(s[sk.S_OVERTURN_TIME] * T),
+        "collapsed": bool(s[sk.S_STATUS] == sk.STATUS_COLLAPSED),
+        "uplifted": bool(math.isfinite(uplift)),
+        "uplift_time": uplift * T,
+        "n_impacts": int(raw.joint_stats[0, sk.JS_RETURNS]),
+        "peak_mu_mob": float(stats[0, sk.JS_PEAK_MU]),
+        "sliding_onset": bool(math.isfinite(stats[0, sk.JS_SLIDE_TIME])),
+        "sliding_time": float(raw.joint_stats[0, sk.JS_SLIDE_TIME] * T),
+        "min_normal_force_hat": float(stats[0, sk.JS_MIN_NORMAL]),
+        "lift_off": bool(math.isfinite(stats[0, sk.JS_FLIGHT_TIME])),
+        "lift_off_time": float(stats[0, sk.JS_FLIGHT_TIME] * T),
+        "residual_rotation": float(raw.body_stats[0, sk.BS_ROTATION]),
+        "residual_displacement": float(math.hypot(dislocation[0, 0], dislocation[0, 1]) * L),
+        "slip": float(raw.y_end[-n] * L),
+        "contact_area_fraction": float(stats[0, sk.JS_MIN_AREA]),
+        "energy_initial": float(e0 * L),
+        "work_ground": float(work * L),
+        "energy_transitions": 0.0,
+        "energy_dissipated": float((friction + damping_loss) * L),
+        "energy_friction": float(friction * L),
+        "energy_damping": float(damping_loss * L),
+        "energy_final": float(e1 * L),
+        "energy_balance_error": float(((e1 - e0) - (work - friction - damping_loss)) * L),
+        "rhs_evaluations": int(s[sk.S_NFEV]),
+        "steps": int(s[sk.S_STEPS]),
+        "rejected_steps": int(s[sk.S_REJECTED]),
+        "restitution": float(restitution),
+        "contact_damping": float(damping),
+        "n_drums": stack.n_drums,
+        "drum_peak_theta": raw.body_stats[:, sk.BS_PEAK].copy(),
+        "drum_residual_rotation": raw.body_stats[:, sk.BS_ROTATION].copy(),
+        "joint_slip": np.hypot(dislocation[1:, 0], dislocation[1:, 1]) * L,
+        "joint_twist": dislocation[1:, 2].copy(),
+        "joint_opening": dislocation[1:, 3] * L,
+        "joint_uplifted": np.isfinite(uplift_times[1:]),
+        "joint_peak_mu_mob": stats[1:, sk.JS_PEAK_MU].copy(),
+    }
+    return out
+
+
+def _euler_zxz(q):
+    """(phi, psi) of the Z-X-Z Euler angles of quaternions q (rows w, x, y, z); NaN upright."""
+    w, x, y, z = q.T
+    s = 2.0 / (w * w + x * x + y * y + z * z)
+    r13, r23 = s * (x * z + w * y), s * (y * z - w * x)
+    r31, r32 = s * (x * z - w * y), s * (y * z + w * x)
+    upright = (r13 == 0.0) & (r23 == 0.0)
+    phi = np.where(upright, np.nan, np.arctan2(r13, -r23))
+    psi = np.where(upright, np.nan, np.arctan2(r31, r32))
+    return phi, psi, r13, r23
+
+
+def _histories(stack, asm, settings, raw, motion, excitation, damping):
+    from pipeline.dataset import annotate, append_history
+
+    L, T = asm.length, asm.time
+    n = asm.n_bodies
+    rows = raw.hist_y.shape[0]
+    tau = raw.t_mon[::raw.stride][:rows]
+    top = sk.NB * (n - 1)
+    phi, psi, _, _ = _euler_zxz(raw.hist_y[:, top + sk.QW:top + sk.QZ + 1])
+    _, _, e13, e23 = _euler_zxz(raw.hist_y[:, sk.QW:sk.QZ + 1])
+    zc = asm.bodies[0, sk.B_ZC]
+    diag = raw.hist_diag
+    # the phase flags of the rigid models (pipeline.dataset.FLAGS): in contact 0, on the rim 1,
+    # overturned 2, sliding flat 3, slipping on the rim 4, in flight 5
+    sliding = diag[:, sk.D_MU] >= sk.SLIDE_FRACTION * settings.friction
+    on_rim = diag[:, sk.D_ON_RIM] > 0.0
+    phase = np.select([tau >= raw.summary[sk.S_OVERTURN_TIME], diag[:, sk.D_NORMAL] <= 0.0, on_rim & sliding,
+                       on_rim, sliding], [2, 5, 4, 1, 3], 0).astype(np.int8)
+    weight = asm.mass * G
+    data = {
+        "theta": raw.hist_body[:, -1, sk.H_TILT],
+        "phi": phi,
+        "psi": psi,
+        "x_p": diag[:, sk.D_COP_X] * L,
+        "y_p": diag[:, sk.D_COP_Y] * L,
+        "x_b": (raw.hist_y[:, sk.X] - e13 * zc) * L,
+        "y_b": (raw.hist_y[:, sk.Y] - e23 * zc) * L,
+        "omega_zeta": raw.hist_y[:, top + sk.WZ] / T,
+        "energy_hat": diag[:, sk.D_ENERGY],
+        "work_ground_hat": raw.hist_y[:, sk.NB * n + sk.A_WORK],
+        "normal_force_hat": diag[:, sk.D_NORMAL],
+        "tangential_force_hat": diag[:, sk.D_TANGENTIAL],
+        "mu_mob": diag[:, sk.D_MU],
+        "ground_acc_x": diag[:, sk.D_AX] * G,
+        "ground_acc_y": diag[:, sk.D_AY] * G,
+        "ground_acc_z": diag[:, sk.D_AZ] * G,
+        "slip": raw.hist_y[:, -n] * L,
+        "contact_area_fraction": diag[:, sk.D_AREA],
+    }
+    data["normal_force"] = data["normal_force_hat"] * weight
+    data["tangential_force"] = data["tangential_force_hat"] * weight
+    data["energy"] = data["energy_hat"] * weight * L
+    variables = {k: ("time", np.asarray(v, dtype=np.float64)) for k, v in data.items()}
+    variables["phase"] = ("time", phase)
+    for name, col, scale in (("drum_dx", sk.H_DX, L), ("drum_dy", sk.H_DY, L), ("drum_theta", sk.H_TILT, 1.0),
+                             ("drum_rotation", sk.H_ROT, 1.0)):
+        variables[name] = (("time", "drum"), raw.hist_body[:, :, col] * scale)
+    import xarray as xr
+
+    ds = xr.Dataset(variables, coords={"time": tau * T, "tau": ("time", tau), "drum": np.arange(n)})
+    ds.attrs.update(
+        title="Response of a free-standing column (rigid drums on compliant joints) to ground motion",
+        model=settings.model,
+        column_R_m=stack.column.R,
+        column_r_m=stack.column.r,
+        column_h_m=stack.column.h,
+        n_drums=stack.n_drums,
+        capital="none" if stack.capital is None else f"{stack.capital.side:g} x {stack.capital.height:g} m",
+        density_kg_m3=stack.density,
+        theta_crit_rad=stack.column.critical_tilt,
+        normal_stiffness_Pa_m=settings.normal_stiffness,
+        stiffness_ratio=settings.stiffness_ratio,
+        contact_damping_Pa_s_m=damping,
+        contact_points=f"{settings.contact_rings} Gauss-Lobatto rings x {settings.contact_sectors} sectors",
+        friction=settings.friction,
+        rtol=settings.rtol,
+        atol=settings.atol,
+        record_id=motion.record_id,
+        record_sha256=motion.sha256(),
+        incidence_angle_rad=excitation.angle_rad,
+        scale=excitation.scale,
+    )
+    annotate(ds)
+    append_history(ds, f"pipeline.compliant ({settings.model}, {stack.n_drums} drum(s))")
+    return ds

@@ -1,0 +1,161 @@
+"""The compliant N-body kernel: exact rest, the energy identity, kinematics."""
+
+import math
+
+import numpy as np
+import pytest
+
+from pipeline.compliant import as_stack, assemble, critical_damping, released_state
+from pipeline.drums import Capital, DrumColumn
+from pipeline.dynamics import stack as sk
+from pipeline.geometry import Column
+from pipeline.simulate import ModelSettings
+
+PAPER = Column(0.5, 0.4, 4.0)
+STACKS = {
+    "monolith": (PAPER, ModelSettings(model="3d-compliant")),
+    "annulus base": (PAPER, ModelSettings(model="3d-compliant", base_anathyrosis=0.7, contact_sectors=16)),
+    "drums and capital": (
+        DrumColumn(Column(0.9, 0.7, 8.0), (2.0, 4.5, 6.0), Capital(2.0, 0.6)),
+        ModelSettings(model="3d-compliant", anathyrosis=0.6, joint_friction=(0.6, 0.7, 0.8, 0.9))),
+}
+
+
+def _params(column, settings, damping_ratio=0.5, record=None, dt=1.0):
+    c = damping_ratio * critical_damping(column, settings)
+    asm = assemble(column, settings, c)
+    return asm, asm.params(record, dt)
+
+
+@pytest.mark.parametrize("name", list(STACKS))
+def test_at_rest_every_derivative_is_exactly_zero(name):
+    column, settings = STACKS[name]
+    asm, params = _params(column, settings)
+    y0 = sk.rest_state(params)
+    dydt = np.full_like(y0, np.nan)
+    sk.rhs(0.0, y0, params, dydt)
+    assert np.all(dydt == 0.0)  # not small: zero, so a column left alone stays exactly still
+    # the weights are the spring forces of the static state: m g up to the rounding of the
+    # penetrations (~1e-5 L, differences of heights ~10 L: 1e-16 * 1e6 = 1e-10 relative)
+    np.testing.assert_allclose(params[0][:, sk.B_WEIGHT], asm.bodies[:, sk.B_MASS], rtol=1e-9)
+    # every joint is pressed in uniformly by the weight above it: W / (k_n A)
+    sk._kinematics(y0, params[0], params[6])
+    above = np.cumsum(asm.bodies[::-1, sk.B_MASS])[::-1]
+    for j in range(asm.n_bodies):
+        d = [sk._penetration(y0, p, j, params)[0] for p in range(asm.joint_start[j], asm.joint_start[j + 1])]
+        np.testing.assert_allclose(d, above[j] / (asm.joints[j, sk.J_KN] * asm.joints[j, sk.J_AREA]), rtol=1e-9)
+
+
+def test_a_column_under_no_ground_motion_never_moves():
+    column, settings = STACKS["drums and capital"]
+    asm, params = _params(column, settings, record=np.zeros((400, 3)), dt=0.05)
+    y0 = sk.rest_state(params)
+    raw = _run(asm, params, y0, 8.0)
+    assert np.array_equal(raw[-1], y0)
+
+
+def _run(asm, params, y0, tau_end, n=200):
+    """States at n + 1 times up to tau_end (the kernel's integrator, tight tolerances)."""
+    out = np.empty((n, y0.size))
+    t_out = np.linspace(tau_end / n, tau_end, n)
+    res = sk._integrate(params, 0.0, y0, tau_end, t_out, out, np.ones(2 * asm.n_bodies),
+                        np.arange(params[4].shape[0]) * params[5], 1e-11, np.full(y0.size, 1e-14), np.inf, 0.0)
+    assert res.status == 0
+    return np.vstack([y0, out])
+
+
+def test_free_rocking_without_damping_loses_energy_only_to_friction():
+    """No dashpots: kinetic + potential + elastic energy plus the friction loss is constant.
+
+    Friction cannot be switched off by a high coefficient: a point that lifts off sheds its
+    loaded shear spring by slipping as its normal force (and so its friction limit) goes to
+    zero, and the column vibrates on its undamped springs, so points touch and leave while
+    sliding. What is lost that way is booked; the sum is conserved.
+    """
+    settings = ModelSettings(model="3d-compliant", friction=5.0)
+    asm, params = _params(PAPER, settings, damping_ratio=0.0)
+    y0 = released_state(asm, params, 0.3 * PAPER.critical_tilt)
+    states = _run(asm, params, y0, 12.0)  # ~2.7 s: two landings
+    acc = sk.NB + 2 * asm.points.shape[0]
+    total = np.array([sk.energy(y, params) for y in states]) + states[:, acc + sk.A_FRICTION]
+    assert np.all(states[:, acc + sk.A_DAMPING] == 0.0)
+    # DOP853 at rtol 1e-11 through two landings on contact springs: ~1e-11 of E
+    assert np.max(np.abs(total - total[0])) < 1e-9 * total[0]
+    tilt = [sk.tilt_and_rotation(y, 0, np.empty(9))[0] for y in states]
+    assert min(tilt) < 1e-3 < max(tilt[len(tilt) // 2:])  # it landed and rocked up again
+
+
+@pytest.mark.parametrize("name", list(STACKS))
+def test_energy_rate_is_ground_power_minus_dissipation(name):
+    """dE/dt along the right-hand side equals the work rate minus both dissipation rates.
+
+    Random moving states (bodies displaced, tilted, spinning, shear springs loaded), a record
+    under way: the identity the energy budget rests on, checked by a central difference.
+    """
+    column, settings = STACKS[name]
+    rng = np.random.default_rng(11)
+    record = rng.normal(0.0, 0.3, (50, 3))
+    asm, params = _params(column, settings, record=record, dt=0.2)
+    y0 = sk.rest_state(params)
+    n_b, n_p = asm.n_bodies, asm.points.shape[0]
+    for trial in range(20):
+        y = y0.copy()
+        for b in range(n_b):
+            o = sk.NB * b
+            y[o:o + 3] += rng.normal(0, 3e-5, 3) + np.array([0, 0, -2e-5])
+            axis = rng.normal(0, 1, 3)
+            angle = rng.normal(0, 2e-4) if trial % 2 else rng.normal(0, 0.05)
+            q = np.concatenate([[math.cos(angle / 2)], math.sin(angle / 2) * axis / np.linalg.norm(axis)])
+            y[o + sk.QW:o + sk.QZ + 1] = q
+            y[o + sk.VX:o + sk.WZ + 1] = rng.normal(0, 0.02, 6)
+        y[sk.NB * n_b:sk.NB * n_b + 2 * n_p] = rng.normal(0, 1e-6, 2 * n_p)
+        t = rng.uniform(0.0, 9.0)
+        f = np.empty_like(y)
+        sk.rhs(t, y, params, f)
+        acc = sk.NB * n_b + 2 * n_p
+        rate = f[acc + sk.A_WORK] - f[acc + sk.A_FRICTION] - f[acc + sk.A_DAMPING]
+        # central difference: truncation O(h^2), round-off 1e-16 E / h ~ 1e-10 at h = 1e-6
+        h = 1e-6
+        de = (sk.energy(y + h * f, params) - sk.energy(y - h * f, params)) / (2 * h)
+        scale = abs(f[acc + sk.A_FRICTION]) + abs(f[acc + sk.A_DAMPING]) + abs(f[acc + sk.A_WORK]) + 1e-3
+        assert de == pytest.approx(rate, abs=1e-6 * scale), trial
+        assert f[acc + sk.A_FRICTION] >= -1e-12 and f[acc + sk.A_DAMPING] >= 0.0
+
+
+def test_tilt_and_rotation_of_euler_angles():
+    """Z-X-Z Euler angles (phi, theta, psi): tilt theta, rotation about the vertical phi + psi."""
+    phi, theta, psi = 0.7, 0.3, -1.9
+    # quaternion of Rz(phi) Rx(theta) Rz(psi)
+    def qz(a):
+        return np.array([math.cos(a / 2), 0, 0, math.sin(a / 2)])
+
+    def qx(a):
+        return np.array([math.cos(a / 2), math.sin(a / 2), 0, 0])
+
+    def mul(p, q):
+        w1, x1, y1, z1 = p
+        w2, x2, y2, z2 = q
+        return np.array([w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2, w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
+                         w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2, w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2])
+
+    y = np.zeros(sk.NB)
+    y[sk.QW:sk.QZ + 1] = 3.0 * mul(mul(qz(phi), qx(theta)), qz(psi))  # any norm: normalised inside
+    tilt, rotation = sk.tilt_and_rotation(y, 0, np.empty(9))
+    assert tilt == pytest.approx(theta, abs=1e-15)
+    assert rotation == pytest.approx(phi + psi, abs=1e-15)
+    R = np.empty(9)
+    sk.rotation_matrix(*y[sk.QW:sk.QZ + 1], R)
+    R = R.reshape(3, 3)
+    np.testing.assert_allclose(R @ R.T, np.eye(3), atol=1e-15)
+    # the axis leans towards (sin phi, -cos phi), the paper's convention
+    np.testing.assert_allclose(R[:, 2], [math.sin(phi) * math.sin(theta), -math.cos(phi) * math.sin(theta),
+                                         math.cos(theta)], atol=1e-15)
+
+
+def test_stack_geometry_matches_the_outline():
+    stack = as_stack(STACKS["drums and capital"][0])
+    drums = stack.drums()
+    assert sum(d.h for d in drums) == pytest.approx(8.0)
+    assert sum(d.volume for d in drums) == pytest.approx(stack.column.volume, rel=1e-12)
+    for lower, upper in zip(drums[:-1], drums[1:]):
+        assert lower.r == upper.R  # the same float: a rim on the edge of the face below
