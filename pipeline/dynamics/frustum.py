@@ -58,6 +58,9 @@ N_ROLLING = 10  # the slots rolling integrates
 # pipeline.dynamics.hybrid) and the precession angle when it was last set.
 # OPT_UNILATERAL is 1 when the ground can only push (the column flies when
 # the normal force would pull), 0 to hold the rim on the ground as the paper does.
+# OPT_RIM_HELD is 1 while infinite friction and lift-off contradict each other
+# (the rim would have to pull, yet the column in free flight would sink into
+# the ground): the rim is held until either stops (pipeline.dynamics.hybrid).
 # The contact patch (pipeline.dynamics.patch): the tilt theta_k of lost full
 # contact (0: a point contact, the paper's) and the dashpots per unit area,
 # c_n R^3 / (m sqrt(g R)); whether the patch's drilling friction holds the
@@ -66,7 +69,7 @@ N_ROLLING = 10  # the slots rolling integrates
 # The last four are the numerical thresholds of pipeline.dynamics.hybrid
 # (defaults there, in NUMERICS), carried at run time so that a study can vary
 # them without recompiling.
-(OPT_THETA_C, OPT_THETA_LIE, OPT_NU, OPT_MU, OPT_PHASE, OPT_PIVOT, OPT_SIGN, OPT_UNUSED,
+(OPT_THETA_C, OPT_THETA_LIE, OPT_NU, OPT_MU, OPT_PHASE, OPT_PIVOT, OPT_SIGN, OPT_RIM_HELD,
  OPT_SLAVED, OPT_PHI_REF, OPT_UNILATERAL, OPT_THETA_K, OPT_PATCH_DAMPING, OPT_PIVOT_HELD,
  OPT_DRILL_SIGN, OPT_LANDING_MARGIN, OPT_MIN_REBOUND, OPT_SLAVE_TIME, OPT_LOOK_AHEAD) = range(19)
 N_OPT = 19

@@ -483,7 +483,11 @@ def events3d(t, y, params, g):
     if phase == PHASE_ROLLING:
         r = _rolling_state(t, y, params)
         f_xi, f_n, f_z = r[3], r[4], r[5]
-        if opts[fk.OPT_UNILATERAL] != 0.0:
+        if opts[fk.OPT_RIM_HELD] != 0.0:  # falls through 0 when N pushes again or the flight would rise
+            ax, ay, az = fk.ground_acceleration(t, record, dt)
+            g[EV_LIFT] = min(-f_z, -flight_gap_acceleration(theta, y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA],
+                                                            az, c))
+        elif opts[fk.OPT_UNILATERAL] != 0.0:
             g[EV_LIFT] = f_z
         if opts[fk.OPT_MU] < math.inf:  # inf: rolling without slip, whatever the force
             g[EV_SLIP] = opts[fk.OPT_MU] * f_z - math.sqrt(f_xi * f_xi + f_n * f_n)
@@ -790,6 +794,39 @@ def _pivot_mode(t, y, params):
 
 
 @njit(cache=True)
+def flight_gap_acceleration(theta, dphi, dtheta, omega, az, c):
+    """Second derivative of the lowest rim point's height if the column flew now [g].
+
+    The gap is ``z_C - lever(theta)`` and its rate is 0 when a rim contact
+    ends; free flight (no contact force) gives ``z_C'' = -(1 + a_Z)`` and the
+    torque-free theta''. Negative: the free column would sink into the ground.
+    """
+    ddtheta = rim.rotation_accelerations(theta, dphi, dtheta, omega, 0.0, 0.0, 0.0, c)[1]
+    zc = c[fk.C_ZC]
+    return -1.0 - az + rim.lever(theta, zc) * dtheta * dtheta - rim.reach(theta, zc) * ddtheta
+
+
+@njit(cache=True)
+def _holds_rim(t, y, params):
+    """Infinite friction, a pulling normal force and a sinking flight: hold the rim (OPT_RIM_HELD).
+
+    Without slip (mu = inf) the contact force is whatever rolling needs; when
+    that would pull while the free column would fall into the ground, neither
+    rolling nor flight is consistent (an infinite-friction paradox that any
+    finite mu avoids by slipping first). The rim is then held, as the paper
+    holds it, until the normal force pushes again or the flight would rise.
+    """
+    opts = params[3]
+    if opts[fk.OPT_MU] != math.inf or opts[fk.OPT_UNILATERAL] == 0.0:
+        return False
+    az = fk.ground_acceleration(t, params[1], params[2])[2]
+    if flight_gap_acceleration(y[fk.THETA], y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA], az, params[0]) >= 0.0:
+        return False
+    opts[fk.OPT_RIM_HELD] = 1.0
+    return True
+
+
+@njit(cache=True)
 def _enter_contact(t, y, params):
     """Phase that a state in rim contact (P not sliding) continues in: rolling, slipping or flight.
 
@@ -798,6 +835,7 @@ def _enter_contact(t, y, params):
     """
     c, opts = params[0], params[3]
     mu = opts[fk.OPT_MU]
+    opts[fk.OPT_RIM_HELD] = 0.0
     _pivot_mode(t, y, params)
     f_xi, f_n, f_z, _ax, _ay, _az = _rolling_contact(t, y, params)
     # a bound that holds now but is being left (N or the margin falling
@@ -819,7 +857,7 @@ def _enter_contact(t, y, params):
         if normal >= 0.0 or not unilateral:
             _start_slip(y, opts, chi, normal)
             return PHASE_SLIPPING
-    if not unilateral:
+    if not unilateral or _holds_rim(t, y, params):
         return PHASE_ROLLING
     _to_flight(y, c, False)
     return PHASE_FLIGHT
@@ -910,7 +948,7 @@ def _touch_down_rim(y, c, mu):
         j[k] = 1.0
         w[0, k], w[1, k], w[2, k] = rim.impulse_response(theta, j[0], j[1], j[2], c)
     impulse = _solve3(w, -vp)
-    sliding = math.hypot(impulse[0], impulse[1]) > mu * impulse[2]
+    sliding = mu < math.inf and math.hypot(impulse[0], impulse[1]) > mu * impulse[2]
     if sliding:
         speed = math.hypot(vp[0], vp[1])
         d_xi = vp[0] / speed if speed > 0.0 else 0.0
@@ -993,6 +1031,7 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
     zc = c[fk.C_ZC]
     mu = opts[fk.OPT_MU]
     theta_c = opts[fk.OPT_THETA_C]
+    opts[fk.OPT_RIM_HELD] = 0.0
     ratio = departure_ratio(zc, mu)
     planar_e = restitution if restitution >= 0.0 else max(0.0, 1.0 - 2.0 / c[fk.C_IY])
     _init_summary(summary)
@@ -1107,6 +1146,17 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
                 phase = PHASE_REST
             continue
         if ev == EV_LIFT:
+            if phase == PHASE_ROLLING:
+                if opts[fk.OPT_RIM_HELD] != 0.0:
+                    # the hold ends: N pushes again (rolling on), or the flight now rises
+                    # (whichever of -N and -gap'' reached 0, the minimum in the event function)
+                    opts[fk.OPT_RIM_HELD] = 0.0
+                    az = fk.ground_acceleration(t, record, dt)[2]
+                    if _rolling_state(t, y, p)[5] >= flight_gap_acceleration(
+                            y[fk.THETA], y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA], az, c):
+                        continue
+                elif _holds_rim(t, y, p):
+                    continue
             _first(summary, S_FLIGHT_TIME, t)
             if phase == PHASE_SLIDING:
                 speed, cx, sx = y[fk.SLIP_SPEED], math.cos(y[fk.SLIP_DIR]), math.sin(y[fk.SLIP_DIR])
@@ -1359,7 +1409,9 @@ def events2d(t, y, params, g):
     unilateral = opts[fk.OPT_UNILATERAL] != 0.0
     if phase == PHASE_ROLLING:
         f_u, f_z, _dd, _p = _rocking_contact(theta, y[rk.DTHETA2], a_u, a_z, c, opts)
-        if unilateral:
+        if opts[fk.OPT_RIM_HELD] != 0.0:  # falls through 0 when N pushes again or the flight would rise
+            g[EV_LIFT] = min(-f_z, -flight_gap_acceleration2d(theta, y[rk.DTHETA2], a_z, c))
+        elif unilateral:
             g[EV_LIFT] = f_z
         if opts[fk.OPT_MU] < math.inf:
             g[EV_SLIP] = opts[fk.OPT_MU] * f_z - abs(f_u)
@@ -1432,6 +1484,25 @@ def _clear_free_slots2d(y):
 
 
 @njit(cache=True)
+def flight_gap_acceleration2d(theta, dtheta, a_z, c):
+    """Planar :func:`flight_gap_acceleration`: the free column does not turn (theta'' = 0)."""
+    return -1.0 - a_z + rk.cm_offset(theta, c[fk.C_ZC])[1] * dtheta * dtheta
+
+
+@njit(cache=True)
+def _holds_rim2d(t, y, params):
+    """Planar :func:`_holds_rim`: infinite friction, a pulling N and a sinking flight."""
+    opts = params[3]
+    if opts[fk.OPT_MU] != math.inf or opts[fk.OPT_UNILATERAL] == 0.0:
+        return False
+    a_z = fk.ground_acceleration(t, params[1], params[2])[2]
+    if flight_gap_acceleration2d(y[rk.THETA2], y[rk.DTHETA2], a_z, params[0]) >= 0.0:
+        return False
+    opts[fk.OPT_RIM_HELD] = 1.0
+    return True
+
+
+@njit(cache=True)
 def _enter_contact2d(t, y, params):
     """Rolling, slipping (direction in OPT_SIGN) or flight for a planar state whose pivot sticks.
 
@@ -1447,6 +1518,7 @@ def _enter_contact2d(t, y, params):
     g_u, g_z, _dd, _p = _rocking_contact(theta_ahead, rate_ahead, b_u, b_z, c, opts)
     unilateral = opts[fk.OPT_UNILATERAL] != 0.0
     mu = opts[fk.OPT_MU]
+    opts[fk.OPT_RIM_HELD] = 0.0
     y[rk.V2] = 0.0
     pushes = (f_z >= 0.0 and g_z >= 0.0) or not unilateral
     if pushes and (mu == math.inf or (abs(f_u) <= mu * f_z and abs(g_u) <= mu * g_z)):
@@ -1458,7 +1530,7 @@ def _enter_contact2d(t, y, params):
         if normal >= 0.0 or not unilateral:
             opts[fk.OPT_SIGN] = sigma
             return PHASE_SLIPPING
-    if not unilateral:
+    if not unilateral or _holds_rim2d(t, y, params):
         return PHASE_ROLLING
     _to_flight2d(y, c)
     return PHASE_FLIGHT
@@ -1492,14 +1564,14 @@ def _touch_down_corner(y, c, mu):
     det = a11 * a22 - a12 * a21
     j_u = (-vp_u * a22 + vp_z * a12) / det
     j_z = (-vp_z * a11 + vp_u * a21) / det
-    if abs(j_u) > mu * j_z:
+    if mu < math.inf and abs(j_u) > mu * j_z:
         sense = 1.0 if vp_u > 0.0 else -1.0
         u_u, u_z, _w = rk.pivot_impulse_response(theta, -mu * sense, 1.0, c)
         j_z = -vp_z / u_z
         j_u = -mu * sense * j_z
     du, _dz, dw = rk.pivot_impulse_response(theta, j_u, j_z, c)
     slip = vp_u + du
-    if abs(j_u) < mu * j_z:
+    if mu == math.inf or abs(j_u) < mu * j_z:
         slip = 0.0
     x_c = y[rk.X2]
     _clear_free_slots2d(y)
@@ -1523,6 +1595,7 @@ def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
     zc = c[fk.C_ZC]
     mu = opts[fk.OPT_MU]
     theta_c = opts[fk.OPT_THETA_C]
+    opts[fk.OPT_RIM_HELD] = 0.0
     ratio = departure_ratio(zc, mu)
     e = restitution if restitution >= 0.0 else max(0.0, 1.0 - 2.0 / c[fk.C_IY])
     _init_summary(summary)
@@ -1610,6 +1683,17 @@ def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
                 phase = PHASE_REST
             continue
         if ev == EV_LIFT:
+            if phase == PHASE_ROLLING:
+                if opts[fk.OPT_RIM_HELD] != 0.0:
+                    # the hold ends: N pushes again (rolling on), or the flight now rises
+                    # (whichever of -N and -gap'' reached 0, the minimum in the event function)
+                    opts[fk.OPT_RIM_HELD] = 0.0
+                    a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
+                    if (_rocking_contact(y[rk.THETA2], y[rk.DTHETA2], a_u, a_z, c, opts)[1]
+                            >= flight_gap_acceleration2d(y[rk.THETA2], y[rk.DTHETA2], a_z, c)):
+                        continue
+                elif _holds_rim2d(t, y, p):
+                    continue
             _first(summary, S_FLIGHT_TIME, t)
             if phase == PHASE_SLIDING:
                 y[rk.Z2] = zc
