@@ -523,8 +523,7 @@ def _summary(stack, asm, params, settings, raw, damping, restitution):
     e0, e1 = s[sk.S_ENERGY_START], s[sk.S_ENERGY_END]
     uplift_times = raw.joint_stats[:, sk.JS_UPLIFT_TIME]
     uplift = float(np.nanmin(uplift_times)) if np.any(np.isfinite(uplift_times)) else math.nan
-    dislocation = np.zeros((n, 4))
-    sk.dislocations(raw.y_end, params, dislocation)
+    joints = joint_dislocations(asm, params, raw.y_end)
     out = {
         "model": settings.model,
         "peak_theta": float(s[sk.S_PEAK_THETA]),
@@ -543,7 +542,7 @@ def _summary(stack, asm, params, settings, raw, damping, restitution):
         "lift_off": bool(math.isfinite(stats[0, sk.JS_FLIGHT_TIME])),
         "lift_off_time": float(stats[0, sk.JS_FLIGHT_TIME] * T),
         "residual_rotation": float(raw.body_stats[0, sk.BS_ROTATION]),
-        "residual_displacement": float(math.hypot(dislocation[0, 0], dislocation[0, 1]) * L),
+        "residual_displacement": float(joints["joint_slip"][0]),
         "slip": float(raw.y_end[-n] * L),
         "contact_area_fraction": float(stats[0, sk.JS_MIN_AREA]),
         "energy_initial": float(e0 * L),
@@ -562,13 +561,80 @@ def _summary(stack, asm, params, settings, raw, damping, restitution):
         "n_drums": stack.n_drums,
         "drum_peak_theta": raw.body_stats[:, sk.BS_PEAK].copy(),
         "drum_residual_rotation": raw.body_stats[:, sk.BS_ROTATION].copy(),
-        "joint_slip": np.hypot(dislocation[1:, 0], dislocation[1:, 1]) * L,
-        "joint_twist": dislocation[1:, 2].copy(),
-        "joint_opening": dislocation[1:, 3] * L,
-        "joint_uplifted": np.isfinite(uplift_times[1:]),
-        "joint_peak_mu_mob": stats[1:, sk.JS_PEAK_MU].copy(),
+        "overturn_drum": int(s[sk.S_OVERTURN_BODY]) if overturned else -1,
+        **joints,
+        "dislocation_ratio": dislocation_ratio(joints["joint_slip"], joints["joint_diameter"]),
+        "joint_uplifted": np.isfinite(uplift_times),
+        "joint_peak_mu_mob": stats[:, sk.JS_PEAK_MU].copy(),
     }
     return out
+
+
+def joint_dislocations(asm, params, y):
+    """Dislocation of every joint of a column in the state y (the residual one at the end of a run).
+
+    Joint k is the base of body k: joint 0 the base of drum 0 on the ground, joint k >= 1 the
+    bed joint between body k - 1 and body k (the last one under a capital, if any). Measured in
+    the frame of the face below (the ground's for joint 0), from the state the run started in:
+
+    Parameters
+    ----------
+    asm : Assembly
+    params : tuple
+        The kernel parameters of ``asm`` (its scratch is overwritten).
+    y : numpy.ndarray
+        A state of :mod:`pipeline.dynamics.stack` (dimensionless).
+
+    Returns
+    -------
+    dict of numpy.ndarray, one value per joint
+        ``joint_slip`` [m]: horizontal offset of the centre of the upper base from the centre
+        of the face below (joint 0: from where it stood); ``joint_twist`` [rad]: rotation of the
+        upper body relative to the lower one about the lower one's axis, in (-pi, pi];
+        ``joint_tilt`` [rad]: angle between the two axes (joint 0: the tilt of drum 0);
+        ``joint_opening`` [m]: the widest gap between a contact point and the face below
+        (0 while every point presses in); ``joint_diameter`` [m]: diameter of the bearing
+        face, the smaller of the two faces (joint 0: the base of drum 0).
+    """
+    n, L = asm.n_bodies, asm.length
+    out = np.zeros((n, 4))
+    sk.dislocations(y, params, out)
+    rot = np.empty((n, 9))
+    for b in range(n):
+        o = sk.NB * b
+        sk.rotation_matrix(y[o + sk.QW], y[o + sk.QX], y[o + sk.QY], y[o + sk.QZ], rot[b])
+    rot = rot.reshape(n, 3, 3)
+    lower = np.concatenate([np.eye(3)[None], rot[:-1]])
+    relative = np.einsum("bji,bjk->bik", lower, rot)  # R_lower^T R_upper
+    tilt = np.arctan2(np.hypot(relative[:, 0, 2], relative[:, 1, 2]), relative[:, 2, 2])
+    pts = asm.points
+    radius = np.array([np.hypot(pts[a:b, sk.P_X], pts[a:b, sk.P_Y]).max()
+                       for a, b in zip(asm.joint_start[:-1], asm.joint_start[1:])])
+    return {
+        "joint_slip": np.hypot(out[:, 0], out[:, 1]) * L,
+        "joint_twist": out[:, 2].copy(),
+        "joint_tilt": tilt,
+        "joint_opening": out[:, 3] * L,
+        "joint_diameter": 2.0 * radius * L,
+    }
+
+
+def dislocation_ratio(joint_slip, joint_diameter):
+    """Largest residual slip of a bed joint over that joint's diameter [1]; 0 without bed joints.
+
+    The damage measure of :data:`pipeline.fragility.DISLOCATION_STATES`. The base (joint 0)
+    is left out: the ground is an unbounded plane here, so a column's slide on it changes
+    nothing of its stability, while a drum slid by s on the one below stands on a lever arm
+    shortened from D/2 to D/2 - s towards the side it slid to (see the fragility module).
+
+    Parameters
+    ----------
+    joint_slip, joint_diameter : array_like
+        Per joint, base first [m] (:func:`joint_dislocations`).
+    """
+    slip = np.asarray(joint_slip, dtype=np.float64)[1:]
+    diameter = np.asarray(joint_diameter, dtype=np.float64)[1:]
+    return float(np.max(slip / diameter)) if slip.size else 0.0
 
 
 def _euler_zxz(q):

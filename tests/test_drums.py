@@ -60,11 +60,72 @@ def test_top_drum_slides_on_a_drum_that_stays_put():
                  compliant(friction=0.8, joint_friction=mu, tail=0.5))
     s, h = r.summary, r.histories
     expected = A * (A - mu * G) * td**2 / (2 * mu * G)
-    assert s["joint_slip"][0] == pytest.approx(expected, rel=0.02)
+    assert s["joint_slip"][1] == pytest.approx(expected, rel=0.02)
     assert abs(h.drum_dx.values[-1, 1]) == pytest.approx(expected, rel=0.02)
     assert s["residual_displacement"] < 1e-5 and s["slip"] < 1e-5
-    assert abs(s["joint_twist"][0]) < 1e-9 and s["joint_opening"][0] < 1e-5
+    assert s["joint_slip"][0] == s["residual_displacement"]  # joint 0: the base on the ground
+    assert abs(s["joint_twist"][1]) < 1e-9 and s["joint_opening"][1] < 1e-5
+    # the dislocation measure: the bed joint's slip over its diameter, 2 m
+    assert s["dislocation_ratio"] == s["joint_slip"][1] / s["joint_diameter"][1]
+    np.testing.assert_allclose(s["joint_diameter"], [2.0, 2.0], rtol=1e-15)
     assert not s["uplifted"]
+
+
+def _quaternion(axis, angle):
+    """(w, x, y, z) of a rotation by ``angle`` [rad] about a unit axis."""
+    return np.concatenate([[math.cos(0.5 * angle)], math.sin(0.5 * angle) * np.asarray(axis, dtype=float)])
+
+
+def _product(p, q):
+    """Quaternion product p q (rotation q first)."""
+    w1, v1, w2, v2 = p[0], p[1:], q[0], q[1:]
+    return np.concatenate([[w1 * w2 - v1 @ v2], w1 * v2 + w2 * v1 + np.cross(v1, v2)])
+
+
+def _matrix(q):
+    from scipy.spatial.transform import Rotation
+
+    return Rotation.from_quat([q[1], q[2], q[3], q[0]]).as_matrix()
+
+
+def test_joint_dislocations_of_a_known_state():
+    """Two drums of the paper's column placed by hand: drum 0 shifted, turned and tilted on the
+    ground, drum 1 slid, twisted, tilted and lifted on drum 0 (in drum 0's frame). Every measure
+    is the closed form of that placement, to round-off (1e-12 m and rad)."""
+    from pipeline.compliant import assemble, dislocation_ratio, joint_dislocations
+    from pipeline.dynamics import stack as sk
+
+    asm = assemble(DrumColumn.equal(PAPER, 2), compliant(), damping=0.0)
+    params = asm.params()
+    y = sk.rest_state(params)
+    L = asm.length
+    delta = asm.joints[0, sk.J_DELTA] * L  # static penetration of the base [m]
+    shift0, turn0, tilt0 = np.array([0.03, -0.02]), 0.4, 0.05  # drum 0 on the ground [m], [rad]
+    slip, twist, tilt, lift = np.array([0.05, 0.012]), math.radians(15.0), 0.1, 0.002  # drum 1 on drum 0
+    q0 = _product(_quaternion([0, 0, 1], turn0), _quaternion([1, 0, 0], tilt0))
+    R0 = _matrix(q0)
+    base0 = np.array([shift0[0], shift0[1], -delta]) / L
+    y[sk.X:sk.Z + 1] = base0 + R0 @ [0.0, 0.0, asm.bodies[0, sk.B_ZC]]
+    y[sk.QW:sk.QZ + 1] = q0
+    q1 = _product(q0, _product(_quaternion([1, 0, 0], tilt), _quaternion([0, 0, 1], twist)))
+    R1 = _matrix(q1)
+    base1 = base0 + R0 @ [0.0, 0.0, asm.bodies[0, sk.B_TOP]] + R0 @ np.array([slip[0], slip[1], lift]) / L
+    o = sk.NB
+    y[o + sk.X:o + sk.Z + 1] = base1 + R1 @ [0.0, 0.0, asm.bodies[1, sk.B_ZC]]
+    y[o + sk.QW:o + sk.QZ + 1] = q1
+    d = joint_dislocations(asm, params, y)
+    np.testing.assert_allclose(d["joint_slip"], [np.hypot(*shift0), np.hypot(*slip)], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(d["joint_twist"], [turn0, twist], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(d["joint_tilt"], [tilt0, tilt], rtol=0, atol=1e-12)
+    # the widest gaps: drum 0's rim point at 90 deg, raised by R sin(tilt0) from its penetration;
+    # drum 1's rim point the twist brings to the tilt's high side (75 deg of 24 sectors + 15 deg)
+    r1 = PAPER.R + (PAPER.r - PAPER.R) * 0.5  # radius at the cut, 2 m up [m]
+    np.testing.assert_allclose(d["joint_opening"], [PAPER.R * math.sin(tilt0) - delta, lift + r1 * math.sin(tilt)],
+                               rtol=0, atol=1e-12)
+    np.testing.assert_allclose(d["joint_diameter"], [2 * PAPER.R, 2 * r1], rtol=1e-15)
+    assert dislocation_ratio(d["joint_slip"], d["joint_diameter"]) == pytest.approx(np.hypot(*slip) / (2 * r1),
+                                                                                    rel=1e-12)
+    assert dislocation_ratio([0.1], [1.0]) == 0.0  # a monolith has no bed joint to dislocate
 
 
 def test_energy_budget_of_a_stack():

@@ -190,7 +190,8 @@ def _joints_line(summary):
     line = f", slip at the base {summary['slip']:.3g} m"
     if summary["n_drums"] > 1:
         line += "; drum peak tilts " + ", ".join(f"{math.degrees(t):.2f}" for t in summary["drum_peak_theta"])
-        line += " deg; residual joint slips " + ", ".join(f"{x * 1e3:.1f}" for x in summary["joint_slip"]) + " mm"
+        line += (" deg; residual slips of the bed joints " + ", ".join(f"{x * 1e3:.1f}" for x in summary["joint_slip"][1:])
+                 + f" mm (largest {100 * summary['dislocation_ratio']:.2f} % of its diameter)")
     return line
 
 
