@@ -15,7 +15,7 @@ Run:  python studies/rigid_vs_compliant/compare.py [--workers 2] > studies/rigid
 """
 
 import argparse
-import math
+import functools
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -41,6 +41,7 @@ FRICTION = 0.7
 N_BOOT = 1000
 
 
+@functools.lru_cache(maxsize=None)
 def settings_pair(column):
     """The compliant settings and the rigid ones on the same bed (stiffness, dashpots, restitution)."""
     compliant = ModelSettings(model="3d-compliant", normal_stiffness=STIFFNESS, friction=FRICTION)

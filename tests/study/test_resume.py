@@ -18,7 +18,9 @@ from pipeline.sweep import Checkpoint, run_study
 # checkpointed tasks, whatever the machine. On the cluster the slowed task reaches the
 # workers by value (cloudpickle sends functions of __main__ whole).
 CHILD = textwrap.dedent("""\
-    import sys, time
+    import signal, sys, time
+    # as from a terminal: a shell starting a background job has SIGINT ignored, and Python keeps that
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     from pipeline import sweep
     from pipeline.study import load_study
     real = sweep.run_task
