@@ -563,7 +563,8 @@ def _summary(stack, asm, params, settings, raw, damping, restitution):
         "drum_residual_rotation": raw.body_stats[:, sk.BS_ROTATION].copy(),
         "overturn_drum": int(s[sk.S_OVERTURN_BODY]) if overturned else -1,
         **joints,
-        "dislocation_ratio": dislocation_ratio(joints["joint_slip"], joints["joint_diameter"]),
+        "joint_diameter": np.array(stack.joint_diameters()),
+        "dislocation_ratio": dislocation_ratio(joints["joint_slip"], stack.joint_diameters()),
         "joint_uplifted": np.isfinite(uplift_times),
         "joint_peak_mu_mob": stats[:, sk.JS_PEAK_MU].copy(),
     }
@@ -593,8 +594,7 @@ def joint_dislocations(asm, params, y):
         upper body relative to the lower one about the lower one's axis, in (-pi, pi];
         ``joint_tilt`` [rad]: angle between the two axes (joint 0: the tilt of drum 0);
         ``joint_opening`` [m]: the widest gap between a contact point and the face below
-        (0 while every point presses in); ``joint_diameter`` [m]: diameter of the bearing
-        face, the smaller of the two faces (joint 0: the base of drum 0).
+        (0 while every point presses in).
     """
     n, L = asm.n_bodies, asm.length
     out = np.zeros((n, 4))
@@ -607,15 +607,11 @@ def joint_dislocations(asm, params, y):
     lower = np.concatenate([np.eye(3)[None], rot[:-1]])
     relative = np.einsum("bji,bjk->bik", lower, rot)  # R_lower^T R_upper
     tilt = np.arctan2(np.hypot(relative[:, 0, 2], relative[:, 1, 2]), relative[:, 2, 2])
-    pts = asm.points
-    radius = np.array([np.hypot(pts[a:b, sk.P_X], pts[a:b, sk.P_Y]).max()
-                       for a, b in zip(asm.joint_start[:-1], asm.joint_start[1:])])
     return {
         "joint_slip": np.hypot(out[:, 0], out[:, 1]) * L,
         "joint_twist": out[:, 2].copy(),
         "joint_tilt": tilt,
         "joint_opening": out[:, 3] * L,
-        "joint_diameter": 2.0 * radius * L,
     }
 
 

@@ -113,6 +113,20 @@ VARIABLES = {
     "residual_rotation": Var("rad", "residual rotation of the column about the vertical at the end", degrees=True),
     "residual_displacement": Var("m", "residual horizontal displacement of the centre of the base"),
     "energy_balance_error": Var("m", "error of the energy balance per unit weight, E/(m g)"),
+    # study results of the compliant model (pipeline.compliant): the residual dislocation per joint
+    "joint": Var("1", "joint index: joint k is the base of body k (0 the base on the ground, k >= 1 the bed "
+                 "joint on body k - 1)"),
+    "joint_slip": Var("m", "residual slip of the joint: horizontal offset of the upper base's centre from the "
+                      "centre of the face below (joint 0: from where the column stood)"),
+    "joint_twist": Var("rad", "residual twist of the joint: rotation of the upper body relative to the lower one "
+                       "about the lower axis", degrees=True),
+    "joint_tilt": Var("rad", "residual relative tilt of the joint: angle between the axes of the upper and the "
+                      "lower body (joint 0: the tilt of drum 0)", degrees=True),
+    "joint_opening": Var("m", "residual opening of the joint: widest gap between a contact point and the face below"),
+    "joint_diameter": Var("m", "diameter of the joint's bearing face"),
+    "dislocation_ratio": Var("1", "largest residual slip of a bed joint over its diameter (0: no bed joint)"),
+    "overturn_drum": Var("1", "body that lay down or fell first, 0 at the bottom (-1: none fell)"),
+    "n_drums": Var("1", "number of drums of the column (1: a monolith)"),
     # study coordinates
     "angle": Var("degree", "incidence angle: counter-clockwise turn of the horizontal record pair"),
     "scale": Var("1", "factor on the record (all components)"),

@@ -126,6 +126,21 @@ class DrumColumn:
         """Number of drums of the shaft."""
         return len(self.cuts) + 1
 
+    @property
+    def n_bodies(self):
+        """Number of rigid bodies: the drums, and the capital if any."""
+        return self.n_drums + (self.capital is not None)
+
+    def joint_diameters(self):
+        """Diameter of each joint's bearing face [m], joint k the base of body k.
+
+        Joint 0 is the base of drum 0 on the ground, joint k >= 1 the bed joint on body k - 1:
+        the top face of the drum below, which is also the base of the drum above (one taper),
+        or under a capital the top of the shaft, smaller than the block.
+        """
+        return (2.0 * self.column.R,) + tuple(2.0 * self.radius_at(z) for z in self.cuts) + \
+            ((2.0 * self.column.r,) if self.capital is not None else ())
+
     def radius_at(self, z):
         """Radius of the shaft at height z above the base [m]."""
         c = self.column

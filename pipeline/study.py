@@ -20,6 +20,13 @@ see docs/studies.md for the full reference)::
     h = 4.0
     [[columns]]                      # ... or a named real column (pipeline/data/columns.toml)
     named = "pompeys-pillar"
+    [[columns]]                      # drums (and a capital [side, height]) for "3d-compliant";
+    name = "stack"                   # the rigid models run the shaft as a monolith
+    R = 0.5
+    r = 0.4
+    h = 4.0
+    drums = 4                        # or drum_heights = [1.0, 1.5, 1.5] (bottom first, sum h)
+    capital = [1.2, 0.5]
 
     [column_grid]                    # ... and/or a grid: R x slenderness h/R x beta r/R
     R = 0.5
@@ -67,6 +74,7 @@ __all__ = ["Study", "RecordSpec", "ColumnInfo", "Intensity", "load_study", "load
 _TOP = {"title", "summary", "output", "models", "columns", "column_grid", "records", "excitation", "options",
         "execution"}
 _COLUMN = {"name", "R", "r", "h", "named"}
+_DRUMS = {"drums", "drum_heights", "capital"}  # a column of drums (the compliant model)
 _GRID = {"R", "slenderness", "beta"}
 _RECORDS = {"ids", "sets", "files", "synthetic"}
 _FILE = {"path", "units", "id", "components", "missing_y", "dt", "processing"}
@@ -98,6 +106,9 @@ class ColumnInfo:
         Position [degree] of a named real column, NaN otherwise.
     source : str
         Where the dimensions come from.
+    stack : pipeline.drums.DrumColumn or None
+        The column as drums (and capital) that the compliant model runs; None: the monolith
+        ``column``. The rigid models always run ``column``, the shaft as one body.
     """
 
     column: Column
@@ -105,6 +116,18 @@ class ColumnInfo:
     latitude: float = math.nan
     longitude: float = math.nan
     source: str = ""
+    stack: object = None
+
+    @property
+    def n_bodies(self):
+        """Rigid bodies of the compliant model: drums and capital (1 for a monolith)."""
+        return 1 if self.stack is None else self.stack.n_bodies
+
+    def body(self, model):
+        """What ``model`` runs: the drums for the compliant model, else the shaft as a monolith."""
+        from pipeline.simulate import COMPLIANT_MODELS
+
+        return self.stack if (self.stack is not None and model in COMPLIANT_MODELS) else self.column
 
 
 @dataclass(frozen=True)
@@ -248,6 +271,16 @@ class Study:
     def n_simulations(self):
         """Size of the grid (3D runs are shared over angles, see pipeline.sweep)."""
         return math.prod(self.shape)
+
+    @property
+    def n_joints(self):
+        """Length of the results' ``joint`` dimension: the most bodies of a column when the
+        compliant model is run (joint k is the base of body k), else 0 (no such dimension)."""
+        from pipeline.simulate import COMPLIANT_MODELS
+
+        if not any(m in COMPLIANT_MODELS for m in self.models):
+            return 0
+        return max(c.n_bodies for c in self.columns)
 
     def settings(self, model):
         """:class:`pipeline.simulate.ModelSettings` of one model."""
@@ -437,9 +470,9 @@ def _columns(data, ck):
     presets = None
     for i, entry in enumerate(entries):
         field = f"columns[{i}]"
-        ck.table(entry, field, _COLUMN)
+        ck.table(entry, field, _COLUMN | _DRUMS)
         if "named" in entry:
-            if set(entry) - {"named", "name"}:
+            if set(entry) - {"named", "name"} - _DRUMS:
                 ck.fail(field, "a named column takes no dimensions (give either named = ID or R, r, h)")
             presets = presets or named_columns()
             key = ck.string(entry["named"], f"{field}.named")
@@ -457,6 +490,7 @@ def _columns(data, ck):
             dims = [ck.number(entry[k], f"{field}.{k}", positive=True) for k in ("R", "r", "h")]
             label = ck.string(entry.get("name", f"R{dims[0]:g}-r{dims[1]:g}-h{dims[2]:g}"), f"{field}.name")
             info = ColumnInfo(Column(*dims, name=label), label, source="study file")
+        info = _drum_column(ck, entry, info, p if "named" in entry else {}, field)
         _check(ck, info.column, field)
         out.append(info)
     grid = data.get("column_grid")
@@ -479,6 +513,57 @@ def _columns(data, ck):
         ck.fail("columns", "no columns: give [[columns]] entries or a [column_grid]")
     ck.unique([c.label for c in out], "columns", "column label {!r} is used twice; give each column a distinct name")
     return tuple(out)
+
+
+def _drum_column(ck, entry, info, preset, field):
+    """``info`` with the drums of the entry (or of the named preset), if it has any.
+
+    A named column keeps its preset's drums and capital unless the entry gives its own:
+    ``drums = N`` or ``drum_heights = [...]`` cut it again, ``capital = [side, height]``
+    replaces the capital and ``capital = false`` removes it.
+    """
+    from dataclasses import replace
+
+    from pipeline.drums import Capital, DrumColumn
+
+    given = {k: entry[k] for k in _DRUMS if k in entry}
+    if "drums" in given and "drum_heights" in given:
+        ck.fail(f"{field}.drum_heights", "give drums = N or drum_heights = [...], not both")
+    merged = {k: preset[k] for k in ("drums", "drum_heights") if k in preset and not
+              ({"drums", "drum_heights"} & set(given))}
+    merged.update({k: given[k] for k in ("drums", "drum_heights") if k in given})
+    capital = None
+    if "capital_side" in preset:
+        capital = Capital(preset["capital_side"], preset["capital_height"])
+    if "capital" in given:
+        value = given["capital"]
+        if value is False:
+            capital = None
+        elif (isinstance(value, list) and len(value) == 2):
+            side, height = (ck.number(v, f"{field}.capital[{k}]", positive=True) for k, v in enumerate(value))
+            capital = Capital(side, height)
+        else:
+            ck.fail(f"{field}.capital", f"give [side, height] of the square block in metres, or false; got {value!r}")
+    if not merged and capital is None:
+        return info
+    column = Column(info.column.R, info.column.r, info.column.h)
+    try:
+        if "drum_heights" in merged:
+            heights = merged["drum_heights"]
+            if not isinstance(heights, list) or not heights:
+                ck.fail(f"{field}.drum_heights", "must be a list of heights [m], bottom first, adding up to h")
+            heights = [ck.number(v, f"{field}.drum_heights[{k}]", positive=True) for k, v in enumerate(heights)]
+            stack = DrumColumn.from_heights(column, heights, capital, info.label)
+        else:
+            n = merged.get("drums", 1)
+            if isinstance(n, bool) or not isinstance(n, int):
+                ck.fail(f"{field}.drums", f"must be a whole number of drums, got {n!r}")
+            stack = DrumColumn.equal(column, n, capital, info.label)
+    except InputError as exc:
+        ck.fail(field, str(exc))
+    if stack.n_bodies == 1:
+        return info  # one drum, no capital: the monolith
+    return replace(info, stack=stack)
 
 
 def _check(ck, column, field):

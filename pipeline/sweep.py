@@ -47,7 +47,7 @@ from pipeline.errors import InputError, OutputError
 from pipeline.limits import check_fits, results_bytes
 from pipeline.locking import try_lock
 from pipeline.paths import check_output_file
-from pipeline.simulate import Excitation, simulate
+from pipeline.simulate import COMPLIANT_MODELS, Excitation, simulate
 
 FLOAT_VARIABLES = ("peak_theta", "peak_theta_ratio", "peak_time", "overturn_time", "uplift_time", "peak_mu_mob",
                    "residual_rotation", "residual_displacement", "work_ground", "energy_balance_error")
@@ -57,6 +57,14 @@ RESULT_VARIABLES = FLOAT_VARIABLES + INT_VARIABLES + FLAG_VARIABLES
 _DTYPES = {**{n: np.float64 for n in FLOAT_VARIABLES}, **{n: np.int32 for n in INT_VARIABLES},
            **{n: np.int8 for n in FLAG_VARIABLES}}
 DIMS = ("column", "record", "angle", "scale", "model")
+# A study that runs the compliant model also holds (pipeline.compliant): the largest residual
+# slip of a bed joint over its diameter, the body that fell first (-1: none), and per joint
+# (dimension ``joint``; joint k is the base of body k) the residual dislocation. NaN for the
+# rigid models and for the joints a column does not have.
+COMPLIANT_VARIABLES = ("dislocation_ratio", "overturn_drum")
+JOINT_VARIABLES = ("joint_slip", "joint_twist", "joint_tilt", "joint_opening")
+_DTYPES.update({"dislocation_ratio": np.float64, "overturn_drum": np.int32,
+                **{n: np.float64 for n in JOINT_VARIABLES}})
 
 # Simulations a task should hold at least (one FEMA record: ~5-20 ms each).
 TARGET_SIMULATIONS_PER_TASK = 64
@@ -82,6 +90,11 @@ class Task:
     settings : tuple of pipeline.simulate.ModelSettings
         One per model.
     vertical : bool
+    stacks : tuple
+        Per column, its drums (:class:`pipeline.drums.DrumColumn`) for the compliant model,
+        or None (the monolith); empty: every column a monolith.
+    n_joints : int
+        Length of the ``joint`` dimension of the results (0: no compliant model).
     """
 
     index: int
@@ -93,6 +106,8 @@ class Task:
     factors: tuple
     settings: tuple
     vertical: bool
+    stacks: tuple = ()
+    n_joints: int = 0
 
     @property
     def shape(self):
@@ -259,12 +274,14 @@ def plan(study, factors):
     angles = tuple(float(a) for a in study.angles)
     settings = tuple(study.settings(m) for m in study.models)
     columns = [c.column for c in study.columns]
+    stacks = [c.stack for c in study.columns]
     tasks = []
     for ri in range(len(study.records)):
         for start in range(0, len(columns), size):
             stop = min(start + size, len(columns))
             tasks.append(Task(len(tasks), ri, start, stop, tuple(columns[start:stop]), angles,
-                              tuple(float(f) for f in factors[ri]), settings, study.vertical))
+                              tuple(float(f) for f in factors[ri]), settings, study.vertical,
+                              tuple(stacks[start:stop]), study.n_joints))
     return tasks
 
 
@@ -297,12 +314,27 @@ def longest_first(tasks, motions):
     return sorted(tasks, key=cost)
 
 
-def blank_arrays(shape, status):
-    """Result arrays of ``shape`` before any simulation: floats NaN, counts and flags 0, ``status`` as given."""
-    arrays = {name: np.zeros(shape, dtype=_DTYPES[name]) for name in RESULT_VARIABLES}
-    for name in FLOAT_VARIABLES:
-        arrays[name][...] = np.nan
+def result_variables(n_joints=0):
+    """Names of a study's result arrays: the common ones, and the compliant model's if ``n_joints`` > 0."""
+    return RESULT_VARIABLES + (COMPLIANT_VARIABLES + JOINT_VARIABLES if n_joints else ())
+
+
+def result_shape(name, shape, n_joints):
+    """Shape of one result array: ``shape``, with the ``joint`` dimension last for a joint variable."""
+    return tuple(shape) + ((n_joints,) if name in JOINT_VARIABLES else ())
+
+
+def blank_arrays(shape, status, n_joints=0):
+    """Result arrays of ``shape`` before any simulation: floats NaN, counts and flags 0 (``overturn_drum``
+    -1), ``status`` as given; with ``n_joints`` > 0 also the compliant model's."""
+    arrays = {name: np.zeros(result_shape(name, shape, n_joints), dtype=_DTYPES[name])
+              for name in result_variables(n_joints)}
+    for name, values in arrays.items():
+        if values.dtype.kind == "f":
+            values[...] = np.nan
     arrays["status"][...] = status
+    if n_joints:
+        arrays["overturn_drum"][...] = -1
     return arrays
 
 
@@ -325,10 +357,13 @@ def run_task(task, motion):
         ``arrays``: name -> array (n_block_columns, n_angles, n_scales, n_models).
     """
     t0, c0 = time.perf_counter(), time.process_time()
-    arrays = blank_arrays(task.shape, status=0)
+    arrays = blank_arrays(task.shape, status=0, n_joints=task.n_joints)
     runs, errors = 0, []
-    for ci, column in enumerate(task.columns):
+    for ci, shaft in enumerate(task.columns):
+        stack = task.stacks[ci] if task.stacks else None
         for mi, settings in enumerate(task.settings):
+            # the compliant model runs the drums; the rigid ones the shaft as a monolith
+            column = stack if (stack is not None and settings.model in COMPLIANT_MODELS) else shaft
             for si, factor in enumerate(task.factors):
                 # 3D: one run at the first angle, broadcast (axisymmetry, module docstring).
                 angle_runs = [(task.angles[0], slice(None))] if settings.model == "3d" else \
@@ -351,6 +386,14 @@ def run_task(task, motion):
                     arrays["n_impacts"][index] = summary["n_impacts"]
                     for name in FLAG_VARIABLES[:-1]:
                         arrays[name][index] = 1 if summary[name] else 0
+                    if task.n_joints:
+                        # a rigid column is one body: if anything fell, it did
+                        arrays["overturn_drum"][index] = summary.get("overturn_drum", 0 if summary["overturned"] else -1)
+                        if "joint_slip" in summary:
+                            arrays["dislocation_ratio"][index] = summary["dislocation_ratio"]
+                            joints = index + (slice(0, len(summary["joint_slip"])),)
+                            for name in JOINT_VARIABLES:
+                                arrays[name][joints] = summary[name]
     return {"index": task.index, "record": task.record, "start": task.start, "stop": task.stop, "runs": runs,
             "seconds": time.perf_counter() - t0, "cpu_seconds": time.process_time() - c0, "errors": errors,
             "arrays": arrays}
@@ -358,7 +401,7 @@ def run_task(task, motion):
 
 def failed_result(task, message):
     """What a task that could not run yields: every cell status 1 (NaN, flags 0)."""
-    arrays = blank_arrays(task.shape, status=1)
+    arrays = blank_arrays(task.shape, status=1, n_joints=task.n_joints)
     return {"index": task.index, "record": task.record, "start": task.start, "stop": task.stop, "runs": 0,
             "seconds": 0.0, "cpu_seconds": 0.0, "errors": [f"columns {task.start}-{task.stop - 1}: {message}"],
             "arrays": arrays}
@@ -522,7 +565,7 @@ class Checkpoint:
         np.savez(buf, meta=np.array(json.dumps(meta)), **result["arrays"])
         self._atomic(self._path(result["index"]), buf.getvalue())
 
-    def load(self, index, shape=None):
+    def load(self, index, shape=None, n_joints=0):
         """Read one task's result back (same layout as :func:`run_task` returns).
 
         A file that cannot be read whole (truncated by a full disk or a crash
@@ -534,15 +577,19 @@ class Checkpoint:
         index : int
         shape : tuple, optional
             The task's (columns, angles, scales, models); a file whose arrays
-            differ is damaged.
+            differ (in names or shapes, :func:`result_variables`) is damaged.
+        n_joints : int
+            The task's ``joint`` dimension (0: no compliant model).
         """
         path = self._path(index)
         try:
             with np.load(path) as f:
                 meta = json.loads(str(f["meta"]))
-                meta["arrays"] = {name: f[name] for name in RESULT_VARIABLES}
-            if meta.get("index") != index or any(
-                    shape is not None and a.shape != tuple(shape) for a in meta["arrays"].values()):
+                meta["arrays"] = {name: f[name] for name in f.files if name != "meta"}
+            arrays = meta["arrays"]
+            if meta.get("index") != index or (shape is not None and (
+                    set(arrays) != set(result_variables(n_joints))
+                    or any(a.shape != result_shape(name, shape, n_joints) for name, a in arrays.items()))):
                 raise ValueError("its contents belong to another task layout")
         except Exception as exc:  # noqa: BLE001 - zipfile, numpy, json and OS errors alike mean "damaged"
             print(f"frustum: warning: checkpoint file {path} is damaged ({type(exc).__name__}: "
@@ -623,8 +670,8 @@ class Progress:
 
 def _place(arrays, result):
     ri, a, b = result["record"], result["start"], result["stop"]
-    for name in RESULT_VARIABLES:
-        arrays[name][a:b, ri] = result["arrays"][name]
+    for name, values in result["arrays"].items():
+        arrays[name][a:b, ri] = values
 
 
 def run_study(study, *, out=None, motions=None, scheduler=None, workers=None, serial=False, progress=True,
@@ -692,11 +739,11 @@ def run_study(study, *, out=None, motions=None, scheduler=None, workers=None, se
 
 def _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, cluster, serial, progress,
                       keep_checkpoint, window):
-    arrays = blank_arrays(study.shape, status=1)  # unfilled cells are failures until a task fills them
+    arrays = blank_arrays(study.shape, status=1, n_joints=study.n_joints)  # failures until a task fills them
     done, found = set(), ckpt.done()
     for task in tasks:
         if task.index in found:
-            result = ckpt.load(task.index, task.shape)
+            result = ckpt.load(task.index, task.shape, task.n_joints)
             if result is not None:
                 _place(arrays, result)
                 done.add(task.index)
@@ -994,7 +1041,9 @@ def _run_dask(pending, motions, finish, cluster, window, models, started=None):
 
 def assemble(study, motions, measures, factors, arrays):
     """The results Dataset of a study (see docs/studies.md for the schema)."""
-    ds = xr.Dataset({name: (DIMS, arrays[name]) for name in RESULT_VARIABLES})
+    n_joints = study.n_joints
+    ds = xr.Dataset({name: (DIMS + (("joint",) if name in JOINT_VARIABLES else ()), arrays[name])
+                     for name in result_variables(n_joints)})
     cols = [c.column for c in study.columns]
     coords = {
         "column": ("column", [c.label for c in study.columns]),
@@ -1023,6 +1072,15 @@ def assemble(study, motions, measures, factors, arrays):
         coords["longitude"] = ("column", [c.longitude for c in study.columns])
     if study.sa_period is not None:
         coords["sa"] = (("record", "scale"), factors * np.array([[m["sa"]] for m in measures]))
+    if n_joints:
+        diameters = np.full((len(cols), n_joints), np.nan)
+        for ci, info in enumerate(study.columns):
+            faces = info.stack.joint_diameters() if info.stack is not None else (2.0 * info.column.R,)
+            diameters[ci, :len(faces)] = faces
+        coords["joint"] = ("joint", np.arange(n_joints, dtype=np.int32))
+        coords["joint_diameter"] = (("column", "joint"), diameters)
+        coords["n_drums"] = ("column", np.array([1 if c.stack is None else c.stack.n_drums for c in study.columns],
+                                                dtype=np.int32))
     ds = ds.assign_coords(coords)
     annotate(ds, STUDY_VARIABLES)
     if study.intensity is not None:
@@ -1037,8 +1095,10 @@ def assemble(study, motions, measures, factors, arrays):
     ds["angle"].attrs["comment"] = "degrees counter-clockwise; 3D results do not depend on it (axisymmetry)"
     ds["model"].attrs["comment"] = ("3d: rigid conical frustum rolling on the rim of its base (the paper); "
                                     "2d: planar rocking in the vertical plane of the X component of the turned pair; "
-                                    "3d-compliant: rigid body on a joint of contact points (spring-dashpots, "
-                                    "elastic-Coulomb friction), run at every angle")
+                                    "3d-compliant: rigid bodies (the drums and capital of a column, or the "
+                                    "monolith) on joints of contact points (spring-dashpots, elastic-Coulomb "
+                                    "friction), run at every angle; the rigid models run a column of drums as "
+                                    "a monolith of its shaft")
     ds.attrs.update({
         "title": study.title,
         "summary": study.summary or (

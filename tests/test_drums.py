@@ -122,9 +122,9 @@ def test_joint_dislocations_of_a_known_state():
     r1 = PAPER.R + (PAPER.r - PAPER.R) * 0.5  # radius at the cut, 2 m up [m]
     np.testing.assert_allclose(d["joint_opening"], [PAPER.R * math.sin(tilt0) - delta, lift + r1 * math.sin(tilt)],
                                rtol=0, atol=1e-12)
-    np.testing.assert_allclose(d["joint_diameter"], [2 * PAPER.R, 2 * r1], rtol=1e-15)
-    assert dislocation_ratio(d["joint_slip"], d["joint_diameter"]) == pytest.approx(np.hypot(*slip) / (2 * r1),
-                                                                                    rel=1e-12)
+    diameters = DrumColumn.equal(PAPER, 2).joint_diameters()
+    np.testing.assert_allclose(diameters, [2 * PAPER.R, 2 * r1], rtol=1e-15)
+    assert dislocation_ratio(d["joint_slip"], diameters) == pytest.approx(np.hypot(*slip) / (2 * r1), rel=1e-12)
     assert dislocation_ratio([0.1], [1.0]) == 0.0  # a monolith has no bed joint to dislocate
 
 
@@ -147,6 +147,16 @@ def test_drum_geometry_and_bad_input():
     assert stack.cuts == (1.0, 2.5) and stack.n_drums == 3
     drums = stack.drums()
     assert drums[0].R == 0.5 and drums[-1].r == 0.4 and drums[1].R == drums[0].r == pytest.approx(0.475)
+    # the bearing faces are the kernel's: its contact points reach the rim of each (capital included)
+    from pipeline.compliant import assemble
+    from pipeline.dynamics import stack as sk
+
+    capped = DrumColumn(PAPER, stack.cuts, Capital(1.2, 0.5))
+    asm = assemble(capped, compliant(), damping=0.0)
+    rims = [2 * np.hypot(asm.points[a:b, sk.P_X], asm.points[a:b, sk.P_Y]).max() * asm.length
+            for a, b in zip(asm.joint_start[:-1], asm.joint_start[1:])]
+    np.testing.assert_allclose(capped.joint_diameters(), rims, rtol=1e-14)
+    np.testing.assert_allclose(capped.joint_diameters(), [1.0, 0.95, 0.875, 0.8], rtol=1e-14)
     with pytest.raises(InputError, match="add up to 3.5 m"):
         DrumColumn.from_heights(PAPER, [1.0, 2.5])
     with pytest.raises(InputError, match="increase strictly"):
@@ -159,7 +169,7 @@ def test_drum_geometry_and_bad_input():
 
 def test_named_parthenon_column_has_drums_and_a_capital():
     stack = named_drum_column("parthenon-peristyle")
-    assert stack.n_drums == 11 and stack.capital is not None
+    assert stack.n_drums == 11 and stack.capital is not None and stack.n_bodies == 12
     assert stack.column.h + stack.capital.height == pytest.approx(10.43)
     assert named_drum_column("paper").n_drums == 1
 

@@ -58,3 +58,84 @@ def test_a_study_runs_the_compliant_model_at_every_angle(write_study):
 def test_a_bad_compliant_option_names_the_field(write_study):
     with pytest.raises(InputError, match="contact_sectors"):
         load_study(write_study(STUDY.replace("contact_sectors = 16", "contact_sectors = 15")))
+
+
+DRUM_STUDY = """\
+title = "drums"
+output = "drums.nc"
+models = ["3d", "3d-compliant"]
+
+[[columns]]
+named = "paper"
+
+[[columns]]
+name = "two"
+R = 0.5
+r = 0.4
+h = 4.0
+drums = 2
+
+[records]
+synthetic = [{generator = "ricker_wavelet", id = "ricker", ap = 4.0, fp = 2.0, dt = 0.01, duration = 1.5}]
+
+[excitation]
+angles = [0.0, 30.0]
+scales = [2.0]
+
+[options]
+tail = 0.5
+contact_sectors = 16
+joint_friction = 0.5
+"""
+
+
+def test_a_drum_column_study_has_the_joints_of_simulate(write_study):
+    """A monolith and two drums of the same outline: the compliant model's joints along `joint`
+    (the monolith's joint 1 and the rigid model's joints NaN), equal to simulate() to the bit;
+    the rigid model runs the drums' shaft as a monolith, the same numbers as the monolith's."""
+    from pipeline.dataset import open_results
+    from pipeline.drums import DrumColumn
+
+    study = load_study(write_study(DRUM_STUDY))
+    assert [c.n_bodies for c in study.columns] == [1, 2] and study.n_joints == 2
+    report = run_study(study, serial=True, progress=False)
+    ds = open_results(report.path)  # through the file: the joint dimension and its attributes survive
+    assert ds.joint_slip.dims == ("column", "record", "angle", "scale", "model", "joint")
+    assert ds.joint_slip.attrs["units"] == "m" and ds.joint_twist_deg.attrs["units"] == "degree"
+    np.testing.assert_array_equal(ds.joint_diameter.values, [[1.0, np.nan], [1.0, 0.9]])
+    assert ds.n_drums.values.tolist() == [1, 2]
+    rigid = ds.sel(model="3d")
+    assert np.isnan(rigid.joint_slip.values).all() and np.isnan(rigid.dislocation_ratio.values).all()
+    for name in ("peak_theta", "residual_displacement", "overturned"):
+        np.testing.assert_array_equal(rigid[name].sel(column="two").values, rigid[name].sel(column="paper").values)
+    comp = ds.sel(model="3d-compliant")
+    assert np.isnan(comp.joint_slip.sel(column="paper", joint=1).values).all()
+    assert (comp.dislocation_ratio.sel(column="paper").values == 0.0).all()
+    settings = study.settings("3d-compliant")
+    motion = load_motions(study)[0]
+    direct = simulate(DrumColumn.equal(study.columns[1].column, 2), motion, Excitation(angle=30.0, scale=2.0),
+                      settings, histories=False).summary
+    cell = comp.sel(column="two", angle=30.0, scale=2.0).isel(record=0)
+    for name in ("joint_slip", "joint_twist", "joint_tilt", "joint_opening"):
+        np.testing.assert_array_equal(cell[name].values, direct[name], err_msg=name)
+    assert float(cell.dislocation_ratio) == direct["dislocation_ratio"] == direct["joint_slip"][1] / 0.9
+    assert float(cell.peak_theta) == direct["peak_theta"] and int(cell.overturn_drum) == direct["overturn_drum"] == -1
+    assert np.all(ds.status.values == 0)
+
+
+def test_drum_columns_in_a_study_file(write_study):
+    """Named columns bring their drums and capital; drums, drum_heights and capital replace them."""
+    text = DRUM_STUDY.replace('[[columns]]\nnamed = "paper"\n', (
+        '[[columns]]\nnamed = "parthenon-peristyle"\n\n'
+        '[[columns]]\nnamed = "parthenon-peristyle"\nname = "shaft"\ndrums = 1\ncapital = false\n\n'
+        '[[columns]]\nname = "cut"\nR = 0.5\nr = 0.4\nh = 4.0\ndrum_heights = [1.0, 3.0]\ncapital = [1.2, 0.5]\n'))
+    study = load_study(write_study(text), load_records=False)
+    parthenon, shaft, cut, two = study.columns
+    assert parthenon.stack.n_drums == 11 and parthenon.stack.capital.side == 2.0 and parthenon.n_bodies == 12
+    assert shaft.stack is None and shaft.body("3d-compliant") is shaft.column
+    assert cut.stack.cuts == (1.0,) and cut.n_bodies == 3 and cut.body("3d") is cut.column
+    assert study.n_joints == 12
+    for bad, field in [("drums = 2\ndrum_heights = [2.0, 2.0]", "drum_heights"), ("drums = 2.5", "drums"),
+                       ("drum_heights = [1.0, 2.0]", "add up to 3 m"), ("capital = [1.0]", "capital")]:
+        with pytest.raises(InputError, match=field):
+            load_study(write_study(DRUM_STUDY.replace("drums = 2", bad)), load_records=False)
