@@ -24,8 +24,13 @@ exists. The cases without a finite maximum are reported, not hidden
 perfectly separated by the IM (every exceedance above every non-exceedance,
 ``beta -> 0``).
 
-Damage states: ``overturning`` (the run overturned) and, for each threshold
-``s`` (defaults 0.25, 0.5, 1), "peak theta / theta_crit >= s or overturned".
+Damage states: ``overturning`` (the run overturned; for a column of drums, any
+drum lay down or fell: collapse), for each threshold ``s`` (defaults 0.25, 0.5,
+1) ``theta_ratio_s``: "peak theta / theta_crit >= s or overturned", and, where
+the results hold the compliant model's joints, the dislocation states
+``dislocation_s`` (defaults :data:`DISLOCATION_STATES`): "the largest residual
+slip of a bed joint reaches s times the joint's diameter, or overturned". Every
+state is a boolean per run (:func:`exceedance`) fitted by the same likelihood.
 
 Confidence bounds come from a bootstrap over records (each replicate draws
 the study's records with replacement, keeping all angles and scales of a
@@ -50,6 +55,30 @@ from pipeline.dataset import annotate, append_history, write_netcdf
 from pipeline.errors import InputError
 
 DEFAULT_STATES = (0.25, 0.5, 1.0)
+
+#: Dislocation damage states DS1, DS2, DS3: thresholds on ``dislocation_ratio``, the largest
+#: residual slip s of a bed joint over the joint's diameter D [1] (configurable: the
+#: ``dislocations`` of :func:`fragility`, ``--dislocations`` of ``frustum fragility``).
+#:
+#: Why these values. A drum slid by s on the one below carries everything above it on a lever
+#: arm shortened from D/2 to D/2 - s towards the side it slid to, so the static overturning
+#: resistance of the part above, about that edge, drops by the fraction 2 s/D, and its bearing
+#: area by about (4/pi) s/D (two discs of diameter D offset by s, to first order):
+#:
+#: * DS1, s >= 1 % of D (19 mm on a Parthenon drum of 1.9 m): a dislocation the eye sees, the
+#:   flutes out of line; the resistance 2 % lower, nothing to repair for stability.
+#: * DS2, s >= 5 % of D: resistance 10 % lower, bearing area 6 % smaller; the drums need
+#:   re-setting.
+#: * DS3, s >= 10 % of D: resistance 20 % lower, bearing area 13 % smaller: the column stands
+#:   markedly weakened for the next earthquake.
+#:
+#: Residual drum dislocation over the diameter as the measure of damage follows the
+#: performance-based assessment of classical columns of "Seismic reliability assessment of
+#: classical columns subjected to near-fault ground motions" (Earthquake Engineering &
+#: Structural Dynamics, 2013); the thresholds are this project's round values, not that paper's.
+#: Collapse, any drum lying down or falling, is the ``overturning`` state, and it counts as
+#: reaching every dislocation state.
+DISLOCATION_STATES = (0.01, 0.05, 0.10)
 DEFAULT_CONFIDENCE = 0.90
 RESULT_DIMS = ("column", "record", "angle", "scale", "model")
 IM_NAMES = ("pga", "pgv", "sa")
@@ -317,9 +346,38 @@ def _first_response(results):
                      "this is not a study results file")
 
 
-def state_labels(states):
-    """Labels of the damage states: ``overturning`` then ``theta_ratio_<s>``."""
-    return ["overturning"] + [f"theta_ratio_{s:g}" for s in states]
+#: The result each kind of damage state is a threshold on (``state_measure`` of a fragility).
+STATE_MEASURES = {"overturning": "overturned", "theta_ratio": "peak_theta_ratio",
+                  "dislocation": "dislocation_ratio"}
+
+
+def state_labels(states, dislocations=()):
+    """Labels of the damage states: ``overturning``, ``theta_ratio_<s>``, then ``dislocation_<s>``."""
+    return ["overturning"] + [f"theta_ratio_{s:g}" for s in states] + [f"dislocation_{s:g}" for s in dislocations]
+
+
+def parse_state(state):
+    """(kind, threshold) of a damage state: ``"overturning"`` (NaN), a number or ``"theta_ratio_<s>"``
+    (a threshold on peak theta / theta_crit), or ``"dislocation_<s>"`` (on ``dislocation_ratio``)."""
+    if isinstance(state, str):
+        if state == "overturning":
+            return "overturning", math.nan
+        for kind in ("theta_ratio", "dislocation"):
+            if state.startswith(kind + "_"):
+                text = state[len(kind) + 1:]
+                break
+        else:
+            kind, text = "theta_ratio", state
+    else:
+        kind, text = "theta_ratio", state
+    try:
+        s = float(text)
+    except (TypeError, ValueError):
+        raise InputError(f"damage state {state!r}: give 'overturning', a number (theta/theta_crit) or "
+                         "'dislocation_<s>' (residual joint slip / diameter)") from None
+    if not (math.isfinite(s) and s > 0):
+        raise InputError(f"damage state {state!r}: a threshold must be a positive number")
+    return kind, s
 
 
 def exceedance(results, state):
@@ -328,19 +386,22 @@ def exceedance(results, state):
     Parameters
     ----------
     results : xarray.Dataset
-    state : "overturning" or float
-        A threshold on peak theta / theta_crit [1]: exceeded when the ratio
-        reaches it or the column overturned.
+    state : "overturning", float or str
+        ``"overturning"``; a threshold on peak theta / theta_crit [1] (a number or
+        ``"theta_ratio_<s>"``); or ``"dislocation_<s>"``, a threshold on the largest
+        residual slip of a bed joint over its diameter [1] (:data:`DISLOCATION_STATES`).
+        A threshold is reached when the measure reaches it or the column overturned. A run
+        without bed joints (a monolith, a rigid model: ``dislocation_ratio`` 0 or NaN) reaches
+        a dislocation state only by overturning.
     """
-    if isinstance(state, str) and state == "overturning":
+    kind, s = parse_state(state)
+    if kind == "overturning":
         return _require(results, "overturned", "overturning fragility").fillna(0) > 0
-    try:
-        s = float(state)
-    except (TypeError, ValueError):
-        raise InputError(f"damage state {state!r}: give 'overturning' or a number (theta/theta_crit)") from None
-    if not (math.isfinite(s) and s > 0):
-        raise InputError(f"damage state {state!r}: a threshold on theta/theta_crit must be a positive number")
-    ratio = _require(results, "peak_theta_ratio", f"damage state theta/theta_crit >= {s:g}")
+    if kind == "dislocation":
+        ratio = _require(results, "dislocation_ratio", f"damage state residual joint slip / diameter >= {s:g}; "
+                         "it comes from a study with the model 3d-compliant").fillna(0.0)
+    else:
+        ratio = _require(results, "peak_theta_ratio", f"damage state theta/theta_crit >= {s:g}")
     over = results["overturned"].fillna(0) > 0 if "overturned" in results.variables else False
     return (ratio >= s) | over
 
@@ -379,7 +440,7 @@ def intensity(results, im="pga"):
     return out
 
 
-def _per_record(results, im, states):
+def _per_record(results, im, labels):
     """Arrays for fitting: im (column, record, angle, scale, model) and exceed (state, ...)."""
     like = results[_first_response(results)].transpose(*RESULT_DIMS)
     x = intensity(results, im).transpose(*RESULT_DIMS).values
@@ -389,7 +450,7 @@ def _per_record(results, im, states):
         raise InputError(f"{_where(results)}: intensity measure '{im}' is zero, negative or missing for "
                          f"{int(bad_im.sum())} valid run(s); a lognormal fragility needs positive IM values")
     exceed = np.stack([exceedance(results, s).broadcast_like(like).transpose(*RESULT_DIMS).values
-                       for s in ["overturning", *states]])
+                       for s in labels])
     models = [str(m) for m in results["model"].values]
     # 3D results do not depend on the incidence angle (axisymmetric column): count each run once
     angle_weight = np.ones((len(models), results.sizes["angle"]))
@@ -415,7 +476,8 @@ def _im_grid(x, weight, n=121):
     return np.geomspace(lo, hi, n)
 
 
-def fragility(results, im="pga", states=DEFAULT_STATES, bootstrap=0, seed=0, confidence=DEFAULT_CONFIDENCE):
+def fragility(results, im="pga", states=DEFAULT_STATES, bootstrap=0, seed=0, confidence=DEFAULT_CONFIDENCE,
+              dislocations=None):
     """Fit lognormal fragility curves to every column, model and damage state of a study.
 
     Parameters
@@ -437,11 +499,16 @@ def fragility(results, im="pga", states=DEFAULT_STATES, bootstrap=0, seed=0, con
         Seed of the bootstrap (numpy ``default_rng``): same seed, same bounds.
     confidence : float
         Confidence level of the percentile bounds, in (0, 1).
+    dislocations : sequence of float, optional
+        Dislocation damage states: thresholds on the largest residual slip of a bed joint over
+        its diameter [1], fitted after the others. Default :data:`DISLOCATION_STATES` when the
+        results hold ``dislocation_ratio`` (a study with the compliant model), else none.
 
     Returns
     -------
     xarray.Dataset
-        Dims ``state``, ``column``, ``model``, ``scale``, ``im_level``.
+        Dims ``state``, ``column``, ``model``, ``scale``, ``im_level``; the coordinates
+        ``state_measure`` and ``state_threshold`` say what each state is a threshold on.
         Variables ``median`` [IM units], ``beta`` [1], ``fit_status`` (flag),
         ``n_runs``, ``n_exceed``, ``n_records``; with ``bootstrap > 0`` also
         ``median_lower``, ``median_upper``, ``beta_lower``, ``beta_upper``,
@@ -460,14 +527,25 @@ def fragility(results, im="pga", states=DEFAULT_STATES, bootstrap=0, seed=0, con
     for s in states:
         if not (math.isfinite(s) and s > 0):
             raise InputError(f"state threshold {s!r}: must be a positive number (theta/theta_crit)")
+    if dislocations is None:
+        dislocations = DISLOCATION_STATES if "dislocation_ratio" in results.variables else ()
+    try:
+        dislocations = tuple(sorted(float(s) for s in dislocations))
+    except (TypeError, ValueError):
+        raise InputError(f"dislocations {dislocations!r}: give numbers (residual joint slip / diameter), "
+                         "e.g. 0.01,0.05,0.1") from None
+    for s in dislocations:
+        if not (math.isfinite(s) and s > 0):
+            raise InputError(f"dislocation threshold {s!r}: must be a positive number (joint slip / diameter)")
     if not (0.0 < float(confidence) < 1.0):
         raise InputError(f"confidence = {confidence!r}: must be between 0 and 1 (e.g. 0.9)")
     bootstrap = int(bootstrap)
     if bootstrap < 0:
         raise InputError(f"bootstrap = {bootstrap}: must be 0 (no bounds) or a positive number of replicates")
     im_da = intensity(results, im)
-    x, exceed, weight = _per_record(results, im, states)
-    labels = state_labels(states)
+    labels = state_labels(states, dislocations)
+    x, exceed, weight = _per_record(results, im, labels)
+    kinds = [parse_state(label)[0] for label in labels]
     nS, nC, nR, nA, nK, nM = exceed.shape
     grid = _im_grid(x, weight)
 
@@ -531,8 +609,13 @@ def fragility(results, im="pga", states=DEFAULT_STATES, bootstrap=0, seed=0, con
         },
         coords={
             "state": ("state", np.array(labels, dtype=object), {"long_name": "damage state"}),
-            "state_threshold": ("state", np.array([np.nan, *states]), {
-                "units": "1", "long_name": "threshold on peak theta / theta_crit (NaN: overturning)"}),
+            "state_threshold": ("state", np.array([np.nan, *states, *dislocations]), {
+                "units": "1", "long_name": "threshold of the damage state on its measure, state_measure "
+                "(NaN: overturning)"}),
+            "state_measure": ("state", np.array([STATE_MEASURES[k] for k in kinds], dtype=object), {
+                "long_name": "result the damage state is a threshold on: overturned (any body fell), "
+                "peak_theta_ratio (peak theta / theta_crit) or dislocation_ratio (largest residual slip "
+                "of a bed joint over its diameter)"}),
             "column": results["column"].values.astype(str).astype(object),
             "model": results["model"].values.astype(str).astype(object),
             "scale": ("scale", results["scale"].values.astype(float), {"units": "1", "long_name": "scale factor on the record"}),
@@ -563,7 +646,9 @@ def fragility(results, im="pga", states=DEFAULT_STATES, bootstrap=0, seed=0, con
                          "percentile intervals",
         method="Baker J.W. (2015) Efficient analytical fragility function fitting using dynamic structural "
                "analysis data, Earthquake Spectra 31(1) 579-599; probit regression solved by Newton's method",
-        damage_states="overturning; theta_ratio_s: peak theta / theta_crit >= s or overturned",
+        damage_states="overturning (for a column of drums: any drum lay down or fell); theta_ratio_s: peak "
+                      "theta / theta_crit >= s or overturned; dislocation_s: largest residual slip of a bed joint "
+                      ">= s times its diameter, or overturned",
     )
     for key in ("study", "study_digest", "source_file", "title"):
         if key in results.attrs:
@@ -573,7 +658,7 @@ def fragility(results, im="pga", states=DEFAULT_STATES, bootstrap=0, seed=0, con
     for name, attrs in own.items():  # the catalog must not relabel IM-dependent units
         ds[name].attrs = {**ds[name].attrs, **attrs}
     append_history(ds, f"pipeline.fragility im={im} states={','.join(f'{s:g}' for s in states)} "
-                       f"bootstrap={bootstrap} seed={seed}")
+                       f"dislocations={','.join(f'{s:g}' for s in dislocations)} bootstrap={bootstrap} seed={seed}")
     return ds
 
 
@@ -676,6 +761,8 @@ def write(ds, path):
 
 __all__ = [
     "DEFAULT_STATES",
+    "DISLOCATION_STATES",
+    "parse_state",
     "FIT_STATUS",
     "LognormalFit",
     "fit_lognormal",

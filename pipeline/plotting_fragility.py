@@ -63,6 +63,16 @@ def _secondary(ax, secondary):
             _plain_log(top.xaxis)
 
 
+def _state_text(state, cell):
+    """How a legend names a damage state (by the measure it is a threshold on)."""
+    if state == "overturning":
+        return "overturning"
+    threshold = float(cell["state_threshold"])
+    if "state_measure" in cell.coords and str(cell["state_measure"].values) == "dislocation_ratio":
+        return f"joint slip/D ≥ {threshold:g}"
+    return f"θ/θ_crit ≥ {threshold:g}"
+
+
 def plot_fragility(frag, stem, column=None, states=None, models=None, title=None):
     """Fragility curves of one column: fitted curves, bootstrap bands and the stripe data.
 
@@ -97,8 +107,7 @@ def plot_fragility(frag, stem, column=None, states=None, models=None, title=None
             ls = _MODEL_STYLE.get(m, {}).get("ls", "-")
             med = float(cell["median"])
             bet = float(cell["beta"])
-            pretty = "overturning" if state == "overturning" else \
-                f"θ/θ_crit ≥ {float(cell['state_threshold']):g}"
+            pretty = _state_text(state, cell)
             if np.isfinite(med) and np.isfinite(bet):
                 fit_text = f"median {med * factor:.3g}, β = {bet:.2f}"
             else:

@@ -58,7 +58,9 @@ ASSUMPTIONS = """\
   kept); that and an optional viscous contact couple (`damping` = {damping}) are the only energy losses.
 - The column *overturns* when it reaches the inclination at which its side touches the ground; the
   *critical inclination* theta_crit is the static tipping angle (centre of mass above the rim).
-- Damage states other than overturning are the peak inclination reaching a fraction of theta_crit.
+- Damage states other than overturning are the peak inclination reaching a fraction of theta_crit and, for
+  the compliant model, the largest residual slip of a bed joint reaching a fraction of its diameter
+  (`dislocation_s`; a column without bed joints reaches these only by overturning).
 """
 
 
@@ -312,7 +314,8 @@ CAPTIONS = (
     ("fragility_overturning", "Probability of overturning against PGA. Lines: fitted curves; markers: the fraction "
      "of runs that overturned at each intensity; shading: the uncertainty that comes from the choice of records."),
     ("fragility_states", "Probability of reaching each damage state: the peak tilt reaching a quarter, half or all "
-     "of the tipping angle theta_crit, and overturning."),
+     "of the tipping angle theta_crit, overturning and, for columns of drums, the residual slip of a joint reaching "
+     "a fraction of its diameter."),
     ("fragility_all_columns", "The overturning curves of all columns side by side."),
     ("median_pga_grid", "Median PGA of overturning (50 % chance) for each column shape; higher means the column "
      "needs stronger shaking to fall."),

@@ -10,6 +10,8 @@ examples:
     frustum fragility out/quickstart.nc --out out/quickstart-fragility.nc --bootstrap 200 --seed 1
   against PGV, damage states at 0.3 and 0.6 theta_crit:
     frustum fragility out/quickstart.nc --out frag-pgv.nc --im pgv --states 0.3,0.6
+  a study of drums (model 3d-compliant): residual joint slip of 2 % and 20 % of the joint's diameter:
+    frustum fragility out/drums.nc --out frag-drums.nc --dislocations 0.02,0.2
 """
 
 
@@ -31,6 +33,9 @@ def register(subparsers):
     p.add_argument("--states", default="0.25,0.5,1", metavar="S1,S2,...",
                    help="damage states as thresholds on peak theta/theta_crit (default 0.25,0.5,1); "
                    "overturning is always fitted")
+    p.add_argument("--dislocations", default=None, metavar="S1,S2,...",
+                   help="dislocation damage states as thresholds on the largest residual slip of a bed joint over "
+                   "its diameter (default 0.01,0.05,0.1 for results of the model 3d-compliant; 'none': skip)")
     p.add_argument("--bootstrap", type=int, default=0, metavar="N",
                    help="bootstrap replicates over records for confidence bounds (default 0: none)")
     p.add_argument("--seed", type=int, default=0, help="seed of the bootstrap (default 0)")
@@ -49,12 +54,26 @@ def parse_states(text):
         raise InputError(f"--states {text!r}: give numbers separated by commas, e.g. 0.25,0.5,1") from None
 
 
+def parse_dislocations(text):
+    """``"0.01,0.05"`` -> (0.01, 0.05); ``"none"`` or empty -> (); None -> None (the default)."""
+    if text is None:
+        return None
+    if not str(text).strip() or str(text).strip().lower() == "none":
+        return ()
+    try:
+        return tuple(float(part) for part in str(text).split(",") if part.strip())
+    except ValueError:
+        raise InputError(f"--dislocations {text!r}: give numbers separated by commas, e.g. 0.01,0.05,0.1, "
+                         "or none") from None
+
+
 def run(args):
     from pipeline import fragility as F
 
     results = F.open_results(args.results)
     frag = F.fragility(results, im=args.im, states=parse_states(args.states), bootstrap=args.bootstrap,
-                       seed=args.seed, confidence=args.confidence)
+                       seed=args.seed, confidence=args.confidence,
+                       dislocations=parse_dislocations(args.dislocations))
     F.write(frag, args.out)
     units = frag["median"].attrs["units"]
     for c in frag["column"].values:
