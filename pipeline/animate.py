@@ -14,9 +14,10 @@ of motion (``speed`` 1).
 The drawing is per body: :func:`frustum_faces` turns one frustum
 (:class:`Shape`) at one :class:`Pose` into shaded polygons, and
 :class:`ModelView` draws a list of bodies per frame. A rigid column is one
-body (:func:`rigid_bodies`); a column of drums is one body per drum, so a
-model whose histories carry a ``drum`` dimension needs only its own
-function from a run and a frame to a list of (Shape, Pose).
+body (:func:`rigid_bodies`); a column of drums (the compliant model's
+histories, with a ``drum`` dimension) is one body per drum and a square block
+for a capital, each placed by its own displacement, tilt and rotation
+(:func:`drum_bodies`).
 
 Ground displacement is the double trapezoidal integral of the ground
 acceleration from rest, without baseline correction: it shows how the ground
@@ -42,11 +43,23 @@ STRIPE = np.array([0.55, 0.25, 0.18])
 
 @dataclass(frozen=True)
 class Shape:
-    """A frustum body: base radius, top radius and height [m]."""
+    """A frustum body: base radius, top radius and height [m].
+
+    ``sides`` 0 is a round frustum; ``sides`` 4 a square block (a capital) whose base and
+    top are squares of half-side ``R`` and ``r`` [m], their sides along the body's x and y.
+    """
 
     R: float
     r: float
     h: float
+    sides: int = 0
+
+    @property
+    def z_cm(self):
+        """Height of the centre of mass above the base [m] (a square block: h/2)."""
+        from pipeline.geometry import Column
+
+        return Column(self.R, self.r, self.h).z_cm
 
 
 @dataclass(frozen=True)
@@ -105,9 +118,14 @@ def frustum_faces(shape, pose):
         quadrilaterals, the base and the top) and their RGB face colours
         (n_faces, 3), lit by :data:`LIGHT`; the first side face is the stripe.
     """
-    n = _COS.size
-    bottom = np.stack([shape.R * _COS, shape.R * _SIN, np.zeros(n)], axis=1)
-    top = np.stack([shape.r * _COS, shape.r * _SIN, np.full(n, shape.h)], axis=1)
+    if shape.sides:  # corners at 45 deg, at sqrt(2) times the half-side
+        angle = 2.0 * math.pi * (np.arange(shape.sides) + 0.5) / shape.sides
+        cos, sin = math.sqrt(2.0) * np.cos(angle), math.sqrt(2.0) * np.sin(angle)
+    else:
+        cos, sin = _COS, _SIN
+    n = cos.size
+    bottom = np.stack([shape.R * cos, shape.R * sin, np.zeros(n)], axis=1)
+    top = np.stack([shape.r * cos, shape.r * sin, np.full(n, shape.h)], axis=1)
     bottom = bottom @ pose.rotation.T + pose.centre
     top = top @ pose.rotation.T + pose.centre
     nxt = np.roll(np.arange(n), -1)
@@ -179,11 +197,29 @@ class Motion:
         self.acc = np.nan_to_num(np.stack(acc, axis=1))
         self.ground = np.stack([ground_displacement(a, self.time) for a in self.acc.T], axis=1)
         self.theta_crit = float(run["theta_crit"])
+        self.height = self.shape.h
+        self.drums = ()
+        if "drum_dx" in run and np.isfinite(run["drum_dx"].values).any():
+            self._drums(run)
         self.overturn_time = math.nan
         if "phase" in run:
             over = np.flatnonzero(run["phase"].values == 2)
             if over.size:
                 self.overturn_time = float(self.time[over[0]])
+
+    def _drums(self, run):
+        """Each drum's shape and, over time, its centre of mass [m] and Euler angles [rad]."""
+        kind = run["drum_kind"].values
+        self.drums = tuple(Shape(float(R), float(r), float(h), 4 if k == 1 else 0) for R, r, h, k in
+                           zip(run["drum_R"].values, run["drum_r"].values, run["drum_h"].values, kind))
+        rest = np.array([z + shape.z_cm for z, shape in zip(run["drum_z"].values, self.drums)])
+        self.drum_centre = np.stack([run["drum_dx"].values, run["drum_dy"].values,
+                                     rest[None, :] + run["drum_dz"].values], axis=2)
+        self.drum_theta = np.nan_to_num(run["drum_theta"].values)
+        # the direction of the tilt is undefined upright: any there, with the spin taking up the rest
+        self.drum_phi = np.stack([_filled(column) for column in run["drum_phi"].values.T], axis=1)
+        self.drum_psi = np.nan_to_num(run["drum_rotation"].values) - self.drum_phi
+        self.height = float(np.max(run["drum_z"].values + run["drum_h"].values))
 
     def index(self, t):
         """Row of the histories at time ``t`` [s] (the last at or before it)."""
@@ -196,6 +232,23 @@ def rigid_bodies(motion, i):
     return [(motion.shape, Pose(motion.base[i] + motion.ground[i], rotation))]
 
 
+def drum_bodies(motion, i):
+    """The bodies of a column of drums at row ``i``, bottom first, moving with the ground.
+
+    Each drum (and a capital) is placed by its own state: the Euler angles from its tilt
+    ``drum_theta``, the direction of the tilt ``drum_phi`` and its rotation about the vertical
+    ``drum_rotation`` (= phi + psi), and its centre of mass displaced by ``drum_dx``,
+    ``drum_dy``, ``drum_dz`` from where it stood; the base centre lies ``z_cm`` below the
+    centre of mass along the drum's axis.
+    """
+    out = []
+    for b, shape in enumerate(motion.drums):
+        rotation = euler_rotation(motion.drum_phi[i, b], motion.drum_theta[i, b], motion.drum_psi[i, b])
+        base = motion.drum_centre[i, b] - rotation[:, 2] * shape.z_cm + motion.ground[i]
+        out.append((shape, Pose(base, rotation)))
+    return out
+
+
 class ModelView:
     """The 3D view of one model: the plate, the bodies, the contact path, the acceleration arrow.
 
@@ -203,17 +256,19 @@ class ModelView:
     ----------
     ax : mpl_toolkits.mplot3d.Axes3D
     motion : Motion
-    bodies : callable
-        ``bodies(motion, i) -> list of (Shape, Pose)`` (default
-        :func:`rigid_bodies`).
+    bodies : callable, optional
+        ``bodies(motion, i) -> list of (Shape, Pose)`` (default :func:`drum_bodies` for a
+        column of drums, else :func:`rigid_bodies`).
     """
 
-    def __init__(self, ax, motion, bodies=rigid_bodies):
+    def __init__(self, ax, motion, bodies=None):
         from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
+        if bodies is None:
+            bodies = drum_bodies if motion.drums else rigid_bodies
         self.ax, self.motion, self.bodies = ax, motion, bodies
         shape = motion.shape
-        reach = shape.h + shape.R
+        reach = motion.height + shape.R
         ground = motion.ground[:, :2]
         centre = 0.5 * (ground.min(axis=0) + ground.max(axis=0))
         half = 0.5 * float(np.max(ground.max(axis=0) - ground.min(axis=0))) + 0.55 * reach
@@ -266,6 +321,8 @@ class ModelView:
         state = (f", overturned at {m.overturn_time:.2f} s" if math.isfinite(m.overturn_time)
                  and t >= m.overturn_time else "")
         name = {"3d": "3D rolling frustum", "2d": "2D planar rocking"}.get(m.model, m.model)
+        if m.drums:
+            name = f"{name}: {len(m.drums)} bodies on compliant joints"
         accel = float(np.hypot(*m.acc[i, :2])) / 9.80665
         self.title.set_text(f"{name}\nt = {m.time[i]:5.2f} s   tilt θ = {tilt:5.2f}° "
                             f"(θ_crit {math.degrees(m.theta_crit):.1f}°){state}\n"
@@ -411,9 +468,9 @@ def animate_file(path, out, fps=10.0, speed=1.0, models=None, dpi=80):
     missing = [name for name in ("time", "theta", "phi", "x_p", "y_p", "column_R") if name not in ds.variables]
     if missing or "model" not in ds.dims:
         raise InputError(f"{path}: not a histories file of 'frustum simulate' (missing {', '.join(missing) or 'model'})")
-    if "drum" in ds.dims:
-        raise InputError(f"{path}: a column of drums; its poses per drum are not wired into the animation yet "
-                         "(pipeline.animate: add a bodies function for the drum variables)")
+    if "drum" in ds.dims and "drum_dz" not in ds.variables:
+        raise InputError(f"{path}: a column of drums written before the drums' poses were kept (drum_dz, "
+                         "drum_phi); run 'frustum simulate' again to animate it")
     available = [str(m) for m in ds["model"].values]
     models = models or available
     unknown = [m for m in models if m not in available]
@@ -423,5 +480,6 @@ def animate_file(path, out, fps=10.0, speed=1.0, models=None, dpi=80):
     return animate(runs, out, fps=fps, speed=speed, dpi=dpi)
 
 
-__all__ = ["check_animation_path", "render_frame", "Shape", "Pose", "euler_rotation", "frustum_faces", "rigid_bodies", "Motion", "ModelView",
+__all__ = ["check_animation_path", "render_frame", "Shape", "Pose", "euler_rotation", "frustum_faces", "rigid_bodies",
+           "drum_bodies", "Motion", "ModelView",
            "frame_times", "animate", "animate_file"]

@@ -633,6 +633,16 @@ def dislocation_ratio(joint_slip, joint_diameter):
     return float(np.max(slip / diameter)) if slip.size else 0.0
 
 
+def _body_shapes(stack):
+    """(R, r, h [m], kind) of every body, bottom first: the drums (kind 0), a capital (kind 1, R = r
+    half its side)."""
+    shapes = [(d.R, d.r, d.h, 0) for d in stack.drums()]
+    if stack.capital is not None:
+        half = 0.5 * stack.capital.side
+        shapes.append((half, half, stack.capital.height, 1))
+    return shapes
+
+
 def _euler_zxz(q):
     """(phi, psi) of the Z-X-Z Euler angles of quaternions q (rows w, x, y, z); NaN upright."""
     w, x, y, z = q.T
@@ -692,9 +702,21 @@ def _histories(stack, asm, settings, raw, motion, excitation, damping):
     for name, col, scale in (("drum_dx", sk.H_DX, L), ("drum_dy", sk.H_DY, L), ("drum_theta", sk.H_TILT, 1.0),
                              ("drum_rotation", sk.H_ROT, 1.0)):
         variables[name] = (("time", "drum"), raw.hist_body[:, :, col] * scale)
+    # with the direction of each drum's tilt and its rise, a drum's pose is whole (the animation draws it)
+    states = raw.hist_y[:, :sk.NB * n].reshape(rows, n, sk.NB)
+    variables["drum_dz"] = (("time", "drum"), (states[:, :, sk.Z] - raw.y0[sk.Z:sk.NB * n:sk.NB]) * L)
+    variables["drum_phi"] = (("time", "drum"), np.stack(
+        [_euler_zxz(states[:, b, sk.QW:sk.QZ + 1])[0] for b in range(n)], axis=1))
     import xarray as xr
 
-    ds = xr.Dataset(variables, coords={"time": tau * T, "tau": ("time", tau), "drum": np.arange(n)})
+    shapes = _body_shapes(stack)
+    coords = {"time": tau * T, "tau": ("time", tau), "drum": np.arange(n),
+              # where each body's base stood at rest [m] (the joints' static penetration included)
+              "drum_z": ("drum", (raw.y0[sk.Z:sk.NB * n:sk.NB] - asm.bodies[:, sk.B_ZC]) * L)}
+    for k, name in enumerate(("drum_R", "drum_r", "drum_h")):
+        coords[name] = ("drum", np.array([shape[k] for shape in shapes]))
+    coords["drum_kind"] = ("drum", np.array([shape[3] for shape in shapes], dtype=np.int8))
+    ds = xr.Dataset(variables, coords=coords)
     ds.attrs.update(
         title="Response of a free-standing column (rigid drums on compliant joints) to ground motion",
         model=settings.model,

@@ -98,6 +98,12 @@ VARIABLES = {
     "drum_dy": Var("m", "Y displacement of the drum's centre of mass relative to the ground"),
     "drum_theta": Var("rad", "inclination of the drum's axis from the vertical", degrees=True),
     "drum_rotation": Var("rad", "rotation of the drum about the vertical (phi + psi), unwrapped"),
+    "drum_dz": Var("m", "vertical displacement of the drum's centre of mass from its place at rest"),
+    "drum_phi": Var("rad", "precession angle of the drum's axis: direction of its tilt (NaN upright)"),
+    "drum_R": Var("m", "radius of the base of the drum (a capital: half its side)"),
+    "drum_r": Var("m", "radius of the top of the drum (a capital: half its side)"),
+    "drum_h": Var("m", "height of the drum"),
+    "drum_z": Var("m", "height of the drum's base above the ground at rest"),
     # study results (pipeline.sweep): one value per column, record, angle, scale, model
     "peak_theta": Var("rad", "peak inclination of the column axis from the vertical", degrees=True),
     "peak_theta_ratio": Var("1", "peak inclination over the critical (static overturning) inclination"),
@@ -170,6 +176,7 @@ FLAGS = {
     "lift_off": ([0, 1], "no_lift_off lift_off",
                  "the normal contact force reached zero and the column flew"),
     "status": ([0, 1], "ok failed", "status of the simulation (failed: values are NaN or 0)"),
+    "drum_kind": ([0, 1], "drum capital", "kind of body: a drum (frustum) or a capital (square block)"),
 }
 
 
@@ -373,7 +380,9 @@ def histories_file(runs, column, record):
             if name not in run:
                 like = shapes[name]
                 run[name] = (like.dims, np.full((run.sizes["time"],) + like.shape[1:], np.nan))
-                run = run.assign_coords({d: like[d] for d in like.dims[1:] if d in like.coords})
+                # the coordinates of its other dimensions too (the drums' geometry)
+                run = run.assign_coords({c: like[c] for c in like.coords
+                                         if like[c].dims and "time" not in like[c].dims})
         stacked.append(run.expand_dims(model=[str(run.attrs["model"])]))
     ds = xr.concat(stacked, dim="model", join="exact", combine_attrs="drop_conflicts")
     for name in ("model", "column_R_m", "column_r_m", "column_h_m", "theta_crit_rad", "incidence_angle_rad", "scale"):

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from pipeline.animate import STONE, euler_rotation, frame_times, render_frame
+from pipeline.animate import STONE, Motion, drum_bodies, euler_rotation, frame_times, frustum_faces, render_frame
 from pipeline.cli import main
 from pipeline.dataset import histories_file, one_run, open_results, write_netcdf
 from pipeline.geometry import Column
@@ -94,6 +94,86 @@ def test_bad_output_names_the_fix(result, tmp_path, capsys):
     assert ".gif or .mp4" in capsys.readouterr().err
     assert main(["animate", str(result), "--out", str(tmp_path / "m.gif"), "--model", "4d"]) == 2
     assert "4d not in the file" in capsys.readouterr().err
+
+
+def _drum_run(rows):
+    """Histories of a column of two drums and a capital in the layout of pipeline.compliant, at rest
+    on a still ground, with the drums' states of ``rows`` (dict name -> (time, drum) values) put in."""
+    import xarray as xr
+
+    n_t = 2
+    shapes = [(0.5, 0.45, 2.0, 0), (0.45, 0.4, 2.0, 0), (0.6, 0.6, 0.4, 1)]
+    zeros = np.zeros(n_t)
+    data = {name: ("time", zeros.copy()) for name in ("theta", "phi", "psi", "x_p", "y_p", "x_b", "y_b",
+                                                       "ground_acc_x", "ground_acc_y", "ground_acc_z")}
+    for name in ("drum_dx", "drum_dy", "drum_dz", "drum_theta", "drum_phi", "drum_rotation"):
+        data[name] = (("time", "drum"), np.asarray(rows.get(name, np.zeros((n_t, 3))), dtype=float))
+    coords = {"time": [0.0, 0.5], "drum": [0, 1, 2], "drum_z": ("drum", [0.0, 2.0, 4.0]),
+              "drum_R": ("drum", [s[0] for s in shapes]), "drum_r": ("drum", [s[1] for s in shapes]),
+              "drum_h": ("drum", [s[2] for s in shapes]), "drum_kind": ("drum", [s[3] for s in shapes]),
+              "column_R": 0.5, "column_r": 0.4, "column_h": 4.0, "theta_crit": 0.12}
+    return xr.Dataset(data, coords=coords, attrs={"model": "3d-compliant"})
+
+
+def test_every_drum_is_drawn_at_its_own_displacement_tilt_and_rotation():
+    """A known state: drum 0 slid and turned, drum 1 tilted towards phi and turned, the capital
+    lifted and turned. The drawn faces are where the paper's Euler convention puts them (axis
+    (sin phi sin theta, -cos phi sin theta, cos theta), centre of mass z_cm up the axis), to round-off."""
+    rows = {"drum_dx": [[0, 0, 0], [0.1, 0.2, 0.3]], "drum_dy": [[0, 0, 0], [-0.05, 0.0, 0.1]],
+            "drum_dz": [[0, 0, 0], [0.0, 0.01, 0.02]], "drum_theta": [[0, 0, 0], [0.0, 0.2, 0.0]],
+            "drum_phi": [[np.nan] * 3, [np.nan, 0.7, np.nan]], "drum_rotation": [[0, 0, 0], [0.3, 0.9, 0.25]]}
+    motion = Motion(_drum_run(rows))
+    assert motion.height == pytest.approx(4.4)  # the capital's top sets the view
+    bodies = drum_bodies(motion, 1)
+    assert [shape.sides for shape, _ in bodies] == [0, 0, 4]
+    faces = [frustum_faces(shape, pose)[0] for shape, pose in bodies]
+    bottom, top = [f[-2] for f in faces], [f[-1] for f in faces]
+    # drum 0 upright: its base slid by (0.1, -0.05) and turned by 0.3 rad (the first vertex at angle 0)
+    np.testing.assert_allclose(bottom[0][0], [0.1 + 0.5 * math.cos(0.3), -0.05 + 0.5 * math.sin(0.3), 0.0], atol=1e-14)
+    np.testing.assert_allclose(top[0].mean(axis=0), [0.1, -0.05, 2.0], atol=1e-14)
+    # drum 1 tilted: the centre of mass at rest (z_cm of a frustum 0.45 -> 0.4, 2 m) moved by (0.2, 0, 0.01)
+    R, r, h, theta, phi = 0.45, 0.4, 2.0, 0.2, 0.7
+    zc = h * (R**2 + 2 * R * r + 3 * r**2) / (4 * (R**2 + R * r + r**2))
+    axis = np.array([math.sin(phi) * math.sin(theta), -math.cos(phi) * math.sin(theta), math.cos(theta)])
+    base = np.array([0.2, 0.0, 2.0 + zc + 0.01]) - zc * axis
+    np.testing.assert_allclose(bottom[1].mean(axis=0), base, atol=1e-14)
+    np.testing.assert_allclose(top[1].mean(axis=0), base + h * axis, atol=1e-14)
+    np.testing.assert_allclose(np.linalg.norm(top[1] - (base + h * axis), axis=1), r, rtol=1e-14)
+    np.testing.assert_allclose((top[1] - base - h * axis) @ axis, 0.0, atol=1e-14)  # the top face is square to the axis
+    # the capital: a square of side 1.2 turned by 0.25 rad, lifted by 0.02 m
+    edges = np.roll(bottom[2], -1, axis=0) - bottom[2]
+    np.testing.assert_allclose(np.linalg.norm(edges, axis=1), 1.2, rtol=1e-14)
+    np.testing.assert_allclose(edges[0] / 1.2, [-math.cos(0.25), -math.sin(0.25), 0.0], atol=1e-14)  # sides along x, y
+    np.testing.assert_allclose(bottom[2].mean(axis=0), [0.3, 0.1, 4.02], atol=1e-14)
+
+
+def test_frustum_animate_draws_a_compliant_run_of_two_drums(tmp_path, capsys):
+    """A simulated stack of two drums (3d-compliant) in a file with the rigid 3d run: frustum animate
+    writes every frame, and drum 0's drawn base sits where the simulation put the base centre
+    (x_b, y_b, from its quaternion directly) plus the ground's displacement, to round-off."""
+    from pipeline.animate import ground_displacement
+    from pipeline.drums import DrumColumn
+
+    motion = one_sine_pulse(6.0, 0.4, dt=0.01, record_id="pulse")
+    runs = [simulate(DrumColumn.equal(Column(0.5, 0.4, 4.0), 2), motion, Excitation(angle=30.0),
+                     ModelSettings(model="3d-compliant", tail=0.6, contact_sectors=16, joint_friction=0.5)).histories,
+            simulate(Column(0.5, 0.4, 4.0), motion, Excitation(angle=30.0), ModelSettings(model="3d", tail=0.6)).histories]
+    path = tmp_path / "drums.nc"
+    write_netcdf(histories_file(runs, column="two", record="pulse"), path)
+    out = tmp_path / "drums.gif"
+    assert main(["animate", str(path), "--out", str(out)]) == 0
+    assert "11 frames" in capsys.readouterr().out  # 0, 0.1, ..., 1.0 s
+    with Image.open(out) as gif:
+        assert gif.n_frames == 11 and gif.size == (768, 416)
+    run = one_run(open_results(path), model="3d-compliant")
+    drawn = Motion(run)
+    assert len(drawn.drums) == 2 and drawn.height == pytest.approx(4.0, abs=1e-4)
+    i = int(np.argmax(run["theta"].values))  # the largest tilt: drum 0 rocks on its rim
+    assert run["drum_theta"].values[i, 0] > 0.01
+    ground = np.stack([ground_displacement(run[f"ground_acc_{c}"].values, run["time"].values) for c in "xy"], axis=1)
+    base0 = drum_bodies(drawn, i)[0][1].centre
+    np.testing.assert_allclose(base0[:2], [run["x_b"].values[i] + ground[i, 0], run["y_b"].values[i] + ground[i, 1]],
+                               rtol=0, atol=1e-9)
 
 
 if __name__ == "__main__":  # regenerate the reference frame
