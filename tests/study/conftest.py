@@ -49,6 +49,40 @@ block_columns = 2
 """
 
 
+# A small study of the compliant model: a monolith and the same column as two drums, a 1.5-s
+# Ricker wavelet, 2 angles: 2 tasks (one column each) of 2 compliant runs (~1 s each) and one 3d run.
+DRUM_STUDY = """\
+title = "drums on a cluster"
+output = "drums.nc"
+models = ["3d", "3d-compliant"]
+
+[[columns]]
+named = "paper"
+
+[[columns]]
+name = "two-drums"
+R = 0.5
+r = 0.4
+h = 4.0
+drums = 2
+
+[records]
+synthetic = [{generator = "ricker_wavelet", id = "ricker", ap = 8.0, fp = 2.0, dt = 0.01, duration = 1.5}]
+
+[excitation]
+angles = [0.0, 30.0]
+scales = [1.0]
+
+[options]
+tail = 0.5
+contact_sectors = 16
+joint_friction = 0.4
+
+[execution]
+block_columns = 1
+"""
+
+
 @pytest.fixture(scope="session", autouse=True)
 def warm_numba_cache():
     """Load (or, if stale, compile once) the kernels before any worker starts."""
@@ -78,6 +112,19 @@ def small_reference(tmp_path_factory):
     folder = tmp_path_factory.mktemp("reference")
     path = folder / "study.toml"
     path.write_text(SMALL_STUDY, encoding="utf-8")
+    report = run_study(load_study(path), serial=True, progress=False)
+    return path, report.dataset
+
+
+@pytest.fixture(scope="session")
+def drum_reference(tmp_path_factory):
+    """The drum study run serially once: (study file, results Dataset)."""
+    from pipeline.study import load_study
+    from pipeline.sweep import run_study
+
+    folder = tmp_path_factory.mktemp("drum-reference")
+    path = folder / "drums.toml"
+    path.write_text(DRUM_STUDY, encoding="utf-8")
     report = run_study(load_study(path), serial=True, progress=False)
     return path, report.dataset
 

@@ -102,6 +102,25 @@ def test_external_cluster_equals_serial(dask_cluster, write_study, small_referen
     same_results(open_results(path.parent / "small.nc"), small_reference[1])
 
 
+def test_drum_study_is_the_same_serial_on_a_local_and_an_external_cluster(dask_cluster, write_study, drum_reference,
+                                                                         same_results):
+    """Two drums on compliant joints (and the monolith) through Dask: every number identical to the
+    serial run, the joints' residual dislocation included, on two `dask worker` processes and on a
+    local cluster of two."""
+    from conftest import DRUM_STUDY
+
+    serial = drum_reference[1]
+    comp = serial.sel(model="3d-compliant", column="two-drums")
+    assert serial.sizes["joint"] == 2 and (comp.joint_slip.sel(joint=1) > 0).all()  # the joint slid: not all zeros
+    path = write_study(DRUM_STUDY, name="drums.toml")
+    external = run_study(load_study(path), out=str(path.parent / "external.nc"), scheduler=dask_cluster,
+                         progress=False)
+    assert len(external.computed) == 2
+    same_results(open_results(external.path), serial)
+    local = run_study(load_study(path), out=str(path.parent / "local.nc"), workers=2, progress=False)
+    same_results(open_results(local.path), serial)
+
+
 def test_both_workers_took_tasks(dask_cluster, write_study):
     """The tasks really spread over the two workers (each records what it ran)."""
     import distributed
