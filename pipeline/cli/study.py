@@ -71,8 +71,13 @@ def describe(study):
 
     nc, nr, na, ns, nm = study.shape
     levels = "scales" if study.scales is not None else f"target {study.intensity.measure} levels"
-    return (f"{study.title}: {nc} column(s) x {nr} record(s) x {na} angle(s) x {ns} {levels} x "
+    text = (f"{study.title}: {nc} column(s) x {nr} record(s) x {na} angle(s) x {ns} {levels} x "
             f"{nm} model(s) = {study.n_simulations} results; {block_size(study)} column(s) per task")
+    stacks = [c for c in study.columns if c.stack is not None]
+    if stacks:
+        text += ("\ncolumns of drums (the compliant model runs them, the rigid models their shafts): "
+                 + ", ".join(f"{c.label} ({c.stack.describe()})" for c in stacks))
+    return text
 
 
 def check_study_command(args):

@@ -135,6 +135,10 @@ def test_drum_columns_in_a_study_file(write_study):
     assert shaft.stack is None and shaft.body("3d-compliant") is shaft.column
     assert cut.stack.cuts == (1.0,) and cut.n_bodies == 3 and cut.body("3d") is cut.column
     assert study.n_joints == 12
+    from pipeline.cli.study import describe
+
+    said = describe(study).splitlines()[1]  # frustum study check says which columns are drums
+    assert said.startswith("columns of drums") and "shaft (" not in said and "cut (2 drum(s)" in said
     for bad, field in [("drums = 2\ndrum_heights = [2.0, 2.0]", "drum_heights"), ("drums = 2.5", "drums"),
                        ("drum_heights = [1.0, 2.0]", "add up to 3 m"), ("capital = [1.0]", "capital")]:
         with pytest.raises(InputError, match=field):
