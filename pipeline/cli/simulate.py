@@ -188,10 +188,11 @@ def _models(text):
 def _joints_line(summary):
     """The compliant model's slip and, for drums, their peak tilts and residual joint slips."""
     line = f", slip at the base {summary['slip']:.3g} m"
-    if summary["n_drums"] > 1:
+    if len(summary["joint_slip"]) > 1:  # bed joints: drums, or a capital on the monolith
         line += "; drum peak tilts " + ", ".join(f"{math.degrees(t):.2f}" for t in summary["drum_peak_theta"])
-        line += (" deg; residual slips of the bed joints " + ", ".join(f"{x * 1e3:.1f}" for x in summary["joint_slip"][1:])
-                 + f" mm (largest {100 * summary['dislocation_ratio']:.2f} % of its diameter)")
+        slips = ", ".join(f"{x * 1e3:.1f}" for x in summary["joint_slip"][1:])
+        line += (f" deg; residual slips of the bed joints {slips} mm "
+                 f"(largest {100 * summary['dislocation_ratio']:.2f} % of its diameter)")
     return line
 
 
