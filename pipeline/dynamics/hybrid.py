@@ -280,15 +280,27 @@ def _misalignment(t, y, params, chi):
 
 
 @njit(cache=True)
-def consistent_direction(t, y, params, guess):
+def _along(t, y, params, chi):
+    """Component of the slip acceleration along the slip direction chi."""
+    r = _slip_with(t, y, params, chi)
+    return r[15] * r[8] + r[16] * r[9]
+
+
+@njit(cache=True)
+def consistent_direction(t, y, params, guess, starting=False):
     """Slip direction chi* in which the slip acceleration lies along the slip.
 
     The root of the misalignment closest to ``guess`` among those where the
     direction is stable (misalignment decreasing in chi: a nearby direction
     turns towards it). Found by a scan of the circle and bisection.
+    ``starting`` (a slip from rest, speed 0): only roots where the slip
+    accelerates along chi count (an antiparallel root would drive the speed
+    below 0, where no event can see it), unless there is none.
     """
-    if _misalignment(t, y, params, guess) == 0.0:
+    if _misalignment(t, y, params, guess) == 0.0 and not (starting and _along(t, y, params, guess) < 0.0):
         return guess  # exactly consistent (planar motion stays planar)
+    best_any = guess
+    gap_any = math.inf
     n_scan = 16
     best = guess
     best_gap = math.inf
@@ -310,10 +322,12 @@ def consistent_direction(t, y, params, guess):
                     break
             root = 0.5 * (lo + hi)
             gap = abs(root - guess)
-            if gap < best_gap:
+            if gap < gap_any:
+                best_any, gap_any = root, gap
+            if gap < best_gap and not (starting and _along(t, y, params, root) < 0.0):
                 best, best_gap = root, gap
         a, fa = b, fb
-    return best
+    return best if best_gap < math.inf else best_any
 
 
 @njit(cache=True)
@@ -323,7 +337,7 @@ def _slip_direction(t, y, params):
     if opts[fk.OPT_SLAVED] == 0.0:
         return y[fk.SLIP_DIR]
     guess = y[fk.SLIP_DIR] + (y[fk.PHI] - opts[fk.OPT_PHI_REF])
-    return consistent_direction(t, y, params, guess)
+    return consistent_direction(t, y, params, guess, y[fk.SLIP_SPEED] <= 0.0)
 
 
 @njit(cache=True)
@@ -856,6 +870,13 @@ def _enter_contact(t, y, params):
         y[fk.SLIP_SPEED] = 0.0
         if normal >= 0.0 or not unilateral:
             _start_slip(y, opts, chi, normal)
+            if pushes and opts[fk.OPT_SLAVED] != 0.0 and _along(t, y, params, _slip_direction(t, y, params)) < 0.0:
+                # no slip direction accelerates from rest: the slip equations (patch
+                # couples included) hold it, though the rolling ones ask a little more
+                # than mu N; it rolls on, and peak_mu_mob shows the excess
+                y[fk.SLIP_SPEED] = 0.0
+                opts[fk.OPT_SLAVED] = 0.0
+                return PHASE_ROLLING
             return PHASE_SLIPPING
     if not unilateral or _holds_rim(t, y, params):
         return PHASE_ROLLING

@@ -16,12 +16,15 @@ Run:  python studies/rigid_vs_compliant/compare.py [--workers 2] > studies/rigid
 
 import argparse
 import functools
+import json
+import os
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 
+from pipeline.atomic import atomic_path
 from pipeline.compliant import calibrated_damping
 from pipeline.fragility import fit_lognormal
 from pipeline.geometry import Column
@@ -53,14 +56,26 @@ def settings_pair(column):
     return compliant, rigid, damping, reached
 
 
+OUT = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "out",
+                   "rigid_vs_compliant")
+
+
 def _run(job):
+    """One run; kept in out/rigid_vs_compliant/ (one JSON file, written atomically) so a rerun resumes."""
     name, model, record, scale = job
+    path = os.path.join(OUT, f"column{list(COLUMNS).index(name)}-{model}-{record}-{scale:.9g}.json")
+    if os.path.exists(path):
+        with open(path, encoding="utf-8") as fh:
+            return tuple(json.load(fh))
     column = COLUMNS[name]
     compliant, rigid, _d, _e = settings_pair(column)
     settings = compliant if model == "compliant" else rigid
     t = time.perf_counter()
     s = simulate(column, load(record), Excitation(scale=scale), settings, histories=False).summary
-    return name, model, record, scale, bool(s["overturned"]), time.perf_counter() - t
+    row = (name, model, record, scale, bool(s["overturned"]), time.perf_counter() - t)
+    with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8") as fh:
+        json.dump(row, fh)
+    return row
 
 
 def _fit(rows, records):
@@ -81,6 +96,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--workers", type=int, default=2)
     args = parser.parse_args()
+    os.makedirs(OUT, exist_ok=True)
     start = time.perf_counter()
     pga = {r: float(np.max(np.hypot(load(r).acc_x, load(r).acc_y))) for r in RECORDS}  # [m/s^2]
     jobs = [(name, model, r, g * G / pga[r]) for name in COLUMNS for model in ("compliant", "rigid")
