@@ -58,6 +58,8 @@ N_ROLLING = 10  # the slots rolling integrates
 # pipeline.dynamics.hybrid) and the precession angle when it was last set.
 # OPT_UNILATERAL is 1 when the ground can only push (the column flies when
 # the normal force would pull), 0 to hold the rim on the ground as the paper does.
+# OPT_FRICTION_EXCESS [m g]: friction beyond mu N that a rolling phase started
+# with because no slip could start from rest (pipeline.dynamics.hybrid._enter_contact).
 # OPT_RIM_HELD is 1 while infinite friction and lift-off contradict each other
 # (the rim would have to pull, yet the column in free flight would sink into
 # the ground): the rim is held until either stops (pipeline.dynamics.hybrid).
@@ -71,8 +73,9 @@ N_ROLLING = 10  # the slots rolling integrates
 # them without recompiling.
 (OPT_THETA_C, OPT_THETA_LIE, OPT_NU, OPT_MU, OPT_PHASE, OPT_PIVOT, OPT_SIGN, OPT_RIM_HELD,
  OPT_SLAVED, OPT_PHI_REF, OPT_UNILATERAL, OPT_THETA_K, OPT_PATCH_DAMPING, OPT_PIVOT_HELD,
- OPT_DRILL_SIGN, OPT_LANDING_MARGIN, OPT_MIN_REBOUND, OPT_SLAVE_TIME, OPT_LOOK_AHEAD) = range(19)
-N_OPT = 19
+ OPT_DRILL_SIGN, OPT_LANDING_MARGIN, OPT_MIN_REBOUND, OPT_SLAVE_TIME, OPT_LOOK_AHEAD,
+ OPT_FRICTION_EXCESS) = range(20)
+N_OPT = 20
 
 # Indices into the constants array.
 C_IY, C_IZ, C_ZC, C_DELTA, C_K, C_IZ1, C_A = range(7)

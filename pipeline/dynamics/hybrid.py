@@ -504,7 +504,7 @@ def events3d(t, y, params, g):
         elif opts[fk.OPT_UNILATERAL] != 0.0:
             g[EV_LIFT] = f_z
         if opts[fk.OPT_MU] < math.inf:  # inf: rolling without slip, whatever the force
-            g[EV_SLIP] = opts[fk.OPT_MU] * f_z - math.sqrt(f_xi * f_xi + f_n * f_n)
+            g[EV_SLIP] = opts[fk.OPT_MU] * f_z - math.sqrt(f_xi * f_xi + f_n * f_n) + opts[fk.OPT_FRICTION_EXCESS]
             if opts[fk.OPT_THETA_K] > 0.0:
                 g[EV_PIVOT] = (r[13] - abs(r[12]) if opts[fk.OPT_PIVOT_HELD] != 0.0
                                else opts[fk.OPT_DRILL_SIGN] * r[14])
@@ -546,7 +546,7 @@ def monitor3d(t, y, params, g):
     if phase == PHASE_ROLLING:
         if fast:
             normal = g[EV_LIFT]
-            f_t = mu * normal - g[EV_SLIP]
+            f_t = mu * normal - (g[EV_SLIP] - opts[fk.OPT_FRICTION_EXCESS])
         else:
             f_xi, f_n, normal, _ax, _ay, _az = _rolling_contact(t, y, params)
             f_t = math.sqrt(f_xi * f_xi + f_n * f_n)
@@ -850,6 +850,7 @@ def _enter_contact(t, y, params):
     c, opts = params[0], params[3]
     mu = opts[fk.OPT_MU]
     opts[fk.OPT_RIM_HELD] = 0.0
+    opts[fk.OPT_FRICTION_EXCESS] = 0.0
     _pivot_mode(t, y, params)
     f_xi, f_n, f_z, _ax, _ay, _az = _rolling_contact(t, y, params)
     # a bound that holds now but is being left (N or the margin falling
@@ -873,9 +874,12 @@ def _enter_contact(t, y, params):
             if pushes and opts[fk.OPT_SLAVED] != 0.0 and _along(t, y, params, _slip_direction(t, y, params)) < 0.0:
                 # no slip direction accelerates from rest: the slip equations (patch
                 # couples included) hold it, though the rolling ones ask a little more
-                # than mu N; it rolls on, and peak_mu_mob shows the excess
+                # than mu N. It rolls on with that excess, which peak_mu_mob shows;
+                # the slip event fires as soon as the friction asked grows beyond it
                 y[fk.SLIP_SPEED] = 0.0
                 opts[fk.OPT_SLAVED] = 0.0
+                opts[fk.OPT_FRICTION_EXCESS] = max(0.0, math.sqrt(f_xi * f_xi + f_n * f_n) - mu * f_z,
+                                                   math.sqrt(g_xi * g_xi + g_n * g_n) - mu * g_z)
                 return PHASE_ROLLING
             return PHASE_SLIPPING
     if not unilateral or _holds_rim(t, y, params):
@@ -1053,6 +1057,7 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
     mu = opts[fk.OPT_MU]
     theta_c = opts[fk.OPT_THETA_C]
     opts[fk.OPT_RIM_HELD] = 0.0
+    opts[fk.OPT_FRICTION_EXCESS] = 0.0
     ratio = departure_ratio(zc, mu)
     planar_e = restitution if restitution >= 0.0 else max(0.0, 1.0 - 2.0 / c[fk.C_IY])
     _init_summary(summary)

@@ -226,3 +226,26 @@ def test_infinite_friction_with_lift_off_holds_the_rim_where_both_contradict(mod
     assert held.summary["overturn_time"] == pytest.approx(bilateral.summary["overturn_time"], abs=1e-9)
     gap = np.nanmax(np.abs(held.histories.theta.values - bilateral.histories.theta.values))
     assert gap < 1e-9
+
+
+def test_a_slip_that_cannot_start_from_rest_rolls_on_and_the_run_ends():
+    """FEMA-FF-15 at PGA 1 g on a squat column (R 0.5, r 0.4, h 2 m), mu 0.7, vertical on.
+
+    At 6.87 s the slip stops while rolling would need a little more than mu N,
+    yet no slip direction accelerates from rest (the slip equations hold it).
+    The slip speed used to run below 0, where no event sees it, and the run
+    crawled in 1e-8 tau steps for hours. Now it rolls on with that excess
+    (0.36 % of N there), re-armed whenever the friction asked grows beyond it:
+    the slip speed never goes negative, the budget closes (1e-6 of the work),
+    and peak_mu_mob shows the excess honestly (measured 0.714; the history,
+    read on its grid, stays at mu).
+    """
+    motion = load("FEMA-FF-15")
+    pga = float(np.max(np.hypot(motion.acc_x, motion.acc_y)))
+    r = simulate(Column(0.5, 0.4, 2.0), motion, Excitation(scale=G / pga, vertical=True),
+                 ModelSettings(model="3d", friction=0.7, tail=5.0))
+    s = r.summary
+    assert s["sliding_onset"] and s["overturned"]
+    assert np.nanmin(r.histories.slip_velocity.values) >= 0.0
+    assert 0.7 <= s["peak_mu_mob"] < 0.72
+    assert abs(s["energy_balance_error"]) < 1e-6 * abs(s["work_ground"])
