@@ -90,25 +90,32 @@ def trajectories(results, label, model="3d"):
     return runs
 
 
+CONTACT = (
+    " **Contact** (issue 10): the rigid models with the physical contact of docs/model.md: Coulomb friction 0.7 "
+    "(sliding on the base, slip on the rim), lift-off and touch-down, the contact patch of a bed of normal "
+    "stiffness 1e10 Pa/m (rolling damping, drilling friction) and the continuous passage law near full contact; "
+    "landings by the angular-momentum restitution. How far the medians move with friction 0.5-0.8, restitution "
+    "+-5 % and the patch (1e9-1e11 Pa/m): `studies/contact_bands/results.md`.")
+
 NOTES = {
     "fema_slenderness": (
         "**Question.** How does the probability of overturning of a free-standing column under the FEMA P695 "
         "far-field records depend on its slenderness h/R and conicity r/R? The paper's column is "
         f"`{PAPER}` (R = 0.5 m, r = 0.4 m, h = 4 m). Every record is scaled to the same PGA at each stripe, "
-        "so each stripe is one intensity level (multiple-stripe analysis)."),
+        "so each stripe is one intensity level (multiple-stripe analysis)." + CONTACT),
     "model_2d_vs_3d": (
         "**Question.** The paper (Section 5) argues that a free-standing column wobbles rather than rocks, so "
         "two-dimensional rocking analyses should miss its response. Where, and by how much, does the 2D "
         "planar-rocking analysis give a lower probability of overturning than the 3D rolling frustum for the "
         "same columns, records and intensity? (2D is driven by the component of the record along the incidence "
-        "angle; 3D by both horizontal components.)"),
+        "angle; 3D by both horizontal components.)" + CONTACT),
     "real_column": (
         "**Question.** How likely are two real monolithic shafts to overturn under far-field earthquakes? "
         "Dimensions: Pompey's Pillar, Alexandria, monolithic shaft 20.46 m high, 2.71 m diameter at the base and "
         "2.30 m at the top (Wikipedia, 'Pompey's Pillar (column)'); a monolithic Doric column of the Temple of "
         "Apollo at Corinth, about 7.2 m high with a lower diameter of about 1.72 m (Wikipedia, 'Temple of Apollo "
         "(Corinth)'; the Edinburgh Encyclopaedia gives 23 ft 8.5 in = 7.23 m including the capital and 5 ft 7 in "
-        "= 1.70 m), top radius 0.65 m assumed. Base mouldings, capitals and pedestals are not modelled."),
+        "= 1.70 m), top radius 0.65 m assumed. Base mouldings, capitals and pedestals are not modelled." + CONTACT),
 }
 
 FOCUS = {"fema_slenderness": PAPER, "model_2d_vs_3d": PAPER, "real_column": "corinth-apollo"}
