@@ -1687,6 +1687,15 @@ def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
         if ev == EV_TURN:
             y[rk.DTHETA2] = 0.0  # exactly a turning point (see run_frustum)
             _peak(summary, t, theta)
+            if phase == PHASE_ROLLING and theta < (1.0 - opts[fk.OPT_LANDING_MARGIN]) * theta_c:
+                # at rest below the tilt of full contact (reached without a landing, e.g.
+                # tipped from sliding at mu = R / z_cm): the base is down. Rocking on there
+                # turned every 2.5e-5 s at 1e-11 rad and never ended (FEMA-FF-13, squat cylinder)
+                summary[S_TRANSITION] += rest_energy - energy2d(phase, y, c)
+                y[rk.X2] -= opts[fk.OPT_PIVOT] * math.cos(y[rk.THETA2])
+                _clear_free_slots2d(y)
+                y[rk.THETA2] = 0.0
+                phase = PHASE_REST
             continue
         if ev == EV_LIE:
             out_i = _lie_down(summary, t, theta, y, y_out, phase_out, out_i)
