@@ -498,9 +498,8 @@ def events3d(t, y, params, g):
         r = _rolling_state(t, y, params)
         f_xi, f_n, f_z = r[3], r[4], r[5]
         if opts[fk.OPT_RIM_HELD] != 0.0:  # falls through 0 when N pushes again or the flight would rise
-            ax, ay, az = fk.ground_acceleration(t, record, dt)
             g[EV_LIFT] = min(-f_z, -flight_gap_acceleration(theta, y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA],
-                                                            az, c))
+                                                            r[8], c))
         elif opts[fk.OPT_UNILATERAL] != 0.0:
             g[EV_LIFT] = f_z
         if opts[fk.OPT_MU] < math.inf:  # inf: rolling without slip, whatever the force
@@ -821,23 +820,28 @@ def flight_gap_acceleration(theta, dphi, dtheta, omega, az, c):
 
 
 @njit(cache=True)
-def _holds_rim(t, y, params):
+def _holds_rim(opts, gap_acceleration):
     """Infinite friction, a pulling normal force and a sinking flight: hold the rim (OPT_RIM_HELD).
 
     Without slip (mu = inf) the contact force is whatever rolling needs; when
-    that would pull while the free column would fall into the ground, neither
+    that would pull while the free column would fall into the ground
+    (``gap_acceleration`` < 0, :func:`flight_gap_acceleration`), neither
     rolling nor flight is consistent (an infinite-friction paradox that any
     finite mu avoids by slipping first). The rim is then held, as the paper
     holds it, until the normal force pushes again or the flight would rise.
+    Both kernels use it.
     """
-    opts = params[3]
-    if opts[fk.OPT_MU] != math.inf or opts[fk.OPT_UNILATERAL] == 0.0:
-        return False
-    az = fk.ground_acceleration(t, params[1], params[2])[2]
-    if flight_gap_acceleration(y[fk.THETA], y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA], az, params[0]) >= 0.0:
+    if opts[fk.OPT_MU] != math.inf or opts[fk.OPT_UNILATERAL] == 0.0 or gap_acceleration >= 0.0:
         return False
     opts[fk.OPT_RIM_HELD] = 1.0
     return True
+
+
+@njit(cache=True)
+def _gap_acceleration(t, y, params):
+    """:func:`flight_gap_acceleration` of a 3D state at time t."""
+    az = fk.ground_acceleration(t, params[1], params[2])[2]
+    return flight_gap_acceleration(y[fk.THETA], y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA], az, params[0])
 
 
 @njit(cache=True)
@@ -884,7 +888,7 @@ def _enter_contact(t, y, params):
                                                          math.sqrt(g_xi * g_xi + g_n * g_n) - mu * g_z) + 1e-12
                 return PHASE_ROLLING
             return PHASE_SLIPPING
-    if not unilateral or _holds_rim(t, y, params):
+    if not unilateral or _holds_rim(opts, _gap_acceleration(t, y, params)):
         return PHASE_ROLLING
     _to_flight(y, c, False)
     return PHASE_FLIGHT
@@ -1179,11 +1183,9 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
                     # the hold ends: N pushes again (rolling on), or the flight now rises
                     # (whichever of -N and -gap'' reached 0, the minimum in the event function)
                     opts[fk.OPT_RIM_HELD] = 0.0
-                    az = fk.ground_acceleration(t, record, dt)[2]
-                    if _rolling_state(t, y, p)[5] >= flight_gap_acceleration(
-                            y[fk.THETA], y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA], az, c):
+                    if _rolling_state(t, y, p)[5] >= _gap_acceleration(t, y, p):
                         continue
-                elif _holds_rim(t, y, p):
+                elif _holds_rim(opts, _gap_acceleration(t, y, p)):
                     continue
             _first(summary, S_FLIGHT_TIME, t)
             if phase == PHASE_SLIDING:
@@ -1512,22 +1514,18 @@ def _clear_free_slots2d(y):
 
 
 @njit(cache=True)
-def flight_gap_acceleration2d(theta, dtheta, a_z, c):
-    """Planar :func:`flight_gap_acceleration`: the free column does not turn (theta'' = 0)."""
-    return -1.0 - a_z + rk.cm_offset(theta, c[fk.C_ZC])[1] * dtheta * dtheta
+def _down_on_base2d(y, side):
+    """A planar state on its pivot (side ``side``) laid flat: the base centre in X2, no tilt, no rates."""
+    _clear_free_slots2d(y)
+    y[rk.X2] -= side * math.cos(y[rk.THETA2])  # pivot -> base centre
+    y[rk.THETA2] = 0.0
+    y[rk.DTHETA2] = 0.0
 
 
 @njit(cache=True)
-def _holds_rim2d(t, y, params):
-    """Planar :func:`_holds_rim`: infinite friction, a pulling N and a sinking flight."""
-    opts = params[3]
-    if opts[fk.OPT_MU] != math.inf or opts[fk.OPT_UNILATERAL] == 0.0:
-        return False
-    a_z = fk.ground_acceleration(t, params[1], params[2])[2]
-    if flight_gap_acceleration2d(y[rk.THETA2], y[rk.DTHETA2], a_z, params[0]) >= 0.0:
-        return False
-    opts[fk.OPT_RIM_HELD] = 1.0
-    return True
+def flight_gap_acceleration2d(theta, dtheta, a_z, c):
+    """Planar :func:`flight_gap_acceleration`: the free column does not turn (theta'' = 0)."""
+    return -1.0 - a_z + rk.cm_offset(theta, c[fk.C_ZC])[1] * dtheta * dtheta
 
 
 @njit(cache=True)
@@ -1558,7 +1556,7 @@ def _enter_contact2d(t, y, params):
         if normal >= 0.0 or not unilateral:
             opts[fk.OPT_SIGN] = sigma
             return PHASE_SLIPPING
-    if not unilateral or _holds_rim2d(t, y, params):
+    if not unilateral or _holds_rim(opts, flight_gap_acceleration2d(y[rk.THETA2], y[rk.DTHETA2], a_z, c)):
         return PHASE_ROLLING
     _to_flight2d(y, c)
     return PHASE_FLIGHT
@@ -1692,9 +1690,7 @@ def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
                 # tipped from sliding at mu = R / z_cm): the base is down. Rocking on there
                 # turned every 2.5e-5 s at 1e-11 rad and never ended (FEMA-FF-13, squat cylinder)
                 summary[S_TRANSITION] += rest_energy - energy2d(phase, y, c)
-                y[rk.X2] -= opts[fk.OPT_PIVOT] * math.cos(y[rk.THETA2])
-                _clear_free_slots2d(y)
-                y[rk.THETA2] = 0.0
+                _down_on_base2d(y, opts[fk.OPT_PIVOT])
                 phase = PHASE_REST
             continue
         if ev == EV_LIE:
@@ -1729,7 +1725,8 @@ def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
                     if (_rocking_contact(y[rk.THETA2], y[rk.DTHETA2], a_u, a_z, c, opts)[1]
                             >= flight_gap_acceleration2d(y[rk.THETA2], y[rk.DTHETA2], a_z, c)):
                         continue
-                elif _holds_rim2d(t, y, p):
+                elif _holds_rim(opts, flight_gap_acceleration2d(
+                        y[rk.THETA2], y[rk.DTHETA2], fk.ground_acceleration(t, record, dt)[2], c)):
                     continue
             _first(summary, S_FLIGHT_TIME, t)
             if phase == PHASE_SLIDING:
@@ -1783,17 +1780,14 @@ def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
             _log_impact(impacts, summary, t, y[rk.DTHETA2], 0.0 if settles else new_rate,
                         (rest_energy if settles else e_after) - e_before)
         side = opts[fk.OPT_PIVOT]
-        _clear_free_slots2d(y)
-        reach = side * math.cos(y[rk.THETA2])  # pivot -> base centre is -reach
         if settles:
             summary[S_TRANSITION] += rest_energy - e_before
-            y[rk.X2] -= reach
-            y[rk.THETA2] = 0.0
-            y[rk.DTHETA2] = 0.0
+            _down_on_base2d(y, side)
             phase = PHASE_REST
         else:
             summary[S_TRANSITION] += e_after - e_before
-            y[rk.X2] -= 2.0 * reach
+            _clear_free_slots2d(y)
+            y[rk.X2] -= 2.0 * side * math.cos(y[rk.THETA2])  # to the other rim point, across the base
             # the other rim point: its side explicitly (theta ~ 0 has no reliable sign)
             opts[fk.OPT_PIVOT] = -side
             y[rk.THETA2] = math.copysign(abs(y[rk.THETA2]), -side)

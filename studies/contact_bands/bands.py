@@ -32,6 +32,7 @@ import time
 import tomllib
 
 import numpy as np
+import xarray as xr
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
@@ -114,8 +115,6 @@ def main():
                         continue
                     run_study(study, out=out, motions=motions, workers=args.workers, serial=args.serial,
                               progress=False)
-                import xarray as xr
-
                 with xr.open_dataset(out) as results:
                     results.load()
                 n_runs += int(results["status"].size)
