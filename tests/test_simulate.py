@@ -51,8 +51,11 @@ def test_cylinder_in_one_direction_reproduces_planar_rocking(fema1, scale):
     h3, h2 = r3.histories, r2.histories
     # planar by construction: no precession, no spin, the pivot stays on the x axis
     moving = h3.phase.values != 2  # rows after it lies down carry no forces or rates
-    assert np.all(h3.phi_dot.values[moving] == 0.0) and np.all(h3.omega_zeta.values[moving] == 0.0)
-    assert np.all(np.nan_to_num(h3.y_p.values) == 0.0)
+    # (exactly 0 while it rolls; a slip along x carries cos(pi/2) = 6e-17 of round-off into the
+    # out-of-plane force, which the held pivot keeps at that level: measured 6e-18 rad/s, 6e-19 m)
+    assert np.all(np.abs(h3.phi_dot.values[moving]) < 1e-15)
+    assert np.all(np.abs(h3.omega_zeta.values[moving]) < 1e-15)
+    assert np.all(np.abs(np.nan_to_num(h3.y_p.values)) < 1e-15)
     first = r3.impacts[0, 0] if len(r3.impacts) else np.inf
     before = h3.time.values < first
     assert before.sum() > 50
@@ -227,15 +230,15 @@ def test_flags_and_peaks_agree_with_the_history_through_overturning(fema1):
     assert np.nanmin(h.normal_force_hat.values) >= 0.0
     assert np.nanmax(h.mu_mob.values) <= settings.friction * (1 + 1e-9)
     assert r.summary["peak_mu_mob"] >= np.nanmax(h.mu_mob.values) * (1 - 1e-9)
-    # the slip that cannot start from rest (docs/model.md) leaves a friction excess in the summary:
-    # measured 0.70021 (3e-4 of mu); the exact bound is the open point below
-    assert r.summary["peak_mu_mob"] <= settings.friction * (1 + 1e-3)
+    assert r.summary["peak_mu_mob"] <= settings.friction * (1 + 1e-9)
 
 
-@pytest.mark.xfail(strict=True, reason="issue 10, open: the slip equations drop the patch's drilling friction, so "
-                   "a slip may not start where rolling asks more than mu N (docs/model.md)")
 def test_peak_friction_never_exceeds_mu(fema1):
-    """The acceptance bound of issue 10: peak_mu_mob <= mu (1 + 1e-9). Fails today (0.70021 for mu 0.7)."""
+    """The acceptance bound of issue 10: peak_mu_mob <= mu (1 + 1e-9).
+
+    Measured 0.70021 for mu 0.7 while the slip equations lacked the patch's drilling
+    couple (a slip could not start where rolling asked more than mu N); 0.7 now.
+    """
     r = simulate(PAPER, fema1, Excitation(scale=3.0), ModelSettings(), histories=False)
     assert r.summary["peak_mu_mob"] <= 0.7 * (1 + 1e-9)
 

@@ -192,9 +192,7 @@ def _rolling_state(t, y, params):
     capacity = 0.0
     theta_k = opts[fk.OPT_THETA_K]
     if theta_k > 0.0:
-        # the patch carries the normal force of rolling without its own couples
-        # (a couple about the line of nodes changes it by a part in J / I_y)
-        f_z = fk.contact_force(theta, dphi, dtheta, omega, ddphi, ddtheta, domega, a_xi, a_n, az, zc)[2]
+        f_z = _patch_load(theta, dphi, dtheta, omega, a_xi, a_n, az, opts, c)
         m_xi, m_n, capacity = patch.couples(f_z, theta, theta_k, opts[fk.OPT_PATCH_DAMPING], opts[fk.OPT_MU],
                                             om_xi, om_n)
         s = math.sin(theta)
@@ -219,6 +217,24 @@ def _rolling_state(t, y, params):
 
 
 @njit(cache=True)
+def _patch_load(theta, dphi, dtheta, omega, a_xi, a_n, az, opts, c):
+    """Normal force that sizes the contact patch [m g]: rolling's at this state, without the patch's couples.
+
+    The same in every phase (rolling, slipping): the patch's couples are then
+    a function of the state alone, and a switch of phase does not jump them, so
+    that the slip equations at onset continue the rolling ones exactly. While P
+    slides the actual N differs (the friction is mu N, not what rolling asks);
+    the patch's size follows the rolling value, the couples' cap and the
+    sliding drilling capacity too. A couple about the line of nodes would
+    change it by a part in J / I_y.
+    """
+    ddphi, ddtheta, domega = fk.accelerations(theta, dphi, dtheta, omega, a_xi, a_n, az, c)
+    d1, d2, d3, _damped = fk.damping_accelerations(theta, dphi, dtheta, omega, opts[fk.OPT_NU], c)
+    return fk.contact_force(theta, dphi, dtheta, omega, ddphi + d1, ddtheta + d2, domega + d3, a_xi, a_n, az,
+                            c[fk.C_ZC])[2]
+
+
+@njit(cache=True)
 def _rolling_contact(t, y, params):
     """Contact force of rolling (xi, n, N) [m g] and the ground acceleration [g]."""
     r = _rolling_state(t, y, params)
@@ -226,23 +242,48 @@ def _rolling_contact(t, y, params):
 
 
 @njit(cache=True)
-def _slip_patch(t, y, params, theta, f_xi, f_n, az):
-    """Rolling-damping couple of the patch while P slides (body components) and its power.
+def _slip_patch(y, params, theta, a_xi, a_n, az):
+    """Rolling-damping couple of the patch while P slides (body components), its power and drilling capacity.
 
-    No drilling friction: a patch that slides as a whole does not also resist
-    turning about P (the friction it can give is already spent on the slip).
+    Returns ``(m_xi, m_eta, m_zeta, damped, capacity)``: the couple [m g R],
+    its power [m g sqrt(g R)] and the largest drilling couple ``mu N r_d``
+    [m g R] (:func:`pipeline.dynamics.patch.couples`).
     """
     c, opts = params[0], params[3]
     theta_k = opts[fk.OPT_THETA_K]
     if theta_k <= 0.0:
-        return 0.0, 0.0, 0.0, 0.0
+        return 0.0, 0.0, 0.0, 0.0, 0.0
     dphi, dtheta, omega = y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA]
-    load = rim.slip_normal_force(theta, dphi, dtheta, omega, f_xi, f_n, az, c)[0]
+    load = _patch_load(theta, dphi, dtheta, omega, a_xi, a_n, az, opts, c)
     om_xi, om_n, _om_z = _horizontal_spin(theta, dphi, dtheta, omega)
-    m_xi, m_n, _cap = patch.couples(load, theta, theta_k, opts[fk.OPT_PATCH_DAMPING], opts[fk.OPT_MU], om_xi, om_n)
+    m_xi, m_n, capacity = patch.couples(load, theta, theta_k, opts[fk.OPT_PATCH_DAMPING], opts[fk.OPT_MU],
+                                        om_xi, om_n)
     s = math.sin(theta)
     co = math.cos(theta)
-    return m_xi, m_n * co, -m_n * s, -(m_xi * om_xi + m_n * om_n)
+    return m_xi, m_n * co, -m_n * s, -(m_xi * om_xi + m_n * om_n), capacity
+
+
+@njit(cache=True)
+def _slip_drill(opts, theta, dphi, dtheta, omega, ddphi, domega, capacity, c):
+    """Drilling couple of the patch about the vertical through a sliding P [m g R].
+
+    The patch's friction limit is the same in every phase: a tangential force
+    up to mu N and, independently, a drilling couple up to ``mu N r_d``
+    (:func:`_rolling_state`). So a pivot held while rolling stays held when P
+    starts to slide, and the slip starts with the rolling accelerations (the
+    two sets of equations agree at slip onset). Held: the couple that keeps
+    omega_Z; turning: the capacity against the turning sense. A vertical
+    couple T on the free body (P's force given) changes phi'' by T / A,
+    omega' by T cos(theta) / C and leaves theta'' and N alone.
+    """
+    if opts[fk.OPT_THETA_K] <= 0.0:
+        return 0.0
+    if opts[fk.OPT_PIVOT_HELD] == 0.0:
+        return -capacity * opts[fk.OPT_DRILL_SIGN]
+    s = math.sin(theta)
+    co = math.cos(theta)
+    free = ddphi * s * s + domega * co + dtheta * (2.0 * dphi * s * co - omega * s)
+    return -free / (s * s / c[fk.C_A] + co * co / c[fk.C_IZ1])
 
 
 @njit(cache=True)
@@ -250,8 +291,9 @@ def _slip_with(t, y, params, chi):
     """Normal force and accelerations of rim slip in the direction chi.
 
     Returns ``(N, den, ddphi, ddtheta, domega, dw_eta, f_xi, f_n, cx, sx, ax, ay, az, a_xi, a_n,
-    vx, vy, damped)`` with ``(vx, vy)`` the rate of the slip velocity (horizontal, plane frame) and
-    ``damped`` the power of the patch's rolling damping.
+    vx, vy, damped, drill, capacity, omega_z)`` with ``(vx, vy)`` the rate of the slip velocity
+    (horizontal, plane frame), ``damped`` the power of the patch's rolling damping, the drilling
+    couple and its limit [m g R] and the vertical angular velocity [1/tau].
     """
     c, record, dt, opts = params[0], params[1], params[2], params[3]
     ax, ay, az = fk.ground_acceleration(t, record, dt)
@@ -260,16 +302,24 @@ def _slip_with(t, y, params, chi):
     a_n = -ax * sp_ + ay * cp
     f_xi, f_n, cx, sx = _slip_friction(chi, sp_, cp, opts[fk.OPT_MU])
     theta, dphi, dtheta, omega = y[fk.THETA], y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA]
-    m_xi, m_eta, m_zeta, damped = _slip_patch(t, y, params, theta, f_xi, f_n, az)
+    m_xi, m_eta, m_zeta, damped, capacity = _slip_patch(y, params, theta, a_xi, a_n, az)
     normal, den = rim.slip_normal_force(theta, dphi, dtheta, omega, f_xi, f_n, az, c, m_xi)
     ddphi, ddtheta, domega, dw_eta = rim.rotation_accelerations(theta, dphi, dtheta, omega, f_xi, f_n, normal, c,
                                                                 m_xi, m_eta, m_zeta)
+    drill = _slip_drill(opts, theta, dphi, dtheta, omega, ddphi, domega, capacity, c)
+    s = math.sin(theta)
+    co = math.cos(theta)
+    ddphi += drill / c[fk.C_A]
+    domega += drill * co / c[fk.C_IZ1]
+    dw_eta += drill * s / c[fk.C_A]
     v_xi, v_n, _v_z = rim.material_point_acceleration(
         theta, dphi, dtheta, omega, ddtheta, dw_eta, domega,
         normal * f_xi - a_xi, normal * f_n - a_n, normal - 1.0 - az, c[fk.C_ZC])
     vx = v_xi * cp - v_n * sp_
     vy = v_xi * sp_ + v_n * cp
-    return normal, den, ddphi, ddtheta, domega, dw_eta, f_xi, f_n, cx, sx, ax, ay, az, a_xi, a_n, vx, vy, damped
+    om_z = dphi * s * s + omega * co
+    return (normal, den, ddphi, ddtheta, domega, dw_eta, f_xi, f_n, cx, sx, ax, ay, az, a_xi, a_n, vx, vy, damped,
+            drill, capacity, om_z)
 
 
 @njit(cache=True)
@@ -363,7 +413,7 @@ def _rhs_slipping(t, y, params, dydt):
     zc = c[fk.C_ZC]
     mu = opts[fk.OPT_MU]
     (normal, den, ddphi, ddtheta, domega, dw_eta, f_xi, f_n, cx, sx, ax, ay, az, a_xi, a_n,
-     vx, vy, damped) = _slip_state(t, y, params)
+     vx, vy, damped, drill, _cap, om_z) = _slip_state(t, y, params)
     theta = y[fk.THETA]
     dphi, dtheta, omega = y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA]
     speed = y[fk.SLIP_SPEED]
@@ -387,7 +437,7 @@ def _rhs_slipping(t, y, params, dydt):
     s_xi = -f_xi / mu if mu > 0.0 else 0.0
     s_n = -f_n / mu if mu > 0.0 else 0.0
     dydt[fk.WORK] = -(a_xi * (r_xi + speed * s_xi) + a_n * (r_n + speed * s_n) + az * r_z)
-    dydt[fk.FRICTION] = mu * normal * speed
+    dydt[fk.FRICTION] = mu * normal * speed - drill * om_z  # sliding and drilling friction
     dydt[fk.DISSIPATED] = damped
 
 
@@ -505,14 +555,27 @@ def events3d(t, y, params, g):
         if opts[fk.OPT_MU] < math.inf:  # inf: rolling without slip, whatever the force
             g[EV_SLIP] = opts[fk.OPT_MU] * f_z - math.sqrt(f_xi * f_xi + f_n * f_n) + opts[fk.OPT_FRICTION_EXCESS]
             if opts[fk.OPT_THETA_K] > 0.0:
-                g[EV_PIVOT] = (r[13] - abs(r[12]) if opts[fk.OPT_PIVOT_HELD] != 0.0
-                               else opts[fk.OPT_DRILL_SIGN] * r[14])
+                g[EV_PIVOT] = _pivot_event(opts, r[12], r[13], r[14])
     else:
-        normal = _slip_state(t, y, params)[0]
+        r = _slip_state(t, y, params)
+        normal = r[0]
         if opts[fk.OPT_UNILATERAL] != 0.0:
             g[EV_LIFT] = normal
+        if opts[fk.OPT_THETA_K] > 0.0:
+            g[EV_PIVOT] = _pivot_event(opts, r[18], r[19], r[20])
         g[EV_STICK] = y[fk.SLIP_SPEED]
         g[EV_MODE] = _layer_event(y[fk.SLIP_SPEED], opts, normal)
+
+
+@njit(cache=True)
+def _pivot_event(opts, drill, capacity, omega_z):
+    """Falls through 0 when the held pivot's couple reaches its limit, the pivot's turning stops,
+    or (patch unloaded, no drilling friction) the patch takes load again."""
+    if opts[fk.OPT_PIVOT_HELD] != 0.0:
+        return capacity - abs(drill)
+    if opts[fk.OPT_DRILL_SIGN] != 0.0:
+        return opts[fk.OPT_DRILL_SIGN] * omega_z
+    return 1.0 if capacity <= 0.0 else -1.0
 
 
 @njit(cache=True)
@@ -643,7 +706,9 @@ def _rest_until_departure(record, dt, ratio, t, t_end, t_out, y_out, phase_out, 
         phase_out[out_i] = PHASE_REST
         out_i += 1
     n_rec = record.shape[0]
-    if n_rec > 0:
+    # a column that comes to rest where the ground already asks more than it can hold leaves
+    # at once: no rest, no friction at rest (the phase it leaves in carries the friction)
+    if n_rec > 0 and stop > t:
         last = min(stop, (n_rec - 1) * dt)
         k_lo = int(math.ceil(t / dt)) if t > 0.0 else 0
         k_hi = int(math.floor(last / dt))
@@ -765,24 +830,40 @@ def _sync_direction(t, y, params, phase):
 
 
 @njit(cache=True)
-def _ahead(t, y, params):
-    """The rolling state a look-ahead later (one Euler step, ``OPT_LOOK_AHEAD``)."""
+def _ahead(t, y, params, phase=PHASE_ROLLING):
+    """The state a look-ahead later (one Euler step, ``OPT_LOOK_AHEAD``), rolling or slipping."""
     ahead = y.copy()
     rate = np.empty(y.shape[0])
-    _rhs_rolling(t, y, params, rate)
+    if phase == PHASE_SLIPPING:
+        _rhs_slipping(t, y, params, rate)
+    else:
+        _rhs_rolling(t, y, params, rate)
     step = params[3][fk.OPT_LOOK_AHEAD]
-    for i in range(fk.N_ROLLING):
+    for i in range(rate.shape[0]):
         ahead[i] += step * rate[i]
     return ahead
 
 
 @njit(cache=True)
-def _pivot_mode(t, y, params):
+def _drill_demand(t, y, params, phase):
+    """The drilling couple and its limit [m g R] of the phase (rolling or slipping) at t."""
+    if phase == PHASE_SLIPPING:
+        r = _slip_state(t, y, params)
+        return r[18], r[19]
+    r = _rolling_state(t, y, params)
+    return r[12], r[13]
+
+
+@njit(cache=True)
+def _pivot_mode(t, y, params, phase=PHASE_ROLLING):
     """Whether the patch's drilling friction holds the pivot, or in which sense it turns.
 
     A column turning about the vertical through P keeps turning (friction
     against it) until the turning stops; then the pivot is held while the
     couple that holds it stays within ``mu N r_d``, now and a moment later.
+    A patch that carries no load a moment later gives no drilling couple
+    (neither held nor turning, ``OPT_DRILL_SIGN`` 0) until it loads again.
+    The same law whether P rolls or slides (``phase``).
     """
     opts = params[3]
     opts[fk.OPT_PIVOT_HELD] = 0.0
@@ -797,13 +878,18 @@ def _pivot_mode(t, y, params):
     opts[fk.OPT_PIVOT_HELD] = 1.0
     if opts[fk.OPT_MU] == math.inf:
         return
-    r = _rolling_state(t, y, params)
-    q = _rolling_state(t + opts[fk.OPT_LOOK_AHEAD], _ahead(t, y, params), params)
-    if abs(r[12]) <= r[13] and abs(q[12]) <= q[13]:
+    drill, capacity = _drill_demand(t, y, params, phase)
+    drill_ahead, capacity_ahead = _drill_demand(t + opts[fk.OPT_LOOK_AHEAD], _ahead(t, y, params, phase), params,
+                                                phase)
+    if capacity_ahead <= 0.0:
+        # the patch is unloaded: no drilling friction, the column turns freely (until it loads again)
+        opts[fk.OPT_PIVOT_HELD] = 0.0
+        return
+    if abs(drill) <= capacity and abs(drill_ahead) <= capacity_ahead:
         return
     # too strong a twist for the patch: it turns, against the couple that would hold it
     opts[fk.OPT_PIVOT_HELD] = 0.0
-    opts[fk.OPT_DRILL_SIGN] = -math.copysign(1.0, q[12])
+    opts[fk.OPT_DRILL_SIGN] = -math.copysign(1.0, drill_ahead)
 
 
 @njit(cache=True)
@@ -845,6 +931,22 @@ def _gap_acceleration(t, y, params):
 
 
 @njit(cache=True)
+def _slip_starts(t, y, params, ahead, chi):
+    """Whether a slip from rest in (about) the direction chi accelerates, now or a look-ahead later.
+
+    At slip onset the rolling and slip equations agree, so the slip
+    acceleration starts at 0 (round-off either side) and grows with the
+    friction demand: the look-ahead state ``ahead`` (rolling, one Euler step
+    on) settles the sign.
+    """
+    if _along(t, y, params, _slip_direction(t, y, params)) >= 0.0:
+        return True
+    later = t + params[3][fk.OPT_LOOK_AHEAD]
+    guess = chi + (ahead[fk.PHI] - y[fk.PHI])
+    return _along(later, ahead, params, consistent_direction(later, ahead, params, guess, True)) >= 0.0
+
+
+@njit(cache=True)
 def _enter_contact(t, y, params):
     """Phase that a state in rim contact (P not sliding) continues in: rolling, slipping or flight.
 
@@ -875,11 +977,12 @@ def _enter_contact(t, y, params):
         y[fk.SLIP_SPEED] = 0.0
         if normal >= 0.0 or not unilateral:
             _start_slip(y, opts, chi, normal)
-            if pushes and opts[fk.OPT_SLAVED] != 0.0 and _along(t, y, params, _slip_direction(t, y, params)) < 0.0:
-                # no slip direction accelerates from rest: the slip equations (patch
-                # couples included) hold it, though the rolling ones ask a little more
-                # than mu N. It rolls on with that excess, which peak_mu_mob shows;
-                # the slip event fires as soon as the friction asked grows beyond it
+            if pushes and opts[fk.OPT_SLAVED] != 0.0 and not _slip_starts(t, y, params, ahead, chi):
+                # no slip direction accelerates from rest, now or a moment later: the
+                # slip equations hold it though the rolling ones ask a little more than
+                # mu N. It rolls on with that excess, which peak_mu_mob shows; the slip
+                # event fires as soon as the friction asked grows beyond it. Both sets
+                # of equations carry the same patch couples, so this is a safety net
                 y[fk.SLIP_SPEED] = 0.0
                 opts[fk.OPT_SLAVED] = 0.0
                 # twice the deficit: a demand that keeps growing re-arms it a few times, not
@@ -1138,13 +1241,22 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
         if ev == EV_MODE:  # in or out of the slaved-direction layer (direction synced above)
             opts[fk.OPT_SLAVED] = 1.0 - opts[fk.OPT_SLAVED]
             continue
-        if ev == EV_PIVOT:  # the pivot's turning stopped, or its hold gave way
-            if opts[fk.OPT_PIVOT_HELD] == 0.0:
+        if ev == EV_PIVOT:  # the pivot's turning stopped, its hold gave way, or the unloaded patch loads
+            if opts[fk.OPT_PIVOT_HELD] == 0.0 and opts[fk.OPT_DRILL_SIGN] != 0.0:
                 # stopped: make it exact (the spin that cancels omega_Z at this tilt)
                 e_before = energy3d(phase, y, c)
                 y[fk.OMEGA] = -y[fk.DPHI] * math.sin(y[fk.THETA]) ** 2 / math.cos(y[fk.THETA])
                 summary[S_TRANSITION] += energy3d(phase, y, c) - e_before
-            _pivot_mode(t, y, p)
+            if phase == PHASE_ROLLING and mu < math.inf:
+                # a new drilling couple changes the friction rolling asks (a stopped pivot that
+                # turns back flips it): sticking is checked again, which sets the pivot's mode
+                phase = _enter_contact(t, y, p)
+                if phase == PHASE_SLIPPING:
+                    _first(summary, S_SLIDE_TIME, t)
+                elif phase == PHASE_FLIGHT:
+                    _first(summary, S_FLIGHT_TIME, t)
+            else:
+                _pivot_mode(t, y, p, phase)
             continue
         if ev == EV_SLIP and phase == PHASE_FLIGHT:
             # the axis passes the vertical: the same orientation is (phi + pi, -theta, psi - pi)
@@ -1229,6 +1341,7 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
             else:
                 slides = _touch_down_rim(y, c, mu)
                 if slides:
+                    _pivot_mode(t, y, p, PHASE_SLIPPING)
                     _start_slip(y, opts, y[fk.SLIP_DIR], _slip_with(t, y, p, y[fk.SLIP_DIR])[0])
                     phase = PHASE_SLIPPING
                 else:
