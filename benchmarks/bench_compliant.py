@@ -13,11 +13,14 @@ Parts (run by hand, one or several):
   peak tilt against a fine reference (4 x 48). Single runs of a wobbling column are chaotic
   (docs/model.md), so the pooled mean and median of |peak change| are what to read.
 * ``drums``: the paper's column cut into 1, 3 and 10 drums (joint friction 0.6) under record 1:
-  cost per run and per drum.
+  cost per run and per drum, with the default DOPRI5 and (``--reference``, for the drum counts
+  given, e.g. ``--reference 1,3``: a 10-drum DOP853 run takes ~30 min) the DOP853 it replaced,
+  side by side: steps, rejections, right-hand sides, peak tilt, outcome, residual joint slip.
 
 The first call compiles the kernel (~40 s) unless the numba cache is warm; it is not timed.
 
-Run by hand:  python benchmarks/bench_compliant.py record fragility discretisation drums [--json out.json]
+Run by hand:  python benchmarks/bench_compliant.py record fragility discretisation drums [--reference 1,3]
+              [--json out.json]
 """
 
 import argparse
@@ -118,7 +121,7 @@ def bench_discretisation():
     return rows
 
 
-def bench_drums():
+def bench_drums(reference=()):
     from pipeline.drums import DrumColumn
     from pipeline.geometry import Column
     from pipeline.groundmotion import load
@@ -127,14 +130,21 @@ def bench_drums():
     _warm(motion)
     rows = []
     for n in (1, 3, 10):
-        seconds, s = _simulate(DrumColumn.equal(column, n), motion, joint_friction=0.6)
-        rows.append({"drums": n, "seconds": seconds, "per_drum": seconds / n, "steps": s["steps"],
-                     "rejected": s["rejected_steps"], "peak_theta_ratio": s["peak_theta_ratio"],
-                     "overturned": s["overturned"], "balance_over_work": s["energy_balance_error"] / s["work_ground"]})
-        print(f"{n:2d} drum(s): {seconds:.1f} s per run, {seconds / n:.1f} s per drum, {s['steps']} steps + "
-              f"{s['rejected_steps']} rejected; peak {s['peak_theta_ratio']:.2f} theta_crit, "
-              f"{'overturned' if s['overturned'] else 'stands'}; energy balance "
-              f"{s['energy_balance_error'] / s['work_ground']:.1e} of the work", flush=True)
+        for integrator in ("dopri5", "dop853") if n in reference else ("dopri5",):
+            if integrator != "dopri5":  # the calibration is per integrator: not timed
+                _simulate(column, motion, tail=0.0, integrator=integrator)
+            seconds, s = _simulate(DrumColumn.equal(column, n), motion, joint_friction=0.6, integrator=integrator)
+            slip = s["joint_slip"]
+            rows.append({"drums": n, "integrator": integrator, "seconds": seconds, "per_drum": seconds / n,
+                         "steps": s["steps"], "rejected": s["rejected_steps"], "rhs": s["rhs_evaluations"],
+                         "peak_theta_ratio": s["peak_theta_ratio"], "drum_peak_theta": s["drum_peak_theta"].tolist(),
+                         "overturned": s["overturned"], "joint_slip": slip.tolist(),
+                         "balance_over_work": s["energy_balance_error"] / s["work_ground"]})
+            print(f"{n:2d} drum(s), {integrator}: {seconds:.1f} s per run, {seconds / n:.1f} s per drum, "
+                  f"{s['steps']} steps + {s['rejected_steps']} rejected, {s['rhs_evaluations']} rhs; peak "
+                  f"{s['peak_theta_ratio']:.3f} theta_crit, {'overturned' if s['overturned'] else 'stands'}; "
+                  f"largest residual joint slip {1e3 * max(slip):.2f} mm; energy balance "
+                  f"{s['energy_balance_error'] / s['work_ground']:.1e} of the work", flush=True)
     return rows
 
 
@@ -143,6 +153,8 @@ def main():
     parser.add_argument("parts", nargs="+", choices=("record", "fragility", "discretisation", "drums"))
     parser.add_argument("--repeat", type=int, default=2)
     parser.add_argument("--stripes", default="0.5,1,2,3", help="scale levels of the fragility sample")
+    parser.add_argument("--reference", default="",
+                        help="drum counts (e.g. 1,3) also run with the DOP853 reference integrator")
     parser.add_argument("--json", help="also write the numbers to this file")
     args = parser.parse_args()
     print(f"{platform.machine()} {platform.processor() or ''}, {os.cpu_count()} cores, load average "
@@ -155,7 +167,7 @@ def main():
     if "discretisation" in args.parts:
         out["discretisation"] = bench_discretisation()
     if "drums" in args.parts:
-        out["drums"] = bench_drums()
+        out["drums"] = bench_drums([int(x) for x in args.reference.split(",") if x])
     if args.json:
         with open(args.json, "w") as f:
             json.dump(out, f, indent=2)

@@ -231,6 +231,9 @@ def check_settings(settings):
     """
     for name, (lo, hi, unit, what) in _RANGES.items():
         object.__setattr__(settings, name, _number(getattr(settings, name), name, lo, hi, unit, what))
+    if settings.integrator not in sk.METHODS:
+        raise InputError(f"integrator = {settings.integrator!r} is unknown; choose one of {', '.join(sk.METHODS)} "
+                         "(dopri5, the default, is the faster on the joint law's kinks; dop853 the reference)")
     _whole(settings, "contact_rings", 2, 8)
     _whole(settings, "contact_sectors", 4, 256, even=True)
     if settings.joint_stiffness is not None:
@@ -327,7 +330,8 @@ def planar_restitution(column, settings, damping, amplitude=RELEASE_TILT):
     y0 = released_state(asm, params, theta0)
     # the rigid column falls in (1/p) acosh(alpha / (alpha - theta0)) (linearised rocking)
     fall = math.acosh(alpha / (alpha - theta0)) / outline.frequency_parameter()
-    tilt, _raw = _run_free(asm, params, y0, 2.6 * fall, monitor=min(2e-4, fall / 200.0))
+    tilt, _raw = _run_free(asm, params, y0, 2.6 * fall, monitor=min(2e-4, fall / 200.0),
+                           integrator=settings.integrator)
     low = int(np.argmax(tilt < 0.5 * theta0))
     bottom = low + int(np.argmax(np.diff(tilt[low:]) > 0.0))
     top = bottom + int(np.argmax(np.diff(tilt[bottom:]) < 0.0))
@@ -345,9 +349,10 @@ def _parabola_peak(three):
     return b if curv >= 0.0 else b - 0.125 * (c - a) ** 2 / curv
 
 
-def _run_free(asm, params, y0, duration, monitor):
+def _run_free(asm, params, y0, duration, monitor, integrator="dopri5"):
     """Run without ground motion; the top body's tilt every ``monitor`` seconds, and the raw run."""
-    raw = _integrate(asm, params, y0, duration, monitor, 1, rtol=1e-9, atol=1e-12, histories=True)
+    raw = _integrate(asm, params, y0, duration, monitor, 1, rtol=1e-9, atol=1e-12, histories=True,
+                     integrator=integrator)
     return raw.hist_body[:, -1, sk.H_TILT], raw
 
 
@@ -370,7 +375,7 @@ def _calibrated(outline, settings_key, target):
 
 
 _CALIBRATION_FIELDS = ("normal_stiffness", "stiffness_ratio", "friction", "contact_rings", "contact_sectors",
-                       "base_anathyrosis")
+                       "base_anathyrosis", "integrator")
 
 
 def _settings_key(settings):
@@ -435,8 +440,12 @@ class _Raw:
     y_end: np.ndarray
 
 
-def _integrate(asm, params, y0, duration, monitor, stride, rtol, atol, histories, theta_commit=math.inf):
-    """Run the kernel for ``duration`` [s], monitoring every ``monitor`` [s]; history every ``stride``."""
+def _integrate(asm, params, y0, duration, monitor, stride, rtol, atol, histories, theta_commit=math.inf,
+               integrator="dopri5"):
+    """Run the kernel for ``duration`` [s], monitoring every ``monitor`` [s]; history every ``stride``.
+
+    ``integrator``: ``"dopri5"`` or ``"dop853"`` (:data:`pipeline.dynamics.stack.METHODS`).
+    """
     n_bodies = asm.n_bodies
     step = monitor / asm.time
     m = int(math.ceil(duration / monitor - 1e-9)) + 1
@@ -454,7 +463,7 @@ def _integrate(asm, params, y0, duration, monitor, stride, rtol, atol, histories
     breaks = np.arange(record.shape[0]) * dt  # kinks of the linearly interpolated record
     sk.run(params, y0, t_mon, stride, breaks, rtol, np.full(y0.shape[0], atol), np.inf,
            np.ones(2 * n_bodies), theta_commit, raw.hist_y, raw.hist_diag, raw.hist_body, raw.summary,
-           raw.body_stats, raw.joint_stats, raw.joint_committed, raw.y_end)
+           raw.body_stats, raw.joint_stats, raw.joint_committed, raw.y_end, sk.METHODS[integrator])
     if raw.summary[sk.S_STATUS] < 0:
         raise RuntimeError(
             f"integration failed at t = {raw.summary[sk.S_END_TIME] * asm.time:.6g} s "
@@ -502,7 +511,7 @@ def simulate_compliant(column, motion, excitation, settings, histories=True):
     y0 = sk.rest_state(params)
     stride = max(1, int(math.ceil(settings.output_step / settings.monitor_step - 1e-9)))
     raw = _integrate(asm, params, y0, motion.duration + settings.tail, settings.output_step / stride, stride,
-                     settings.rtol, settings.atol, histories, stack.column.critical_tilt)
+                     settings.rtol, settings.atol, histories, stack.column.critical_tilt, settings.integrator)
     summary = _summary(stack, asm, params, settings, raw, damping, restitution)
     summary.update(record_id=motion.record_id, angle=float(excitation.angle), scale=float(excitation.scale))
     ds = _histories(stack, asm, settings, raw, motion, excitation, damping) if histories else None

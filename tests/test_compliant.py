@@ -278,14 +278,16 @@ def test_a_column_left_alone_stays_exactly_still():
 def test_the_record_is_really_turned_by_the_incidence_angle():
     """The points are not axisymmetric: a planar pulse between two rim points meets a flat.
 
-    90 deg maps the 24 sectors onto themselves: the response is the same, turned (to the
-    round-off of summing the points in another order). 7.5 deg (half a sector) pivots on a
-    chord of the rim polygon: another response.
+    90 deg maps the 24 sectors onto themselves: the response is the same, turned (the points
+    are summed in another order, and once that round-off flips a step-size decision the two
+    runs differ by the integration error: 1.2e-9 of the peak with DOPRI5 at rtol 1e-9, hence
+    1e-8). 7.5 deg (half a sector) pivots on a chord of the rim polygon: another response
+    (more than 1e-3).
     """
     pulse = _pulses(PAPER)["rectangular"]
     runs = {a: simulate(PAPER, pulse, Excitation(angle=a), compliant(tail=0.5)) for a in (0, 7.5, 90)}
     p0, p90, p7 = (runs[a].summary["peak_theta"] for a in (0, 90, 7.5))
-    assert p90 == pytest.approx(p0, rel=1e-9)
+    assert p90 == pytest.approx(p0, rel=1e-8)
     h0, h90 = runs[0].histories, runs[90].histories
     np.testing.assert_allclose(h90.y_b.values, h0.x_b.values, atol=1e-9)
     np.testing.assert_allclose(h90.x_b.values, -h0.y_b.values, atol=1e-9)
