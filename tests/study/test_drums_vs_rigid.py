@@ -1,0 +1,125 @@
+"""The drums-vs-rigid comparison script (studies/drums_vs_rigid/compare.py): fits, tables, cache.
+
+Fast: synthetic rows for the analysis, a fake ``simulate`` for the cache (no kernel runs).
+"""
+
+import importlib.util
+import json
+import math
+import os
+
+import pytest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SCRIPT = os.path.join(HERE, "..", "..", "studies", "drums_vs_rigid", "compare.py")
+
+
+@pytest.fixture(scope="module")
+def compare():
+    spec = importlib.util.spec_from_file_location("drums_vs_rigid_compare", SCRIPT)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def _row(model, record, stripe, over, *, slip=None, drum=-1, wall=1.0):
+    stack = model == "stack"
+    return {"column": "paper", "model": model, "record": record, "stripe": stripe, "scale": 1.0,
+            "n_bodies": 4 if stack else 1, "overturned": over, "collapsed": False, "peak_theta": 0.1,
+            "residual_displacement": 0.0, "overturn_drum": (drum if over else -1) if model != "rigid" else None,
+            "joint_slip": slip if stack else None, "joint_diameter": [1.0, 0.95, 0.9, 0.85] if stack else None,
+            "dislocation_ratio": (max(s / d for s, d in zip(slip[1:], [0.95, 0.9, 0.85])) if stack else None),
+            "wall": wall, "simulated": 10.0}
+
+
+STRIPES = (0.2, 0.4, 0.6, 0.8)
+RECORDS = ("A", "B", "C")
+
+
+def _rows():
+    """Rigid overturns from 0.6 g, monolith from 0.8 g; the stack like the monolith but record C at 0.6 g."""
+    rows = []
+    for rec in RECORDS:
+        for s in STRIPES:
+            rows.append(_row("rigid", rec, s, s >= 0.6, wall=0.1))
+            rows.append(_row("monolith", rec, s, s >= 0.8, wall=1.0))
+            over = s >= 0.8 or (rec == "C" and s == 0.6)
+            rows.append(_row("stack", rec, s, over, slip=[0.01, 0.002 * s, 0.001, 0.0], drum=2 if rec == "A" else 0,
+                             wall=10.0))
+    return rows
+
+
+def test_separated_medians_are_between_the_stripes(compare):
+    med = compare.medians(_rows(), n_boot=50)
+    # perfectly separated outcomes: the fit puts the median at the geometric mean of the two stripes
+    assert med[("paper", "rigid")]["median"] == pytest.approx(math.sqrt(0.4 * 0.6))
+    assert med[("paper", "monolith")]["median"] == pytest.approx(math.sqrt(0.6 * 0.8))
+    assert med[("paper", "rigid")]["overturned"] == 6
+    lo, hi = med[("paper", "stack")]["lo"], med[("paper", "stack")]["hi"]
+    assert lo <= med[("paper", "stack")]["median"] <= hi
+
+
+def test_agreement_counts_which_way_models_disagree(compare):
+    agree = compare.agreement(_rows())
+    rm = agree[("paper", "rigid", "monolith")]
+    assert rm == {"cells": 12, "same": 9, "a_only": 3, "b_only": 0}
+    ms = agree[("paper", "monolith", "stack")]
+    assert ms == {"cells": 12, "same": 11, "a_only": 0, "b_only": 1}
+
+
+def test_stack_statistics(compare):
+    st = compare.stack_stats(_rows())
+    v = st[("paper", 0.4)]
+    assert v["standing"] == 3 and v["overturned"] == 0
+    assert v["slip_med"] == pytest.approx(0.001)  # largest bed-joint slip, the base (0.01 m) left out
+    assert v["ratio_med"] == pytest.approx(0.001 / 0.9)
+    u = st[("paper", 0.6)]
+    assert u["standing"] == 2 and u["overturned"] == 1
+    assert u["slip_med"] == pytest.approx(0.0012) and u["ratio_med"] == pytest.approx(0.0012 / 0.95)
+    w = st[("paper", 0.8)]
+    assert w["overturned"] == 3 and w["upper_first"] == 1 and math.isnan(w["slip_med"])
+
+
+def test_report_and_findings(compare):
+    text = compare.report(_rows(), STRIPES, RECORDS, {"beds": {"paper": (1e7, 0.96)}, "workers": 2})
+    assert "| paper | rigid model | 12 | 6 | 0.490 |" in text
+    assert "only the rigid model overturns in 3, only the monolith in 0" in text
+    assert "in 1 of the stack's 4 overturnings an upper body lay down first" in text
+    assert text.count("|---|") >= 4
+
+
+def test_cache_resumes_without_running(compare, tmp_path, monkeypatch):
+    class Motion:
+        duration = 10.0
+
+    calls = []
+
+    class Response:
+        summary = {"overturned": True, "peak_theta": 1.6, "residual_displacement": 0.0}
+
+    def fake_simulate(*args, **kwargs):
+        calls.append(args)
+        return Response()
+
+    monkeypatch.setattr(compare, "simulate", fake_simulate)
+    monkeypatch.setattr(compare, "record_info", lambda record: (9.80665, 10.0))
+    monkeypatch.setattr(compare, "load_record", lambda record: Motion())
+    job = ("paper", "rigid", "X", 0.5)
+    row = compare.run((str(tmp_path), job, 1e7, 0.96))
+    assert row["overturned"] and row["scale"] == pytest.approx(0.5) and len(calls) == 1
+    files = os.listdir(tmp_path)
+    assert files == [os.path.basename(compare.cache_path(str(tmp_path), job))]  # no partial file left
+    again = compare.run((str(tmp_path), job, 1e7, 0.96))
+    assert again == json.loads((tmp_path / files[0]).read_text()) and len(calls) == 1
+
+
+def test_estimate_prefers_measured_costs_and_schedules_longest_first(compare, monkeypatch):
+    measured = compare.rates([_row("monolith", "A", 0.2, False, wall=2.0)])
+    assert compare.rate_for("paper", "monolith", measured) == (0.2, "measured")
+    assert compare.rate_for("parthenon", "monolith", measured)[1] == "prior (one run)"
+    monkeypatch.setattr(compare, "PRIOR_RATE", {})
+    stack = compare.rates([_row("stack", "A", 0.2, False, slip=[0.0] * 4, wall=4.0)])
+    rate, source = compare.rate_for("parthenon", "stack", stack)
+    assert rate == pytest.approx(0.4 * 3**compare.BODY_EXPONENT) and source == "scaled from paper"
+    assert compare.makespan([2.0, 3.0, 2.0, 3.0, 2.0], 2) == pytest.approx(7.0)  # greedy, longest first
+    assert compare.makespan([5.0, 1.0, 1.0], 1) == pytest.approx(7.0)
