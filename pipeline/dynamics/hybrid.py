@@ -192,7 +192,8 @@ def _rolling_state(t, y, params):
     capacity = 0.0
     theta_k = opts[fk.OPT_THETA_K]
     if theta_k > 0.0:
-        f_z = _patch_load(theta, dphi, dtheta, omega, a_xi, a_n, az, opts, c)
+        # _patch_load, from the accelerations at hand (the same arithmetic, so the same bits)
+        f_z = fk.contact_force(theta, dphi, dtheta, omega, ddphi, ddtheta, domega, a_xi, a_n, az, zc)[2]
         m_xi, m_n, capacity = patch.couples(f_z, theta, theta_k, opts[fk.OPT_PATCH_DAMPING], opts[fk.OPT_MU],
                                             om_xi, om_n)
         s = math.sin(theta)
