@@ -288,22 +288,41 @@ def _slip_drill(opts, theta, dphi, dtheta, omega, ddphi, domega, capacity, c):
 
 
 @njit(cache=True)
+def _slip_setting(t, y, params):
+    """What the slip equations at (t, y) share for every slip direction: the ground and the patch.
+
+    Returns ``(ax, ay, az, sp_, cp, a_xi, a_n, m_xi, m_eta, m_zeta, damped, capacity)``: the
+    ground acceleration [g] (plane and contact frames), sin and cos of phi, and the patch's
+    couple, power and drilling limit (:func:`_slip_patch`). The search for a consistent
+    direction evaluates the equations at many directions: computed once for all of them.
+    """
+    ax, ay, az = fk.ground_acceleration(t, params[1], params[2])
+    sp_, cp = fk.sincos(y[fk.PHI])
+    a_xi = ax * cp + ay * sp_
+    a_n = -ax * sp_ + ay * cp
+    m_xi, m_eta, m_zeta, damped, capacity = _slip_patch(y, params, y[fk.THETA], a_xi, a_n, az)
+    return ax, ay, az, sp_, cp, a_xi, a_n, m_xi, m_eta, m_zeta, damped, capacity
+
+
+@njit(cache=True)
 def _slip_with(t, y, params, chi):
-    """Normal force and accelerations of rim slip in the direction chi.
+    """:func:`_slip_in` with its setting computed here."""
+    return _slip_in(t, y, params, chi, _slip_setting(t, y, params))
+
+
+@njit(cache=True)
+def _slip_in(t, y, params, chi, setting):
+    """Normal force and accelerations of rim slip in the direction chi (``setting``: :func:`_slip_setting`).
 
     Returns ``(N, den, ddphi, ddtheta, domega, dw_eta, f_xi, f_n, cx, sx, ax, ay, az, a_xi, a_n,
     vx, vy, damped, drill, capacity, omega_z)`` with ``(vx, vy)`` the rate of the slip velocity
     (horizontal, plane frame), ``damped`` the power of the patch's rolling damping, the drilling
     couple and its limit [m g R] and the vertical angular velocity [1/tau].
     """
-    c, record, dt, opts = params[0], params[1], params[2], params[3]
-    ax, ay, az = fk.ground_acceleration(t, record, dt)
-    sp_, cp = fk.sincos(y[fk.PHI])
-    a_xi = ax * cp + ay * sp_
-    a_n = -ax * sp_ + ay * cp
+    c, opts = params[0], params[3]
+    ax, ay, az, sp_, cp, a_xi, a_n, m_xi, m_eta, m_zeta, damped, capacity = setting
     f_xi, f_n, cx, sx = _slip_friction(chi, sp_, cp, opts[fk.OPT_MU])
     theta, dphi, dtheta, omega = y[fk.THETA], y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA]
-    m_xi, m_eta, m_zeta, damped, capacity = _slip_patch(y, params, theta, a_xi, a_n, az)
     normal, den = rim.slip_normal_force(theta, dphi, dtheta, omega, f_xi, f_n, az, c, m_xi)
     ddphi, ddtheta, domega, dw_eta = rim.rotation_accelerations(theta, dphi, dtheta, omega, f_xi, f_n, normal, c,
                                                                 m_xi, m_eta, m_zeta)
@@ -324,16 +343,16 @@ def _slip_with(t, y, params, chi):
 
 
 @njit(cache=True)
-def _misalignment(t, y, params, chi):
+def _misalignment(t, y, params, chi, setting):
     """Component of the slip acceleration across the slip direction chi (zero when consistent)."""
-    r = _slip_with(t, y, params, chi)
+    r = _slip_in(t, y, params, chi, setting)
     return -r[15] * r[9] + r[16] * r[8]
 
 
 @njit(cache=True)
-def _along(t, y, params, chi):
+def _along(t, y, params, chi, setting):
     """Component of the slip acceleration along the slip direction chi."""
-    r = _slip_with(t, y, params, chi)
+    r = _slip_in(t, y, params, chi, setting)
     return r[15] * r[8] + r[16] * r[9]
 
 
@@ -348,7 +367,9 @@ def consistent_direction(t, y, params, guess, starting=False):
     accelerates along chi count (an antiparallel root would drive the speed
     below 0, where no event can see it), unless there is none.
     """
-    if _misalignment(t, y, params, guess) == 0.0 and not (starting and _along(t, y, params, guess) < 0.0):
+    setting = _slip_setting(t, y, params)
+    if (_misalignment(t, y, params, guess, setting) == 0.0
+            and not (starting and _along(t, y, params, guess, setting) < 0.0)):
         return guess  # exactly consistent (planar motion stays planar)
     best_any = guess
     gap_any = math.inf
@@ -356,15 +377,15 @@ def consistent_direction(t, y, params, guess, starting=False):
     best = guess
     best_gap = math.inf
     a = guess - math.pi
-    fa = _misalignment(t, y, params, a)
+    fa = _misalignment(t, y, params, a, setting)
     for k in range(1, n_scan + 1):
         b = guess - math.pi + _TWO_PI * k / n_scan
-        fb = _misalignment(t, y, params, b)
+        fb = _misalignment(t, y, params, b, setting)
         if fa > 0.0 and fb <= 0.0:
             lo, hi, flo = a, b, fa
             for _i in range(60):
                 mid = 0.5 * (lo + hi)
-                fm = _misalignment(t, y, params, mid)
+                fm = _misalignment(t, y, params, mid, setting)
                 if (fm > 0.0) == (flo > 0.0):
                     lo, flo = mid, fm
                 else:
@@ -375,7 +396,7 @@ def consistent_direction(t, y, params, guess, starting=False):
             gap = abs(root - guess)
             if gap < gap_any:
                 best_any, gap_any = root, gap
-            if gap < best_gap and not (starting and _along(t, y, params, root) < 0.0):
+            if gap < best_gap and not (starting and _along(t, y, params, root, setting) < 0.0):
                 best, best_gap = root, gap
         a, fa = b, fb
     return best if best_gap < math.inf else best_any
@@ -940,11 +961,12 @@ def _slip_starts(t, y, params, ahead, chi):
     friction demand: the look-ahead state ``ahead`` (rolling, one Euler step
     on) settles the sign.
     """
-    if _along(t, y, params, _slip_direction(t, y, params)) >= 0.0:
+    if _along(t, y, params, _slip_direction(t, y, params), _slip_setting(t, y, params)) >= 0.0:
         return True
     later = t + params[3][fk.OPT_LOOK_AHEAD]
     guess = chi + (ahead[fk.PHI] - y[fk.PHI])
-    return _along(later, ahead, params, consistent_direction(later, ahead, params, guess, True)) >= 0.0
+    return _along(later, ahead, params, consistent_direction(later, ahead, params, guess, True),
+                  _slip_setting(later, ahead, params)) >= 0.0
 
 
 @njit(cache=True)
