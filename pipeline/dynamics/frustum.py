@@ -60,6 +60,8 @@ N_ROLLING = 10  # the slots rolling integrates
 # the normal force would pull), 0 to hold the rim on the ground as the paper does.
 # OPT_FRICTION_EXCESS [m g]: friction beyond mu N that a rolling phase started
 # with because no slip could start from rest (pipeline.dynamics.hybrid._enter_contact).
+# OPT_SLAVED_SPEED [sqrt(g R)]: the slip speed at which the direction was last
+# slaved; the layer is left above max(edge, 2 x it) (pipeline.dynamics.hybrid).
 # OPT_RIM_HELD is 1 while infinite friction and lift-off contradict each other
 # (the rim would have to pull, yet the column in free flight would sink into
 # the ground): the rim is held until either stops (pipeline.dynamics.hybrid).
@@ -74,8 +76,8 @@ N_ROLLING = 10  # the slots rolling integrates
 (OPT_THETA_C, OPT_THETA_LIE, OPT_NU, OPT_MU, OPT_PHASE, OPT_PIVOT, OPT_SIGN, OPT_RIM_HELD,
  OPT_SLAVED, OPT_PHI_REF, OPT_UNILATERAL, OPT_THETA_K, OPT_PATCH_DAMPING, OPT_PIVOT_HELD,
  OPT_DRILL_SIGN, OPT_LANDING_MARGIN, OPT_MIN_REBOUND, OPT_SLAVE_TIME, OPT_LOOK_AHEAD,
- OPT_FRICTION_EXCESS) = range(20)
-N_OPT = 20
+ OPT_FRICTION_EXCESS, OPT_SLAVED_SPEED) = range(21)
+N_OPT = 21
 
 # Indices into the constants array.
 C_IY, C_IZ, C_ZC, C_DELTA, C_K, C_IZ1, C_A = range(7)

@@ -605,8 +605,22 @@ def _layer_event(speed, opts, normal):
     """Leaving (slaved) or entering (free) the slaved-direction layer: falls through 0."""
     edge = opts[fk.OPT_SLAVE_TIME] * opts[fk.OPT_MU] * max(normal, 0.0)
     if opts[fk.OPT_SLAVED] != 0.0:
-        return edge - speed
+        return _layer_exit(edge, opts) - speed
     return speed - 0.5 * edge
+
+
+@njit(cache=True)
+def _layer_exit(edge, opts):
+    """Slip speed above which a slaved direction becomes a state again.
+
+    The edge moves with N, and N moves with the slaved direction: entering
+    the layer at half the edge can land on a root whose N puts the edge below
+    the speed already, and a layer event that starts past zero never fires
+    (the direction then stayed slaved at any speed, and a slaved direction
+    jumping between roots at speed jumps the kinetic energy). Twice the speed
+    of entry keeps the exit ahead of it.
+    """
+    return max(edge, 2.0 * opts[fk.OPT_SLAVED_SPEED])
 
 
 @njit(cache=True)
@@ -836,6 +850,27 @@ def _start_slip(y, opts, chi, normal):
     opts[fk.OPT_PHI_REF] = y[fk.PHI]
     edge = opts[fk.OPT_SLAVE_TIME] * opts[fk.OPT_MU] * max(normal, 0.0)
     opts[fk.OPT_SLAVED] = 1.0 if y[fk.SLIP_SPEED] < edge else 0.0
+    opts[fk.OPT_SLAVED_SPEED] = y[fk.SLIP_SPEED]
+
+
+@njit(cache=True)
+def _leave_layer_if_past(t, y, params, phase):
+    """A call that would start slaved with the speed past the layer's exit starts free instead.
+
+    The exit's event would start past zero and never fire (N, and so the
+    edge, can drop at a transition). The slaved direction in use was written
+    into the state at the end of the last call (:func:`_sync_direction`).
+    """
+    opts = params[3]
+    if opts[fk.OPT_SLAVED] == 0.0:
+        return
+    if phase == PHASE_SLIPPING:
+        normal = _slip_state(t, y, params)[0]
+    else:
+        normal = 1.0 + fk.ground_acceleration(t, params[1], params[2])[2]
+    edge = opts[fk.OPT_SLAVE_TIME] * opts[fk.OPT_MU] * max(normal, 0.0)
+    if y[fk.SLIP_SPEED] > _layer_exit(edge, opts):
+        opts[fk.OPT_SLAVED] = 0.0
 
 
 @njit(cache=True)
@@ -1246,6 +1281,8 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
                 _first(summary, S_SLIDE_TIME, t)
             continue
         opts[fk.OPT_PHASE] = phase
+        if phase == PHASE_SLIPPING or phase == PHASE_SLIDING:
+            _leave_layer_if_past(t, y, p, phase)
         res = _integrate3d(p, t, y, t_end, t_out, y_out, out_i, t_breaks, rtol, atol, h)
         out_i, stalls = _book_phase(res, phase, phase_out, out_i, summary, y, t, stalls)
         t, h = res.t, res.h_next
@@ -1263,6 +1300,9 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
             continue
         if ev == EV_MODE:  # in or out of the slaved-direction layer (direction synced above)
             opts[fk.OPT_SLAVED] = 1.0 - opts[fk.OPT_SLAVED]
+            if opts[fk.OPT_SLAVED] != 0.0:
+                opts[fk.OPT_SLAVED_SPEED] = y[fk.SLIP_SPEED]
+                opts[fk.OPT_PHI_REF] = y[fk.PHI]
             continue
         if ev == EV_PIVOT:  # the pivot's turning stopped, its hold gave way, or the unloaded patch loads
             if opts[fk.OPT_PIVOT_HELD] == 0.0 and opts[fk.OPT_DRILL_SIGN] != 0.0:
