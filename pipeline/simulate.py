@@ -138,7 +138,7 @@ class ModelSettings:
     numerics : tuple of (str, float)
         Overrides of the rigid kernels' numerical thresholds
         (:data:`pipeline.dynamics.hybrid.NUMERICS`: ``landing_margin``,
-        ``min_rebound``, ``slave_time``, ``look_ahead``), for studies that
+        ``min_rebound``, ``slave_time``, ``look_ahead``, ``slaved_turn``), for studies that
         show no result depends on them; e.g. ``(("slave_time", 1e-5),)``.
     tail : float
         Free motion after the record ends [s].
@@ -327,6 +327,8 @@ def _options(column, settings):
     opts[fk.OPT_MIN_REBOUND] = numerics["min_rebound"]
     opts[fk.OPT_SLAVE_TIME] = numerics["slave_time"]
     opts[fk.OPT_LOOK_AHEAD] = numerics["look_ahead"]
+    opts[fk.OPT_SLAVED_TURN] = numerics["slaved_turn"]
+    opts[fk.OPT_MAX_STEP] = np.inf  # set per call by the 3D kernel
     return opts
 
 

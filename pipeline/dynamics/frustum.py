@@ -62,6 +62,9 @@ N_ROLLING = 10  # the slots rolling integrates
 # with because no slip could start from rest (pipeline.dynamics.hybrid._enter_contact).
 # OPT_SLAVED_SPEED [sqrt(g R)]: the slip speed at which the direction was last
 # slaved; the layer is left above max(edge, 2 x it) (pipeline.dynamics.hybrid).
+# OPT_MAX_STEP [tau]: the longest step of the phase being integrated (inf but
+# while a slip direction is slaved, so that its speed cannot cross the layer's
+# edge and come back within one step unseen; pipeline.dynamics.hybrid).
 # OPT_RIM_HELD is 1 while infinite friction and lift-off contradict each other
 # (the rim would have to pull, yet the column in free flight would sink into
 # the ground): the rim is held until either stops (pipeline.dynamics.hybrid).
@@ -70,14 +73,15 @@ N_ROLLING = 10  # the slots rolling integrates
 # c_n R^3 / (m sqrt(g R)); whether the patch's drilling friction holds the
 # pivot (no turning about the vertical through P) and, if not, the sense it
 # turns in.
-# The last four are the numerical thresholds of pipeline.dynamics.hybrid
+# OPT_LANDING_MARGIN, OPT_MIN_REBOUND, OPT_SLAVE_TIME, OPT_LOOK_AHEAD and
+# OPT_SLAVED_TURN are the numerical thresholds of pipeline.dynamics.hybrid
 # (defaults there, in NUMERICS), carried at run time so that a study can vary
 # them without recompiling.
 (OPT_THETA_C, OPT_THETA_LIE, OPT_NU, OPT_MU, OPT_PHASE, OPT_PIVOT, OPT_SIGN, OPT_RIM_HELD,
  OPT_SLAVED, OPT_PHI_REF, OPT_UNILATERAL, OPT_THETA_K, OPT_PATCH_DAMPING, OPT_PIVOT_HELD,
  OPT_DRILL_SIGN, OPT_LANDING_MARGIN, OPT_MIN_REBOUND, OPT_SLAVE_TIME, OPT_LOOK_AHEAD,
- OPT_FRICTION_EXCESS, OPT_SLAVED_SPEED) = range(21)
-N_OPT = 21
+ OPT_FRICTION_EXCESS, OPT_SLAVED_SPEED, OPT_MAX_STEP, OPT_SLAVED_TURN) = range(23)
+N_OPT = 23
 
 # Indices into the constants array.
 C_IY, C_IZ, C_ZC, C_DELTA, C_K, C_IZ1, C_A = range(7)

@@ -14,6 +14,7 @@ import contextlib
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from pipeline.dynamics import frustum as fk
 from pipeline.dynamics import hybrid as hy
 from pipeline.dynamics.integrator import Dop853Result
 
@@ -56,7 +57,8 @@ def integrate_scipy(params, t0, y0, t_end, t_out, y_out, out_start, t_breaks, rt
 
     events = [make_event(k, d) for k, d in enumerate(hy.EVENT_DIRECTIONS)]
     sol = solve_ivp(fun, (t0, t_end), y0, method="DOP853", rtol=rtol, atol=atol, events=events,
-                    dense_output=True, first_step=h0 if h0 > 0 else None)
+                    dense_output=True, first_step=h0 if h0 > 0 else None,
+                    max_step=params[3][fk.OPT_MAX_STEP])
     for t_step, y_step in zip(sol.t[1:], sol.y.T[1:]):
         hy.events3d(t_step, y_step, params, g)
         hy.monitor3d(t_step, y_step, params, g)

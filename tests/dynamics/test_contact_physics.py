@@ -362,3 +362,27 @@ def test_mobilized_friction_stays_within_mu_where_it_did_not(record, pga_g, heig
                  histories=False)
     assert r.summary["peak_mu_mob"] <= 0.5 * (1 + 1e-9) < was
     assert abs(r.summary["energy_balance_error"]) < 1e-6 * abs(r.summary["work_ground"])
+
+
+@pytest.mark.parametrize("column, record, pga, before", [
+    # the slaved direction jumped to another root when the pivot's mode changed
+    (Column(0.5, 0.45, 5.0), "FEMA-FF-04", 1.5, 5.2e-8),
+    # a slaved speed rose to 50 x the layer's edge and fell back within one step
+    (Column(0.5, 0.3, 4.0), "FEMA-FF-05", 0.8, 8.5e-8),
+    # slaved at theta 3e-5 with phi' ~ 1e6: the lag turned the contact frame far
+    (Column(0.5, 0.5, 2.0), "FEMA-FF-15", 2.0, 2.1e-5),
+])
+def test_slaved_slip_direction_keeps_the_energy_budget(column, record, pga, before):
+    """Runs of model_2d_vs_3d whose budget missed 1e-6 of the work through the slaved slip layer.
+
+    ``before`` is the error [m] measured before each fix (3.3e-6 to 2.9e-4 of the
+    work); with them the three close to 7e-8 of the work at most (measured). The
+    bound is the acceptance criterion, 1e-6 of the work; the slaved layer's own
+    approximation error scales with slave_time (1e-6 tau) and stays far below it.
+    """
+    motion = load(record)
+    scale = pga * G / float(np.max(np.hypot(motion.acc_x, motion.acc_y)))
+    s = simulate(column, motion, Excitation(scale=scale, vertical=True),
+                 ModelSettings(model="3d", friction=0.7, tail=5.0), histories=False).summary
+    assert s["sliding_onset"]
+    assert abs(s["energy_balance_error"]) < 1e-6 * abs(s["work_ground"]) < before
