@@ -51,7 +51,9 @@ what the spring stores, ``k_s A |u| (v_n - lambda)``, while it slips, and ``k_s 
 while an unloaded spring relaxes), whatever the state does inside the dead band; this is
 what makes the energy budget of the models close to the integration error. In steady slip
 the friction rate is Coulomb's ``mu f_el |v_t|``; the spring holds the dead band's energy
-(microjoules) and gives it back as friction when the slip reverses.
+(microjoules) and gives it back as friction when the slip reverses. (While the friction limit
+grows past a state inside the dead band the friction rate is slightly negative,
+``-(k_s A |u| - mu f_el) v_n``: the dead band's own energy.)
 
 Why the spring's energy and not the capped force's ``1/2 (mu f_el)^2 / (k_s A)``: that one
 has a kink on the cone, and friction then a jump in its rate wherever a slipping point
