@@ -239,10 +239,16 @@ def _contacts(y, params, dydt, rates, monitor):
         for p in range(joint_start[j], joint_start[j + 1]):
             d, s = _penetration(y, p, j, params)
             if d <= 0.0 or s <= 0.0:
-                # out of contact: no force, and the shear spring relaxes (joint.shear_law)
+                # out of contact: no force, and the shear spring relaxes (its energy stays in
+                # the budget until it has: joint.unloaded_spring)
+                dux, duy, e_shear, p_fric = jl.unloaded_spring(y[sh + 2 * p], y[sh + 2 * p + 1],
+                                                               ks * points[p, P_AREA], tau)
                 if rates:
-                    dydt[sh + 2 * p] = -y[sh + 2 * p] / tau
-                    dydt[sh + 2 * p + 1] = -y[sh + 2 * p + 1] / tau
+                    dydt[sh + 2 * p] = dux
+                    dydt[sh + 2 * p + 1] = duy
+                    d_fric += p_fric
+                if monitor:
+                    mon[j, M_ELASTIC] += e_shear
                 continue
             (rux, ruy, ruz, rlx, rly, rlz, xi_x, xi_y, d, vtx, vty, d_dot, s, ds) = _point_geometry(y, p, j, params)
             area = points[p, P_AREA]

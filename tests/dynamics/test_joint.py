@@ -95,8 +95,12 @@ def test_shear_sticks_slips_at_the_cap_and_unloads_at_once():
     steps_dead = int(dead / 1e-6) + 2
     assert f[i_back + steps_dead] > -cap + 0.5 * k * 1e-6  # already unloading
     assert f[i_back + steps_dead + 1000] == pytest.approx(f[i_back + steps_dead] + k * 1e-3, rel=1e-3)
-    # friction power is mu N |v| while slipping, nothing while sticking
-    assert out[1000, 1] == 0.0 and out[5000, 1] == pytest.approx(cap * 1.0, rel=1e-9)
+    # friction power is mu N |v| while slipping, nothing while sticking; as the slip starts the
+    # spring also stores the dead band beyond the cone (at most ETA of the power, fading over
+    # the return time tau = 1 ms)
+    p = out[2100:i_back, 1]
+    assert out[1000, 1] == 0.0 and np.all(p <= cap * (1 + 1e-12)) and np.all(p >= cap * (1 - 1.01 * jl.ETA))
+    assert out[i_back - 10, 1] == pytest.approx(cap * 1.0, rel=1e-4)
 
 
 def test_shear_dissipation_closes_the_energy_identity():
@@ -115,7 +119,40 @@ def test_shear_dissipation_closes_the_energy_identity():
         de = (e2 - e) / h
         assert fx * v[0] + fy * v[1] + de == pytest.approx(-(p_f + p_c), abs=1e-5 * (1 + abs(de)))
         assert lam >= 0.0 and p_c >= 0.0
+        # the spring stores 1/2 k |u|^2 in every branch (a smooth function of the state)
+        assert e == pytest.approx(0.5 * k * (u @ u), rel=1e-14)
         if cap == 0.0:
-            assert (fx, fy, e) == (0.0, 0.0, 0.0)  # no normal force, no shear
+            assert (fx, fy) == (0.0, 0.0)  # no normal force, no shear: the spring relaxes
+            assert p_f == pytest.approx(k * (u @ u) / tau, rel=1e-14) and (du, dv) == (-u[0] / tau, -u[1] / tau)
         elif k * math.hypot(*u) >= cap:
             assert math.hypot(fx, fy) == pytest.approx(cap)  # beyond the cone: the cap
+
+
+def test_booked_rates_are_continuous_where_a_slip_reverses():
+    """A slipping point whose slip reverses (the spring unloads back into the cone): the
+    friction and elastic-energy rates are the same just outside and just inside the cone.
+
+    The energy budget of the compliant models compares the elastic energy, a function of the
+    state read at the ends of a run, with the friction the integrator accumulates step by step
+    (a quadrature of its rate). Where a rate jumps without a jump in the state's rate, the
+    Runge-Kutta quadrature across it is off by ~0.1-0.3 of h times the jump and the embedded
+    error estimate sees 10-150 times less: booked as 1/2 cap^2/k beyond the cone, the elastic
+    energy had a kink there and friction a jump of cap |g| at every reversal, 1e-9 M g L each
+    on a drum stack (issue 13: a 10-drum budget off by 2.6e-6 of the work). The tolerance is
+    round-off on rates of order cap |v| = 1 over a distance of 1e-12 of the elastic range.
+    (The shear dashpot does switch on here, but its jump is in the force, so the bodies'
+    states carry it with the same quadrature weights as the damping it is booked as.)
+    """
+    k, c, tau, floor = 7.0e2, 3.0, 2e-3, 1e-4
+    cap, cap_rate = 1.3, -4.0
+    for angle in np.linspace(0.0, 2.0 * math.pi, 7):
+        n = np.array([math.cos(angle), math.sin(angle)])
+        v = -0.8 * n + 0.3 * np.array([-n[1], n[0]])  # inwards, and a little sideways
+        rates = []
+        for side in (1.0 + 1e-12, 1.0 - 1e-12):  # beyond the cone (slipping), inside (stuck)
+            u = side * cap / k * n
+            du, dv, fx, fy, e, p_f, p_c, lam = jl.shear_law(u[0], u[1], v[0], v[1], cap, cap_rate, k, c, tau, floor)
+            rates.append((p_f, k * (u @ np.array([du, dv]))))
+        (f_out, e_out), (f_in, e_in) = rates
+        assert f_out == pytest.approx(f_in, abs=1e-9) and f_in == 0.0
+        assert e_out == pytest.approx(e_in, abs=1e-9)
