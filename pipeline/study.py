@@ -32,6 +32,7 @@ see docs/studies.md for the full reference)::
     R = 0.5
     slenderness = [6.0, 8.0]
     beta = [0.8, 1.0]
+    drums = [1, 4]                   # optional: x equal drums (labels end -d1, -d4)
 
     [records]
     ids = ["FEMA-FF-01"]             # catalog ids (frustum records list)
@@ -76,6 +77,7 @@ _TOP = {"title", "summary", "output", "models", "columns", "column_grid", "recor
 _COLUMN = {"name", "R", "r", "h", "named"}
 _DRUMS = {"drums", "drum_heights", "capital"}  # a column of drums (the compliant model)
 _GRID = {"R", "slenderness", "beta"}
+_GRID_OPTIONAL = {"drums"}  # a grid axis of drum counts (equal drums, no capital)
 _RECORDS = {"ids", "sets", "files", "synthetic"}
 _FILE = {"path", "units", "id", "components", "missing_y", "dt", "processing"}
 _EXCITATION = {"angles", "scales", "intensity", "vertical", "sa_period"}
@@ -495,24 +497,45 @@ def _columns(data, ck):
         out.append(info)
     grid = data.get("column_grid")
     if grid is not None:
-        ck.table(grid, "column_grid", _GRID)
+        ck.table(grid, "column_grid", _GRID | _GRID_OPTIONAL)
         for k in sorted(_GRID):
             if k not in grid:
                 ck.fail(f"column_grid.{k}", "missing: a grid needs R, slenderness and beta")
         radii = ck.numbers(grid["R"], "column_grid.R", positive=True, scalar_ok=True)
         slender = ck.numbers(grid["slenderness"], "column_grid.slenderness", positive=True, scalar_ok=True)
         betas = ck.numbers(grid["beta"], "column_grid.beta", positive=True, scalar_ok=True)
+        counts = _grid_drums(ck, grid)
         for R in radii:
             for s in slender:
                 for b in betas:
-                    label = f"R{R:g}-s{s:g}-b{b:g}"
-                    col = Column(R, b * R, s * R, name=label)
-                    _check(ck, col, "column_grid")
-                    out.append(ColumnInfo(col, label, source="study grid"))
+                    for n in counts:
+                        label = f"R{R:g}-s{s:g}-b{b:g}" + ("" if n is None else f"-d{n}")
+                        col = Column(R, b * R, s * R, name=label)
+                        _check(ck, col, "column_grid")
+                        info = ColumnInfo(col, label, source="study grid")
+                        if n is not None:
+                            info = _drum_column(ck, {"drums": n}, info, {}, "column_grid.drums")
+                        out.append(info)
     if not out:
         ck.fail("columns", "no columns: give [[columns]] entries or a [column_grid]")
     ck.unique([c.label for c in out], "columns", "column label {!r} is used twice; give each column a distinct name")
     return tuple(out)
+
+
+def _grid_drums(ck, grid):
+    """Drum counts of ``[column_grid]`` (``drums = N`` or a list), or ``[None]`` without drums."""
+    if "drums" not in grid:
+        return [None]
+    value = grid["drums"]
+    counts = value if isinstance(value, list) else [value]
+    if not counts:
+        ck.fail("column_grid.drums", "give a whole number of drums or a list of them, e.g. drums = [1, 4]")
+    for k, n in enumerate(counts):
+        if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+            ck.fail(f"column_grid.drums[{k}]" if isinstance(value, list) else "column_grid.drums",
+                    f"must be a whole number of drums (1 or more), got {n!r}")
+    ck.unique([str(n) for n in counts], "column_grid.drums", "drum count {} is given twice")
+    return counts
 
 
 def _drum_column(ck, entry, info, preset, field):

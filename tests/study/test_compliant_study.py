@@ -143,3 +143,20 @@ def test_drum_columns_in_a_study_file(write_study):
                        ("drum_heights = [1.0, 2.0]", "add up to 3 m"), ("capital = [1.0]", "capital")]:
         with pytest.raises(InputError, match=field):
             load_study(write_study(DRUM_STUDY.replace("drums = 2", bad)), load_records=False)
+
+
+def test_a_column_grid_with_drum_counts(write_study):
+    """``drums`` in ``[column_grid]`` is one more grid axis: equal drums, labels ending -dN."""
+    grid = "[column_grid]\nR = 0.5\nslenderness = [6.0, 8.0]\nbeta = 0.8\ndrums = [1, 4]\n\n"
+    text = DRUM_STUDY.replace('[[columns]]\nnamed = "paper"\n', grid)
+    study = load_study(write_study(text), load_records=False)
+    labels = [c.label for c in study.columns]
+    assert labels == ["two", "R0.5-s6-b0.8-d1", "R0.5-s6-b0.8-d4", "R0.5-s8-b0.8-d1", "R0.5-s8-b0.8-d4"]
+    one, four = study.columns[3], study.columns[4]
+    assert one.stack is None and one.n_bodies == 1  # one drum is the monolith
+    assert four.stack.n_drums == 4 and four.n_bodies == 4 and four.column.h == pytest.approx(4.0)
+    assert four.stack.cuts == pytest.approx((1.0, 2.0, 3.0))
+    for bad, field in [("drums = [1, 4]", "drums = 0"), ("drums = [1, 4]", "drums = [2, 2.5]"),
+                       ("drums = [1, 4]", "drums = [3, 3]")]:
+        with pytest.raises(InputError, match="column_grid.drums"):
+            load_study(write_study(text.replace(bad, field)), load_records=False)
