@@ -72,9 +72,14 @@ def history_bytes(duration, output_step):
     return BASE_BYTES + rows * HISTORY_ROW_BYTES
 
 
-def results_bytes(n_cells, n_tasks):
-    """Memory of a study's run [bytes]: its results grid and its plan of tasks."""
-    return BASE_BYTES + n_cells * RESULT_CELL_BYTES + n_tasks * TASK_BYTES
+def results_bytes(n_cells, n_tasks, extra_cell_bytes=0):
+    """Memory of a study's run [bytes]: its results grid and its plan of tasks.
+
+    ``extra_cell_bytes``: what a cell holds beyond the rigid models' variables (the compliant
+    model's per-joint dislocations, :func:`pipeline.sweep.memory_estimate`), held and copied
+    once as the rest.
+    """
+    return BASE_BYTES + n_cells * (RESULT_CELL_BYTES + extra_cell_bytes) + n_tasks * TASK_BYTES
 
 
 def check_tolerance(name, value, label):

@@ -227,8 +227,16 @@ def n_tasks(study):
 
 
 def memory_estimate(study):
-    """Memory a study's run needs in the driving process [bytes] (:func:`pipeline.limits.results_bytes`)."""
-    return results_bytes(study.n_simulations, n_tasks(study))
+    """Memory a study's run needs in the driving process [bytes] (:func:`pipeline.limits.results_bytes`).
+
+    A study that runs the compliant model also holds, per cell, its two scalars and the
+    per-joint dislocations (``JOINT_VARIABLES`` x ``n_joints`` float64), copied once when written.
+    """
+    extra = 0
+    if study.n_joints:
+        scalars = sum(np.dtype(_DTYPES[n]).itemsize for n in COMPLIANT_VARIABLES)
+        extra = 2 * (scalars + len(JOINT_VARIABLES) * 8 * study.n_joints)
+    return results_bytes(study.n_simulations, n_tasks(study), extra)
 
 
 def check_memory(study):
