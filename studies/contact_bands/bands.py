@@ -124,8 +124,12 @@ def main():
         return 0
     minutes = (time.perf_counter() - start) / 60
     print("# Contact-parameter bands of the issue-10 headlines\n")
-    print(f"Made by `python studies/contact_bands/bands.py` ({n_runs} result cells, {minutes:.0f} min on "
-          f"{args.workers} workers for the runs not already in out/contact_bands/). Each column from its study file "
+    made = (f"tabulated by `python studies/contact_bands/bands.py --table-only` from out/contact_bands/ "
+            f"({n_runs} result cells, computed earlier)" if args.table_only else
+            f"Made by `python studies/contact_bands/bands.py` ({n_runs} result cells, {minutes:.0f} min on "
+            f"{args.workers} workers for the runs not already in out/contact_bands/)")
+    # a table-only pass has no computing time to report: saying "0 min" would read as a measurement
+    print(f"{made[0].upper()}{made[1:]}. Each column from its study file "
           f"(22 FEMA P695 far-field pairs, 11 PGA stripes, vertical on) at incidence angles "
           f"{', '.join(f'{a:g}' for a in ANGLES)} deg (the studies have 8; the 3D model does not depend on it),"
           " one setting moved at a time: friction 0.5 and 0.8 (default 0.7), "
