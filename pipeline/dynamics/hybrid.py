@@ -882,6 +882,17 @@ def _start_slip(y, opts, chi, normal):
 
 
 @njit(cache=True)
+def _slip_reading(t, y, params, phase):
+    """Normal force [m g] and the slip speed's rate [g] of a slip phase (rim or flat) in the direction in use."""
+    if phase == PHASE_SLIPPING:
+        r = _slip_state(t, y, params)
+        return r[0], r[15] * r[8] + r[16] * r[9]  # _rhs_slipping's SLIP_SPEED rate
+    rate = np.empty(y.shape[0])
+    _rhs_sliding(t, y, params, rate)
+    return 1.0 + fk.ground_acceleration(t, params[1], params[2])[2], rate[fk.SLIP_SPEED]
+
+
+@njit(cache=True)
 def _leave_layer_if_past(t, y, params, phase):
     """A call that would start slaved with the speed past the layer's exit starts free instead.
 
@@ -892,10 +903,7 @@ def _leave_layer_if_past(t, y, params, phase):
     opts = params[3]
     if opts[fk.OPT_SLAVED] == 0.0:
         return
-    if phase == PHASE_SLIPPING:
-        normal = _slip_state(t, y, params)[0]
-    else:
-        normal = 1.0 + fk.ground_acceleration(t, params[1], params[2])[2]
+    normal = _slip_reading(t, y, params, phase)[0]
     if y[fk.SLIP_SPEED] > _layer_exit(_layer_edge(y, opts, normal), opts):
         opts[fk.OPT_SLAVED] = 0.0
 
@@ -913,18 +921,11 @@ def _slaved_step(t, y, params, phase):
     opts = params[3]
     if opts[fk.OPT_SLAVED] == 0.0 or (phase != PHASE_SLIPPING and phase != PHASE_SLIDING):
         return math.inf
-    rate = np.empty(y.shape[0])
-    if phase == PHASE_SLIPPING:
-        _rhs_slipping(t, y, params, rate)
-        normal = _slip_state(t, y, params)[0]
-    else:
-        _rhs_sliding(t, y, params, rate)
-        normal = 1.0 + fk.ground_acceleration(t, params[1], params[2])[2]
+    normal, speed_rate = _slip_reading(t, y, params, phase)
     exit_speed = _layer_exit(_layer_edge(y, opts, normal), opts)
-    speed_rate = abs(rate[fk.SLIP_SPEED])
     if speed_rate == 0.0 or exit_speed <= 0.0:
         return math.inf
-    return 0.5 * exit_speed / speed_rate
+    return 0.5 * exit_speed / abs(speed_rate)
 
 
 @njit(cache=True)
