@@ -42,8 +42,9 @@ from pipeline.dynamics.integrator import (
     STATUS_STEP_TOO_SMALL,
     Dop853Result,
     _dense_eval,
-    _event_triggered,
-    _locate_root,
+    _earliest_event,
+    _outputs_until,
+    _read_event_signs,
     no_monitor,
 )
 
@@ -326,40 +327,20 @@ def dopri5_monitored(rhs, events, monitor, params, t0, y0, t_end, t_out, y_out, 
         read_in_step = in_window and t_new > restart_end
         if need_dense or read_in_step:
             _dense_coefficients(h, K, F)
-        t_a = t_old
-        any_event = False
-        if n_ev > 0:
-            events(t_new, y_new, params, g_new)
-            if read_in_step:
-                frac = _START_WINDOW if (first_step_of_call and h_wanted <= h) else (restart_end - t_old) / h
-                t_a = t_old + frac * h
-                _dense_eval(F, y, frac, y_stage)
-                events(t_a, y_stage, params, g_old)
-            elif in_window:
-                g_old[:] = g_new
-            for k in range(n_ev):
-                if _event_triggered(g_old[k], g_new[k], event_direction[k]):
-                    any_event = True
+        frac = 0.0
+        if read_in_step:
+            frac = _START_WINDOW if (first_step_of_call and h_wanted <= h) else (restart_end - t_old) / h
+        t_a, any_event = _read_event_signs(events, params, event_direction, n_ev, t_old, t_new, h, y, y_new, F,
+                                           y_stage, g_old, g_new, in_window, read_in_step, frac)
         if any_event and not (need_dense or read_in_step):
             _dense_coefficients(h, K, F)
 
         if any_event:
-            t_ev = np.inf
-            for k in range(n_ev):
-                if not _event_triggered(g_old[k], g_new[k], event_direction[k]):
-                    continue
-                t_root = _locate_root(
-                    events, params, k, t_a, t_new, g_old[k], g_new[k],
-                    t_old, h, F, y, y_stage, g_buf,
-                )
-                if t_root < t_ev:
-                    t_ev = t_root
-                    event_index = k
+            event_index, t_ev = _earliest_event(events, params, event_direction, n_ev, t_a, t_new, t_old, h, F, y,
+                                                y_stage, g_old, g_new, g_buf)
             if event_index >= 0:
-                while out_i < m and t_out[out_i] <= t_ev:
-                    _dense_eval(F, y, (t_out[out_i] - t_old) / h, y_out[out_i])
-                    out_i += 1
                 _dense_eval(F, y, (t_ev - t_old) / h, y_new)
+                out_i = _outputs_until(F, y, t_old, h, t_ev, y_new, t_out, y_out, out_i, m)
                 t = t_ev
                 y[:] = y_new
                 events(t, y, params, g_buf)
@@ -369,12 +350,7 @@ def dopri5_monitored(rhs, events, monitor, params, t0, y0, t_end, t_out, y_out, 
         if n_ev > 0:
             g_old[:] = g_new
 
-        while out_i < m and t_out[out_i] <= t_new:
-            if t_out[out_i] == t_new:
-                y_out[out_i, :] = y_new
-            else:
-                _dense_eval(F, y, (t_out[out_i] - t_old) / h, y_out[out_i])
-            out_i += 1
+        out_i = _outputs_until(F, y, t_old, h, t_new, y_new, t_out, y_out, out_i, m)
 
         t = t_new
         y[:] = y_new

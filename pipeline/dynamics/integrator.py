@@ -624,6 +624,65 @@ def dop853(
 
 
 @njit(inline="always")
+def _read_event_signs(events, params, event_direction, n_ev, t_old, t_new, h, y, y_new, F, y_stage, g_old, g_new,
+                      in_window, read_in_step, frac):
+    """Event functions at the end of an accepted step, and where the step's signs start.
+
+    Inside a call's restart window (see the loop) the signs are read at its end,
+    ``t_old + frac h`` on the interpolant ``F`` (built by the caller when
+    ``read_in_step``); a step wholly inside it reports nothing. Returns ``(t_a,
+    any_event)``: where the signs were read and whether an event changed sign.
+    Shared by :func:`dop853_monitored` and :func:`pipeline.dynamics.dopri5.dopri5_monitored`.
+    """
+    t_a = t_old
+    any_event = False
+    if n_ev > 0:
+        events(t_new, y_new, params, g_new)
+        if read_in_step:
+            t_a = t_old + frac * h
+            _dense_eval(F, y, frac, y_stage)
+            events(t_a, y_stage, params, g_old)
+        elif in_window:
+            g_old[:] = g_new  # the whole step is inside the restart window
+        for k in range(n_ev):
+            if _event_triggered(g_old[k], g_new[k], event_direction[k]):
+                any_event = True
+    return t_a, any_event
+
+
+@njit(inline="always")
+def _earliest_event(events, params, event_direction, n_ev, t_a, t_new, t_old, h, F, y, y_stage, g_old, g_new,
+                    g_buf):
+    """Roots of the triggered events on the interpolant; the earliest wins: ``(index or -1, time)``."""
+    event_index = -1
+    t_ev = np.inf
+    for k in range(n_ev):
+        if not _event_triggered(g_old[k], g_new[k], event_direction[k]):
+            continue
+        t_root = _locate_root(
+            events, params, k, t_a, t_new, g_old[k], g_new[k],
+            t_old, h, F, y, y_stage, g_buf,
+        )
+        if t_root < t_ev:
+            t_ev = t_root
+            event_index = k
+    return event_index, t_ev
+
+
+@njit(inline="always")
+def _outputs_until(F, y, t_old, h, t_stop, y_stop, t_out, y_out, out_i, m):
+    """Output rows of the step up to ``t_stop`` (inclusive) on the interpolant; a row exactly
+    at ``t_stop`` is ``y_stop`` itself. Returns the next output index."""
+    while out_i < m and t_out[out_i] <= t_stop:
+        if t_out[out_i] == t_stop:
+            y_out[out_i, :] = y_stop
+        else:
+            _dense_eval(F, y, (t_out[out_i] - t_old) / h, y_out[out_i])
+        out_i += 1
+    return out_i
+
+
+@njit(inline="always")
 def dop853_monitored(
     rhs,
     events,
@@ -837,43 +896,22 @@ def dop853_monitored(
         if need_dense or read_in_step:
             _dense_coefficients(rhs, params, t_old, h, y, y_new, K, F, y_stage)
             nfev += 3
-        t_a = t_old
-        any_event = False
-        if n_ev > 0:
-            events(t_new, y_new, params, g_new)
-            if read_in_step:
-                # an uncut first step reads at exactly t_old + 1e-7 h
-                frac = _START_WINDOW if (first_step_of_call and h_wanted <= h) else (restart_end - t_old) / h
-                t_a = t_old + frac * h
-                _dense_eval(F, y, frac, y_stage)
-                events(t_a, y_stage, params, g_old)
-            elif in_window:
-                g_old[:] = g_new  # the whole step is inside the restart window
-            for k in range(n_ev):
-                if _event_triggered(g_old[k], g_new[k], event_direction[k]):
-                    any_event = True
+        # an uncut first step reads at exactly t_old + 1e-7 h
+        frac = 0.0
+        if read_in_step:
+            frac = _START_WINDOW if (first_step_of_call and h_wanted <= h) else (restart_end - t_old) / h
+        t_a, any_event = _read_event_signs(events, params, event_direction, n_ev, t_old, t_new, h, y, y_new, F,
+                                           y_stage, g_old, g_new, in_window, read_in_step, frac)
         if any_event and not (need_dense or read_in_step):
             _dense_coefficients(rhs, params, t_old, h, y, y_new, K, F, y_stage)
             nfev += 3
 
         if any_event:
-            # roots of the triggered events on the interpolant; the earliest wins
-            t_ev = np.inf
-            for k in range(n_ev):
-                if not _event_triggered(g_old[k], g_new[k], event_direction[k]):
-                    continue
-                t_root = _locate_root(
-                    events, params, k, t_a, t_new, g_old[k], g_new[k],
-                    t_old, h, F, y, y_stage, g_buf,
-                )
-                if t_root < t_ev:
-                    t_ev = t_root
-                    event_index = k
+            event_index, t_ev = _earliest_event(events, params, event_direction, n_ev, t_a, t_new, t_old, h, F, y,
+                                                y_stage, g_old, g_new, g_buf)
             if event_index >= 0:
-                while out_i < m and t_out[out_i] <= t_ev:
-                    _dense_eval(F, y, (t_out[out_i] - t_old) / h, y_out[out_i])
-                    out_i += 1
                 _dense_eval(F, y, (t_ev - t_old) / h, y_new)
+                out_i = _outputs_until(F, y, t_old, h, t_ev, y_new, t_out, y_out, out_i, m)
                 t = t_ev
                 y[:] = y_new
                 events(t, y, params, g_buf)
@@ -884,12 +922,7 @@ def dop853_monitored(
             g_old[:] = g_new
 
         # output grid points inside the step (the end point is y_new itself)
-        while out_i < m and t_out[out_i] <= t_new:
-            if t_out[out_i] == t_new:
-                y_out[out_i, :] = y_new
-            else:
-                _dense_eval(F, y, (t_out[out_i] - t_old) / h, y_out[out_i])
-            out_i += 1
+        out_i = _outputs_until(F, y, t_old, h, t_new, y_new, t_out, y_out, out_i, m)
 
         t = t_new
         y[:] = y_new
