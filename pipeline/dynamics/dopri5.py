@@ -45,6 +45,7 @@ from pipeline.dynamics.integrator import (
     _earliest_event,
     _outputs_until,
     _read_event_signs,
+    _select_initial_step,
     no_monitor,
 )
 
@@ -153,41 +154,6 @@ def _dense_coefficients(h, K, F):
 
 
 @njit(inline="always")
-def _select_initial_step(rhs, params, t0, y0, f0, t_end, max_step, rtol, atol, y1, f1):
-    """First step size by Hairer's rule, as scipy's ``select_initial_step`` for order 4."""
-    n = y0.shape[0]
-    interval = t_end - t0
-    if interval == 0.0:
-        return 0.0
-    d0 = 0.0
-    d1 = 0.0
-    for i in range(n):
-        scale = atol[i] + abs(y0[i]) * rtol
-        d0 += (y0[i] / scale) ** 2
-        d1 += (f0[i] / scale) ** 2
-    d0 = np.sqrt(d0 / n)
-    d1 = np.sqrt(d1 / n)
-    if d0 < 1e-5 or d1 < 1e-5:
-        h0 = 1e-6
-    else:
-        h0 = 0.01 * d0 / d1
-    h0 = min(h0, interval)
-    for i in range(n):
-        y1[i] = y0[i] + h0 * f0[i]
-    rhs(t0 + h0, y1, params, f1)
-    d2 = 0.0
-    for i in range(n):
-        scale = atol[i] + abs(y0[i]) * rtol
-        d2 += ((f1[i] - f0[i]) / scale) ** 2
-    d2 = np.sqrt(d2 / n) / h0
-    if d1 <= 1e-15 and d2 <= 1e-15:
-        h1 = max(1e-6, h0 * 1e-3)
-    else:
-        h1 = (0.01 / max(d1, d2)) ** (1.0 / 5.0)
-    return min(100.0 * h0, h1, interval, max_step)
-
-
-@njit(inline="always")
 def dopri5(rhs, events, params, t0, y0, t_end, t_out, y_out, out_start, event_direction, t_breaks,
            rtol, atol, max_step, first_step, max_steps):
     """Integrate dy/dt = rhs(t, y) from t0 to t_end with DOPRI5, dense output and events.
@@ -253,7 +219,7 @@ def dopri5_monitored(rhs, events, monitor, params, t0, y0, t_end, t_out, y_out, 
     if first_step > 0.0:
         h_abs = first_step
     else:
-        h_abs = _select_initial_step(rhs, params, t, y, K[0], t_end, max_step, rtol, atol_v, y_stage, K[1])
+        h_abs = _select_initial_step(rhs, params, t, y, K[0], t_end, max_step, rtol, atol_v, y_stage, K[1], 4)
         nfev += 1
 
     n_acc = 0

@@ -379,10 +379,12 @@ def _rms_norm(x, scale):
 
 
 @njit(inline="always")
-def _select_initial_step(rhs, params, t0, y0, f0, t_end, max_step, rtol, atol, y1, f1):
-    """First step size by Hairer's rule, as scipy's ``select_initial_step`` (order 7).
+def _select_initial_step(rhs, params, t0, y0, f0, t_end, max_step, rtol, atol, y1, f1, error_order=7):
+    """First step size by Hairer's rule, as scipy's ``select_initial_step``.
 
-    Returns the step size [s]; costs one rhs evaluation (``y1``, ``f1`` are work arrays).
+    ``error_order``: the order of the method's error estimate (7 for DOP853, 4 for
+    DOPRI5, :mod:`pipeline.dynamics.dopri5`). Returns the step size [s]; costs one
+    rhs evaluation (``y1``, ``f1`` are work arrays).
     """
     n = y0.shape[0]
     interval = t_end - t0
@@ -412,7 +414,7 @@ def _select_initial_step(rhs, params, t0, y0, f0, t_end, max_step, rtol, atol, y
     if d1 <= 1e-15 and d2 <= 1e-15:
         h1 = max(1e-6, h0 * 1e-3)
     else:
-        h1 = (0.01 / max(d1, d2)) ** (1.0 / 8.0)
+        h1 = (0.01 / max(d1, d2)) ** (1.0 / (error_order + 1))
     return min(100.0 * h0, h1, interval, max_step)
 
 
