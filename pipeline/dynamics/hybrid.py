@@ -621,8 +621,9 @@ def _layer_edge(y, opts, normal):
     at most slave_time. Where the contact frame turns fast (the precession
     rate phi' reaches 1e6 near the vertical) that lag would turn it by
     slave_time phi'; the edge shrinks so that the turn within the lag stays
-    below ``slaved_turn`` (a call slaved at 1.3e-3 with N ~ 3600 at theta 3e-5
-    put 1.7e-6 m g R into the budget's error, FEMA-FF-15 x 2 g on R = r = 0.5, h = 2).
+    below ``slaved_turn`` (a call slaved at a speed of 1.3e-3, so with N above
+    3600, at theta 3e-5 put 1.7e-6 m g R into the budget's error, FEMA-FF-15
+    x 2 g on R = r = 0.5, h = 2).
     """
     lag = opts[fk.OPT_SLAVE_TIME]
     return lag * opts[fk.OPT_MU] * max(normal, 0.0) / (1.0 + lag * abs(y[fk.DPHI]) / opts[fk.OPT_SLAVED_TURN])
