@@ -66,6 +66,9 @@ VERTICAL = False
 TAIL = ModelSettings().tail  # free motion after the record [s]
 N_BOOT = 1000
 SEED = 2026
+# A lognormal median from fewer stripes than this is not fitted: two parameters from one or two
+# intensity levels say more about the stripes chosen than about the column.
+MIN_STRIPES = 3
 MACHINE = "2-core x86_64 sandbox, shared with other jobs"
 
 # Cost per second of simulated time [s/s] when nothing is cached (dry runs only): measured
@@ -350,6 +353,13 @@ def medians(rows, n_boot=N_BOOT, seed=SEED):
     out = {}
     for key, outcomes in sorted(groups.items()):
         records = sorted(outcomes)
+        levels = {round(s, 6) for v in outcomes.values() for s, _o in v}
+        if len(levels) < MIN_STRIPES:
+            out[key] = {"median": math.nan, "lo": math.nan, "hi": math.nan, "beta": math.nan,
+                        "status": f"not fitted ({len(levels)} stripe{'s' if len(levels) != 1 else ''})",
+                        "runs": sum(len(v) for v in outcomes.values()),
+                        "overturned": sum(o for v in outcomes.values() for _s, o in v)}
+            continue
         med, fit = fit_median(outcomes, records)
         boot = np.array([fit_median(outcomes, list(rng.choice(records, size=len(records))))[0]
                          for _ in range(n_boot)], dtype=float)
@@ -400,6 +410,36 @@ def agreement(rows):
                     "a_only": sum(ca[c] and not cb[c] for c in common),
                     "b_only": sum(cb[c] and not ca[c] for c in common),
                 }
+    return out
+
+
+def tilt_ratios(rows):
+    """Per column and pair of models: peak tilt of B over A on the cells where both stood.
+
+    The rigid and monolith peak tilt is the shaft's, the stack's the top body's (the drum or
+    capital highest up), all about the vertical.
+
+    Returns
+    -------
+    dict
+        ``{(column, a, b): {"cells", "median", "p10", "p90"}}`` [1]; ``cells`` counts the
+        record x stripe cells where neither model overturned.
+    """
+    cells = {}
+    for r in rows:
+        if not r["overturned"]:
+            cells.setdefault((r["column"], r["model"]), {})[(r["record"], r["stripe"])] = r["peak_theta"]
+    out = {}
+    for key in dict.fromkeys(r["column"] for r in rows):
+        present = [m for m in MODELS if (key, m) in cells]
+        for i, a in enumerate(present):
+            for b in present[i + 1:]:
+                ca, cb = cells[(key, a)], cells[(key, b)]
+                ratio = np.array([cb[c] / ca[c] for c in sorted(set(ca) & set(cb)) if ca[c] > 0], dtype=float)
+                if ratio.size:
+                    p10, med, p90 = np.percentile(ratio, [10, 50, 90])
+                    out[(key, a, b)] = {"cells": int(ratio.size), "median": float(med), "p10": float(p10),
+                                        "p90": float(p90)}
     return out
 
 
@@ -454,6 +494,24 @@ def costs(rows):
 
 # -- report -------------------------------------------------------------------------------------
 
+def design(rows):
+    """What was run: ``{(column, model): (records, stripes [g], runs)}``, in report order."""
+    out = {}
+    for r in rows:
+        recs, levels, n = out.get((r["column"], r["model"]), (set(), set(), 0))
+        out[(r["column"], r["model"])] = (recs | {r["record"]}, levels | {r["stripe"]}, n + 1)
+    columns = list(dict.fromkeys(r["column"] for r in rows))
+    return {k: (sorted(v[0]), sorted(v[1]), v[2])
+            for k, v in sorted(out.items(), key=lambda kv: (columns.index(kv[0][0]), MODELS.index(kv[0][1])))}
+
+
+def _record_span(records):
+    """``A .. B`` for a full set of the catalog's records, else the list."""
+    if list(records) == list(RECORDS):
+        return f"{records[0]} .. {records[-1]}"
+    return ", ".join(r.replace("FEMA-FF-", "FF-") for r in records)
+
+
 def g_text(x, stripes):
     """A median [g] as text; the fit's limits named."""
     if x is None or (isinstance(x, float) and math.isnan(x)):
@@ -491,12 +549,14 @@ def _model_text(key, model):
     return {"rigid": "rigid model", "monolith": "monolith"}[model]
 
 
-def findings(rows, med, agree, stacks, cost, stripes):
+def findings(rows, med, agree, stacks, cost, stripes, tilts=None):
     """3-5 plain sentences read from the tables (no more than they show)."""
+    tilts = tilts or {}
     out = []
     for key in dict.fromkeys(r["column"] for r in rows):
         name = "the paper's column" if key == "paper" else "the Parthenon column"
-        parts = [f"{_median_phrase(med[(key, m)]['median'], stripes)} for the {_model_text(key, m)}"
+        parts = [(med[(key, m)]["status"] if med[(key, m)]["status"].startswith("not fitted")
+                  else _median_phrase(med[(key, m)]["median"], stripes)) + f" for the {_model_text(key, m)}"
                  for m in MODELS if (key, m) in med]
         text = f"For {name} the fitted median overturning PGA is " + ", ".join(parts)
         inside = []
@@ -523,6 +583,10 @@ def findings(rows, med, agree, stacks, cost, stripes):
             clauses.append(c)
             if len(clauses) == 2:
                 break
+        tr = tilts.get((key, "monolith", "stack"))
+        if tr:
+            clauses.append(f"where both stood, the stack's top body tilted {tr['median']:.2f} times as far as the "
+                           f"monolith (median over {tr['cells']} cells, P10-P90 {tr['p10']:.2f}-{tr['p90']:.2f})")
         st = {s: v for (k, s), v in stacks.items() if k == key}
         if st:
             down = sum(v["overturned"] for v in st.values())
@@ -565,19 +629,28 @@ def report(rows, stripes, records, meta):
     med = medians(rows)
     agree = agreement(rows)
     stacks = stack_stats(rows)
+    tilts = tilt_ratios(rows)
     cost = costs(rows)
     L = ["# Drum stacks against the rigid rolling model\n"]
     columns = list(dict.fromkeys(r["column"] for r in rows))
-    L.append(f"{len(records)} record pairs ({records[0]} .. {records[-1]}) x {len(stripes)} PGA stripes "
-             f"({', '.join(f'{s:g}' for s in stripes)} g), both horizontal components scaled so that the peak "
+    L.append(f"FEMA P695 far-field record pairs, both horizontal components scaled so that the peak "
              f"horizontal resultant is the stripe, angle {ANGLE:g} deg, no vertical. Models: rigid rolling frustum "
              f"(`3d`) and compliant monolith on the shaft's outline, compliant drum stack (`3d-compliant`). "
              f"Same bed for all: k_n = {STIFFNESS:g} Pa/m, friction {FRICTION} (joints too), the compliant "
              f"dashpots calibrated on the outline and the restitution they reach given to the rigid model. "
              f"Lognormal median of overturning by maximum likelihood; 90 % band from {N_BOOT} resamples of the "
-             f"records. {len(rows)} runs; made by `{meta.get('command', 'compare.py')}` "
-             f"({meta.get('minutes', 0):.0f} min for the runs not cached, {meta.get('workers', 1)} workers, "
-             f"{MACHINE}).\n")
+             f"records (fits need {MIN_STRIPES} stripes or more). {len(rows)} runs; made by "
+             f"`{meta.get('command', 'compare.py')}` " + (
+                 "(tabulated from the cache: the runs' own wall times are in the cost table below).\n"
+                 if meta.get("report_only") else
+                 f"({meta.get('minutes', 0):.0f} min for the runs not cached, {meta.get('workers', 1)} workers, "
+                 f"{MACHINE}).\n"))
+    L.append("| column | model | records | PGA stripes [g] | runs |")
+    L.append("|---|---|---|---|---|")
+    for (key, model), (recs, levels, n) in design(rows).items():
+        L.append(f"| {key} | {_model_text(key, model)} | {len(recs)} ({_record_span(recs)}) | "
+                 f"{', '.join(f'{x:g}' for x in levels)} | {n} |")
+    L.append("")
     L.append("| column | c_n [Pa s/m] | restitution |")
     L.append("|---|---|---|")
     for key in columns:
@@ -599,6 +672,15 @@ def report(rows, stripes, records, meta):
         frac = f"{ag['same'] / ag['cells']:.3f}" if ag["cells"] else "n/a"
         L.append(f"| {key} | {_model_text(key, a)} | {_model_text(key, b)} | {ag['cells']} | {ag['same']} | "
                  f"{frac} | {ag['a_only']} | {ag['b_only']} |")
+    if tilts:
+        L.append("\n## Peak tilt, cell by cell, where neither model overturned\n")
+        L.append("Peak tilt of model B over model A on the same record and stripe: the shaft's for the rigid "
+                 "model and the monolith, the top body's for the stack.\n")
+        L.append("| column | model A | model B | cells | median B/A | P10 | P90 |")
+        L.append("|---|---|---|---|---|---|---|")
+        for (key, a, b), t in tilts.items():
+            L.append(f"| {key} | {_model_text(key, a)} | {_model_text(key, b)} | {t['cells']} | "
+                     f"{t['median']:.3f} | {t['p10']:.3f} | {t['p90']:.3f} |")
     if stacks:
         L.append("\n## Drum stacks: residual bed-joint slip and which body lay down\n")
         L.append("Largest residual slip over the bed joints of a run (the base left out), over the runs that "
@@ -622,7 +704,7 @@ def report(rows, stripes, records, meta):
         L.append(f"| {key} | {_model_text(key, model)} | {n_bodies(key, model)} | {c['runs']} | "
                  f"{c['mean']:.3f} | {c['rate']:.4f} |")
     L.append("\n## What the numbers say\n")
-    L.append(" ".join(findings(rows, med, agree, stacks, cost, stripes)))
+    L.append(" ".join(findings(rows, med, agree, stacks, cost, stripes, tilts)))
     if meta.get("failed"):
         L.append("\n## Runs that failed (left out above)\n")
         L.extend(f"- {f}" for f in meta["failed"])
@@ -669,6 +751,12 @@ def parser():
     p.add_argument("--out", default=OUT, help=f"cache folder of the per-run JSON files (default {OUT})")
     p.add_argument("--dry-run", action="store_true",
                    help="list the jobs and estimate the wall time from the costs cached so far; run nothing")
+    p.add_argument("--shuffle", action="store_true",
+                   help="run the jobs in a seeded random order instead of the longest first, so that a run "
+                        "stopped early leaves a random sample of records, not the longest ones")
+    p.add_argument("--report-only", action="store_true",
+                   help="run nothing: report every run cached for --columns and --models, whatever its "
+                        "record and stripe (how parts run with different designs make one report)")
     return p
 
 
@@ -680,6 +768,20 @@ def main(argv=None):
     stripes = _stripes(args.stripes)
     if args.workers < 1:
         raise SystemExit("--workers must be at least 1")
+    if args.report_only:
+        rows = [r for r in all_cached(args.out) if r["column"] in columns and r["model"] in models]
+        if not rows:
+            raise SystemExit(f"--report-only: no run of {', '.join(columns)} x {', '.join(models)} is cached in "
+                             f"{args.out} (digest {digest()}); run the study first")
+        records = sorted({r["record"] for r in rows})
+        stripes = sorted({r["stripe"] for r in rows})
+        columns = [k for k in columns if any(r["column"] == k for r in rows)]
+        beds = {k: bed(k) for k in columns}
+        command = "python studies/drums_vs_rigid/compare.py " + " ".join(sys.argv[1:] if argv is None else argv)
+        rows.sort(key=lambda r: (columns.index(r["column"]), MODELS.index(r["model"]), r["record"], r["stripe"]))
+        sys.stdout.write(report(rows, stripes, records, {"beds": beds, "command": command.strip(), "report_only": True,
+                                                         "failed": []}))
+        return 0
     info = {r: record_info(r) for r in records}  # loads (and checks) every record before any run
     jobs = [(k, m, r, s) for k in columns for m in models for r in records for s in stripes]
     cached = {}
@@ -694,6 +796,8 @@ def main(argv=None):
         rate, _src = rate_for(j[0], j[1], measured)
         est[j] = rate * (info[j[2]][1] + TAIL)
     pending = sorted((j for j in jobs if j not in cached), key=lambda j: -est[j])  # the longest first
+    if args.shuffle:
+        pending = [pending[i] for i in np.random.default_rng(SEED).permutation(len(pending))]
     if args.dry_run:
         print(f"{len(jobs)} jobs, {len(cached)} cached, {len(pending)} to run; cache {args.out} "
               f"(digest {digest()})\n")

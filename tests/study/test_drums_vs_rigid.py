@@ -123,3 +123,52 @@ def test_estimate_prefers_measured_costs_and_schedules_longest_first(compare, mo
     assert rate == pytest.approx(0.4 * 3**compare.BODY_EXPONENT) and source == "scaled from paper"
     assert compare.makespan([2.0, 3.0, 2.0, 3.0, 2.0], 2) == pytest.approx(7.0)  # greedy, longest first
     assert compare.makespan([5.0, 1.0, 1.0], 1) == pytest.approx(7.0)
+
+
+def test_tilt_ratios_use_only_cells_where_both_stood(compare):
+    slip = [0.0] * 4
+    rows = [_row("monolith", "A", 0.2, False), _row("stack", "A", 0.2, False, slip=slip),
+            _row("monolith", "B", 0.2, False), _row("stack", "B", 0.2, True, slip=slip),  # the stack fell: left out
+            _row("monolith", "C", 0.2, False), _row("stack", "C", 0.2, False, slip=slip)]
+    rows[1]["peak_theta"], rows[5]["peak_theta"] = 0.15, 0.3  # 1.5 and 3 times the monolith's 0.1
+    t = compare.tilt_ratios(rows)[("paper", "monolith", "stack")]
+    assert t["cells"] == 2 and t["median"] == pytest.approx(2.25)
+    assert t["p10"] == pytest.approx(1.65) and t["p90"] == pytest.approx(2.85)
+
+
+def test_a_model_on_fewer_than_three_stripes_is_not_fitted(compare):
+    rows = [r for r in _rows() if r["model"] != "stack" or r["stripe"] == 0.6]
+    med = compare.medians(rows, n_boot=20)
+    s = med[("paper", "stack")]
+    assert s["status"] == "not fitted (1 stripe)" and math.isnan(s["median"]) and s["runs"] == 3
+    assert s["overturned"] == 1 and not med[("paper", "monolith")]["status"].startswith("not fitted")
+    text = compare.report(rows, STRIPES, RECORDS, {"beds": {}, "report_only": True})
+    assert "| paper | 4-drum stack | 3 (A, B, C) | 0.6 | 3 |" in text  # the design actually run
+    assert "not fitted (1 stripe) for the 4-drum stack" in text and "tabulated from the cache" in text
+
+
+def test_report_only_tabulates_the_cache_and_runs_nothing(compare, monkeypatch, capsys):
+    monkeypatch.setattr(compare, "all_cached", lambda out: _rows())
+    monkeypatch.setattr(compare, "bed", lambda key: (1e7, 0.96))
+    monkeypatch.setattr(compare, "simulate", lambda *a, **k: pytest.fail("--report-only must not simulate"))
+    assert compare.main(["--report-only", "--columns", "paper"]) == 0
+    text = capsys.readouterr().out
+    assert "| paper | rigid model | 12 | 6 | 0.490 |" in text and "36 runs" in text
+    monkeypatch.setattr(compare, "all_cached", lambda out: [])
+    with pytest.raises(SystemExit, match="no run of paper"):
+        compare.main(["--report-only", "--columns", "paper"])
+
+
+def test_shuffle_is_a_seeded_order(compare, monkeypatch, capsys):
+    monkeypatch.setattr(compare, "record_info", lambda record: (9.80665, float(record[-2:])))
+    monkeypatch.setattr(compare, "all_cached", lambda out: [])
+    args = ["--dry-run", "--columns", "paper", "--models", "stack", "--stripes", "1", "--out", "/nonexistent"]
+
+    def order(extra):
+        compare.main(args + extra)
+        return [line.split()[2] for line in capsys.readouterr().out.splitlines() if line.startswith("  paper")]
+
+    longest = order([])
+    assert longest == [f"FEMA-FF-{i:02d}" for i in range(22, 0, -1)]  # the longest (here: highest id) first
+    shuffled = order(["--shuffle"])
+    assert sorted(shuffled) == sorted(longest) and shuffled != longest and order(["--shuffle"]) == shuffled
