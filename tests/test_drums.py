@@ -51,8 +51,9 @@ def test_four_glued_drums_rock_like_the_monolith(pulse):
 def test_top_drum_slides_on_a_drum_that_stays_put():
     """Two squat drums (R = r = 1 m, 1 m each), base friction 0.8, joint friction 0.3, 0.6 g for
     0.5 s: the top drum slides A (A - mu g) t_d^2 / (2 mu g) = 0.7355 m on the bottom one
-    (measured 0.7383: +0.2 % from the record's linear edges, the rest the joint's elastic
-    shear), within 2 %; the bottom drum (0.9 m g of demand on 1.6 m g of friction) moves only
+    (measured 0.7399, +0.6 %: +0.2 % from the record's linear edges, the rest the joint's elastic
+    shear and the top drum's rim running off the edge of the one below, whose band of support
+    pulls it back a little), within 2 %; the bottom drum (0.9 m g of demand on 1.6 m g of friction) moves only
     elastically."""
     A, mu, td = 0.6 * G, 0.3, 0.5
     pulse = rectangular_pulse(A, td, dt=0.001, duration=1.5)

@@ -100,10 +100,12 @@ def overlap(rho, face_radius, band):
     edge = face_radius * (1.0 + EDGE_TOL)
     if rho <= edge:
         return 1.0, 0.0
-    s = 1.0 - (rho - edge) / band
-    if s <= 0.0:
+    x = (rho - edge) / band
+    if x >= 1.0:
         return 0.0, 0.0
-    return s, -1.0 / band
+    # smoothstep: s and ds/drho are continuous at both ends of the band, so the pull of the
+    # band (from 1/2 k A s d^2) does not jump where a point leaves it
+    return 1.0 - x * x * (3.0 - 2.0 * x), -6.0 * x * (1.0 - x) / band
 
 
 @njit(cache=True)

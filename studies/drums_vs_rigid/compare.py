@@ -163,16 +163,27 @@ def settings(model, damping, restitution):
                          contact_damping=damping, tail=TAIL)
 
 
-def digest():
-    """Short digest of :data:`DESIGN` and the columns' geometry (names the cache files)."""
-    text = json.dumps({**DESIGN, "columns": {k: repr(drum_column(k)) for k in COLUMN_KEYS}}, sort_keys=True)
+# Changes of the bed-joint law, which only the stack has (rigid and monolith rows stay valid):
+# 2: the band past a face's edge runs off as a smoothstep (2026-11-23), not linearly.
+STACK_REVISION = 2
+
+
+def digest(model=None):
+    """Short digest of :data:`DESIGN` and the columns' geometry (names the cache files).
+
+    A stack's rows also depend on :data:`STACK_REVISION` (``model="stack"``).
+    """
+    design = {**DESIGN, "columns": {k: repr(drum_column(k)) for k in COLUMN_KEYS}}
+    if model == "stack" and STACK_REVISION > 1:
+        design["stack_revision"] = STACK_REVISION
+    text = json.dumps(design, sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:8]
 
 
 def cache_path(out, job):
     """The JSON file of one job ``(column, model, record, stripe [g])``."""
     key, model, record, stripe = job
-    return os.path.join(out, f"{key}-{model}-{record}-{stripe:.6g}g-{digest()}.json")
+    return os.path.join(out, f"{key}-{model}-{record}-{stripe:.6g}g-{digest(model)}.json")
 
 
 @lru_cache(maxsize=None)
@@ -271,11 +282,11 @@ def make_row(job, summary, wall, scale, duration):
 # -- cost ---------------------------------------------------------------------------------------
 
 def all_cached(out):
-    """Every row of this design's digest in the cache folder (any record or stripe)."""
-    rows, tag = [], f"-{digest()}.json"
+    """Every row of this design's digests in the cache folder (any record or stripe)."""
+    rows, tags = [], {m: (f"-{m}-", f"-{digest(m)}.json") for m in MODELS}
     if os.path.isdir(out):
         for name in sorted(os.listdir(out)):
-            if name.endswith(tag) and not name.startswith("."):
+            if not name.startswith(".") and any(t in name and name.endswith(d) for t, d in tags.values()):
                 with open(os.path.join(out, name), encoding="utf-8") as fh:
                     rows.append(json.load(fh))
     return rows
@@ -772,7 +783,7 @@ def main(argv=None):
         rows = [r for r in all_cached(args.out) if r["column"] in columns and r["model"] in models]
         if not rows:
             raise SystemExit(f"--report-only: no run of {', '.join(columns)} x {', '.join(models)} is cached in "
-                             f"{args.out} (digest {digest()}); run the study first")
+                             f"{args.out} (digests {digest()}, stack {digest('stack')}); run the study first")
         records = sorted({r["record"] for r in rows})
         stripes = sorted({r["stripe"] for r in rows})
         columns = [k for k in columns if any(r["column"] == k for r in rows)]
@@ -800,7 +811,7 @@ def main(argv=None):
         pending = [pending[i] for i in np.random.default_rng(SEED).permutation(len(pending))]
     if args.dry_run:
         print(f"{len(jobs)} jobs, {len(cached)} cached, {len(pending)} to run; cache {args.out} "
-              f"(digest {digest()})\n")
+              f"(digest {digest()}, stack {digest('stack')})\n")
         print("| column | model | bodies | jobs | cached | to run | cost per simulated second [s/s] | source | "
               "estimated CPU time to run [h] |")
         print("|---|---|---|---|---|---|---|---|---|")

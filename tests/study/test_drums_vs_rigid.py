@@ -172,3 +172,15 @@ def test_shuffle_is_a_seeded_order(compare, monkeypatch, capsys):
     assert longest == [f"FEMA-FF-{i:02d}" for i in range(22, 0, -1)]  # the longest (here: highest id) first
     shuffled = order(["--shuffle"])
     assert sorted(shuffled) == sorted(longest) and shuffled != longest and order(["--shuffle"]) == shuffled
+
+
+def test_a_change_of_the_joint_law_renews_only_the_stack_rows(compare, tmp_path):
+    assert compare.digest("rigid") == compare.digest("monolith") == compare.digest()
+    assert compare.digest("stack") != compare.digest()
+    job = ("paper", "stack", "X", 0.5)
+    assert compare.cache_path(str(tmp_path), job).endswith(f"-{compare.digest('stack')}.json")
+    for model, tag in (("rigid", compare.digest()), ("stack", compare.digest()), ("stack", compare.digest("stack"))):
+        (tmp_path / f"paper-{model}-X-0.5g-{tag}.json").write_text(json.dumps({"model": model, "tag": tag}))
+    rows = compare.all_cached(str(tmp_path))  # the stale stack row (the shared digest) is not read
+    assert sorted((r["model"], r["tag"]) for r in rows) == [("rigid", compare.digest()),
+                                                            ("stack", compare.digest("stack"))]
