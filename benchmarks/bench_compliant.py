@@ -13,7 +13,8 @@ Parts (run by hand, one or several):
   peak tilt against a fine reference (4 x 48). Single runs of a wobbling column are chaotic
   (docs/model.md), so the pooled mean and median of |peak change| are what to read.
 * ``drums``: the paper's column cut into 1, 3 and 10 drums (joint friction 0.6) under record 1:
-  cost per run and per drum, with the default DOPRI5 and (``--reference``, for the drum counts
+  cost per run and per drum (wall and the process's CPU time, which a shared core does not
+  inflate), with the default DOPRI5 and (``--reference``, for the drum counts
   given, e.g. ``--reference 1,3``: a 10-drum DOP853 run takes ~30 min) the DOP853 it replaced,
   side by side: steps, rejections, right-hand sides, peak tilt, outcome, residual joint slip.
 
@@ -133,14 +134,18 @@ def bench_drums(reference=()):
         for integrator in ("dopri5", "dop853") if n in reference else ("dopri5",):
             if integrator != "dopri5":  # the calibration is per integrator: not timed
                 _simulate(column, motion, tail=0.0, integrator=integrator)
+            cpu = time.process_time()
             seconds, s = _simulate(DrumColumn.equal(column, n), motion, joint_friction=0.6, integrator=integrator)
+            cpu = time.process_time() - cpu  # the run's own CPU time: what it costs on a core shared or not
             slip = s["joint_slip"]
-            rows.append({"drums": n, "integrator": integrator, "seconds": seconds, "per_drum": seconds / n,
+            rows.append({"drums": n, "integrator": integrator, "seconds": seconds, "cpu_seconds": cpu,
+                         "per_drum": seconds / n, "cpu_per_drum": cpu / n,
                          "steps": s["steps"], "rejected": s["rejected_steps"], "rhs": s["rhs_evaluations"],
                          "peak_theta_ratio": s["peak_theta_ratio"], "drum_peak_theta": s["drum_peak_theta"].tolist(),
                          "overturned": s["overturned"], "joint_slip": slip.tolist(),
                          "balance_over_work": s["energy_balance_error"] / s["work_ground"]})
-            print(f"{n:2d} drum(s), {integrator}: {seconds:.1f} s per run, {seconds / n:.1f} s per drum, "
+            print(f"{n:2d} drum(s), {integrator}: {seconds:.1f} s per run ({cpu:.1f} s of CPU), "
+                  f"{seconds / n:.1f} s per drum ({cpu / n:.1f} s of CPU), "
                   f"{s['steps']} steps + {s['rejected_steps']} rejected, {s['rhs_evaluations']} rhs; peak "
                   f"{s['peak_theta_ratio']:.3f} theta_crit, {'overturned' if s['overturned'] else 'stands'}; "
                   f"largest residual joint slip {1e3 * max(slip):.2f} mm; energy balance "
