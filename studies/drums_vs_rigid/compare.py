@@ -396,6 +396,37 @@ def _status_text():
 _STATUS_TEXT = _status_text()
 
 
+def _paired_cells(rows, field, keep=None):
+    """Per column and pair of models (in :data:`MODELS` order): a row field on the cells both ran.
+
+    Parameters
+    ----------
+    rows : list of dict
+    field : str
+        The row's value compared (``"overturned"``, ``"peak_theta"``, ...).
+    keep : callable, optional
+        Only rows for which ``keep(row)`` is true count.
+
+    Returns
+    -------
+    dict
+        ``{(column, a, b): [(value of a, value of b), ...]}`` over the record x stripe cells
+        that both models have, in cell order (empty if none).
+    """
+    cells = {}
+    for r in rows:
+        if keep is None or keep(r):
+            cells.setdefault((r["column"], r["model"]), {})[(r["record"], r["stripe"])] = r[field]
+    out = {}
+    for key in dict.fromkeys(c for c, _m in cells):
+        present = [m for m in MODELS if (key, m) in cells]
+        for i, a in enumerate(present):
+            for b in present[i + 1:]:
+                ca, cb = cells[(key, a)], cells[(key, b)]
+                out[(key, a, b)] = [(ca[c], cb[c]) for c in sorted(set(ca) & set(cb))]
+    return out
+
+
 def agreement(rows):
     """Per column and pair of models: cells (record x stripe) run by both and how they compare.
 
@@ -405,23 +436,11 @@ def agreement(rows):
         ``{(column, a, b): {"cells", "same", "a_only", "b_only"}}``: ``a_only`` the cells where
         model ``a`` overturned and ``b`` did not.
     """
-    cells = {}
-    for r in rows:
-        cells.setdefault((r["column"], r["model"]), {})[(r["record"], r["stripe"])] = r["overturned"]
-    out = {}
-    for key in dict.fromkeys(c for c, _m in cells):
-        present = [m for m in MODELS if (key, m) in cells]
-        for i, a in enumerate(present):
-            for b in present[i + 1:]:
-                ca, cb = cells[(key, a)], cells[(key, b)]
-                common = sorted(set(ca) & set(cb))
-                out[(key, a, b)] = {
-                    "cells": len(common),
-                    "same": sum(ca[c] == cb[c] for c in common),
-                    "a_only": sum(ca[c] and not cb[c] for c in common),
-                    "b_only": sum(cb[c] and not ca[c] for c in common),
-                }
-    return out
+    return {pair: {"cells": len(both),
+                   "same": sum(a == b for a, b in both),
+                   "a_only": sum(a and not b for a, b in both),
+                   "b_only": sum(b and not a for a, b in both)}
+            for pair, both in _paired_cells(rows, "overturned").items()}
 
 
 def tilt_ratios(rows):
@@ -436,21 +455,12 @@ def tilt_ratios(rows):
         ``{(column, a, b): {"cells", "median", "p10", "p90"}}`` [1]; ``cells`` counts the
         record x stripe cells where neither model overturned.
     """
-    cells = {}
-    for r in rows:
-        if not r["overturned"]:
-            cells.setdefault((r["column"], r["model"]), {})[(r["record"], r["stripe"])] = r["peak_theta"]
     out = {}
-    for key in dict.fromkeys(r["column"] for r in rows):
-        present = [m for m in MODELS if (key, m) in cells]
-        for i, a in enumerate(present):
-            for b in present[i + 1:]:
-                ca, cb = cells[(key, a)], cells[(key, b)]
-                ratio = np.array([cb[c] / ca[c] for c in sorted(set(ca) & set(cb)) if ca[c] > 0], dtype=float)
-                if ratio.size:
-                    p10, med, p90 = np.percentile(ratio, [10, 50, 90])
-                    out[(key, a, b)] = {"cells": int(ratio.size), "median": float(med), "p10": float(p10),
-                                        "p90": float(p90)}
+    for pair, both in _paired_cells(rows, "peak_theta", keep=lambda r: not r["overturned"]).items():
+        ratio = np.array([b / a for a, b in both if a > 0], dtype=float)
+        if ratio.size:
+            p10, med, p90 = np.percentile(ratio, [10, 50, 90])
+            out[pair] = {"cells": int(ratio.size), "median": float(med), "p10": float(p10), "p90": float(p90)}
     return out
 
 
@@ -771,6 +781,18 @@ def parser():
     return p
 
 
+def _command(argv):
+    """The command line that made a report (``argv`` if given, else the process's own)."""
+    args = sys.argv[1:] if argv is None else argv
+    return " ".join(["python studies/drums_vs_rigid/compare.py", *args])
+
+
+def _write_report(rows, columns, stripes, records, meta):
+    """The report of the rows, in column, model, record and stripe order, on stdout."""
+    rows = sorted(rows, key=lambda r: (columns.index(r["column"]), MODELS.index(r["model"]), r["record"], r["stripe"]))
+    sys.stdout.write(report(rows, stripes, records, meta))
+
+
 def main(argv=None):
     args = parser().parse_args(argv)
     columns = _choices(args.columns, COLUMN_KEYS, "columns")
@@ -788,10 +810,8 @@ def main(argv=None):
         stripes = sorted({r["stripe"] for r in rows})
         columns = [k for k in columns if any(r["column"] == k for r in rows)]
         beds = {k: bed(k) for k in columns}
-        command = "python studies/drums_vs_rigid/compare.py " + " ".join(sys.argv[1:] if argv is None else argv)
-        rows.sort(key=lambda r: (columns.index(r["column"]), MODELS.index(r["model"]), r["record"], r["stripe"]))
-        sys.stdout.write(report(rows, stripes, records, {"beds": beds, "command": command.strip(), "report_only": True,
-                                                         "failed": []}))
+        _write_report(rows, columns, stripes, records, {"beds": beds, "command": _command(argv),
+                                                         "report_only": True, "failed": []})
         return 0
     info = {r: record_info(r) for r in records}  # loads (and checks) every record before any run
     jobs = [(k, m, r, s) for k in columns for m in models for r in records for s in stripes]
@@ -851,13 +871,9 @@ def main(argv=None):
                 elapsed = time.perf_counter() - start
                 print(f"[{i}/{len(pending)}] {j[0]} {j[1]} {j[2]} {j[3]:g} g done, {elapsed / 60:.1f} min",
                       file=sys.stderr, flush=True)
-    command = "python studies/drums_vs_rigid/compare.py" + ("" if argv is None else " " + " ".join(argv))
-    if argv is None and len(sys.argv) > 1:
-        command += " " + " ".join(sys.argv[1:])
-    meta = {"beds": beds, "command": command, "minutes": (time.perf_counter() - start) / 60,
+    meta = {"beds": beds, "command": _command(argv), "minutes": (time.perf_counter() - start) / 60,
             "workers": args.workers, "failed": failed}
-    rows.sort(key=lambda r: (columns.index(r["column"]), MODELS.index(r["model"]), r["record"], r["stripe"]))
-    sys.stdout.write(report(rows, stripes, records, meta))
+    _write_report(rows, columns, stripes, records, meta)
     for f in failed:
         print(f"failed: {f}", file=sys.stderr)
     return 1 if failed else 0
