@@ -26,6 +26,12 @@ NORMAL_STIFFNESS = 1.0e10  # k_n [Pa/m]
 STIFFNESS_RATIO = 0.5  # k_s / k_n [1]
 CONTACT_RINGS = 3  # Gauss-Lobatto nodes in radius (centre dropped): rings at R/2 and R
 CONTACT_SECTORS = 24  # points per ring
+# Numerical choices of the joint law that are not measured physics, overridable through
+# ``ModelSettings.numerics`` by studies that show what they move:
+# edge_band: width of the band past a face's edge over which a point's support runs off
+# (:func:`pipeline.dynamics.joint.overlap`), in spacings of the two outer rings of contact
+# points [1]. Only a drum tilting or sliding over the edge of the one below meets it.
+NUMERICS = {"edge_band": 0.5}
 
 
 @dataclass(frozen=True)
@@ -113,6 +119,7 @@ def assemble(column, settings, damping):
     Assembly
     """
     stack = as_stack(column)
+    edge_band = dict(settings.numerics).get("edge_band", NUMERICS["edge_band"])
     density = stack.density
     drums = stack.drums()
     L = stack.column.R
@@ -169,8 +176,9 @@ def assemble(column, settings, damping):
         joints[b, sk.J_CN] = cn
         # returns to the friction cone on the time scale of the joint's own shear vibration
         joints[b, sk.J_TAU] = math.sqrt(above[b] / (ks * area))
-        # the rim patch runs off the face below over half the spacing of the outer rings
-        joints[b, sk.J_BAND] = 0.5 * (ring_radii[-1] - ring_radii[-2]) if len(ring_radii) > 1 else 0.5 * radius
+        # the rim patch runs off the face below over edge_band spacings of the outer rings
+        spacing = ring_radii[-1] - ring_radii[-2] if len(ring_radii) > 1 else radius
+        joints[b, sk.J_BAND] = edge_band * spacing
         joints[b, sk.J_AREA] = area
         # rocking on the rim: the centre of pressure beyond the chord joining the neighbours
         # of a rim point (any share of the load among a pivot point and its two neighbours,
@@ -247,6 +255,12 @@ def check_settings(settings):
     _number_or_list(settings, "joint_friction", 1e-3, 100.0, "friction coefficient of the bed joints")
     _number_or_list(settings, "anathyrosis", 0.0, 0.95, "inner/outer radius of the bed joints' contact ring")
     if settings.model == "3d-compliant":
+        for name, value in dict(settings.numerics).items():
+            if name not in NUMERICS:
+                raise InputError(f"numerics: {name!r} is not a numerical choice of the compliant model; "
+                                 f"choose from {', '.join(NUMERICS)}")
+            _number(value, f"numerics: {name}", 0.05, 5.0, "", "width of the band past a face's edge, in "
+                    "spacings of the outer rings of contact points")
         # the rigid models also take an infinite stiffness and friction (the paper's point contact
         # rolling without slip); the joints of contact points need finite ones
         _number(settings.normal_stiffness, "normal_stiffness", *_STIFFNESS)

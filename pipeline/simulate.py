@@ -139,7 +139,9 @@ class ModelSettings:
         Overrides of the rigid kernels' numerical thresholds
         (:data:`pipeline.dynamics.hybrid.NUMERICS`: ``landing_margin``,
         ``min_rebound``, ``slave_time``, ``look_ahead``, ``slaved_turn``), for studies that
-        show no result depends on them; e.g. ``(("slave_time", 1e-5),)``.
+        show no result depends on them; e.g. ``(("slave_time", 1e-5),)``. With
+        ``"3d-compliant"``, overrides of :data:`pipeline.compliant.NUMERICS` instead
+        (``edge_band``).
     tail : float
         Free motion after the record ends [s].
     rtol, atol : float
@@ -208,7 +210,8 @@ anathyrosis, base_anathyrosis, monitor_step
                 isinstance(self.contact_damping, (int, float)) and 0.0 <= self.contact_damping < math.inf):
             raise InputError(f"contact_damping = {self.contact_damping!r} Pa s/m must be a number >= 0 "
                              "(or omitted for critical damping)")
-        numerics = dict(self.numerics)
+        # the compliant model's own numerics are checked by pipeline.compliant.check_settings
+        numerics = dict(self.numerics) if self.model != "3d-compliant" else {}
         for name, value in numerics.items():
             if name not in hy.NUMERICS:
                 raise InputError(f"numerics: {name!r} is unknown; choose from {', '.join(hy.NUMERICS)}")

@@ -331,3 +331,30 @@ def test_a_drum_column_needs_the_compliant_model():
         simulate(DrumColumn.equal(PAPER, 2), pulse, Excitation(), ModelSettings(model="3d"))
     with pytest.raises(InputError, match="joint_friction has 3 values for 1 bed joint"):
         simulate(DrumColumn.equal(PAPER, 2), pulse, Excitation(), compliant(joint_friction=(0.5, 0.6, 0.7)))
+
+
+def test_the_band_past_a_face_edge_is_a_numerical_choice_set_in_numerics():
+    """edge_band sets the bed joints' run-off band and nothing else; the default is 0.5 ring spacings."""
+    from pipeline.compliant import NUMERICS, assemble
+    from pipeline.dynamics import stack as sk
+
+    column = DrumColumn.equal(PAPER, 3)
+    default = assemble(column, compliant(), damping=1e7)
+    assert NUMERICS["edge_band"] == 0.5
+    same = assemble(column, compliant(numerics=(("edge_band", 0.5),)), damping=1e7)
+    assert np.array_equal(same.joints, default.joints)  # bit for bit: the cached stack rows stay valid
+    narrow = assemble(column, compliant(numerics=(("edge_band", 0.25),)), damping=1e7)
+    # 3 Gauss-Lobatto rings (centre dropped): at half and all of a drum's base radius, so the
+    # spacing is half that radius (in units of the column's base radius); assemble rounds the
+    # ring radii to 1e-9 to tell the rings apart, hence the tolerance
+    spacing = [0.5 * d.R / PAPER.R for d in column.drums()]
+    assert narrow.joints[:, sk.J_BAND] == pytest.approx([0.25 * x for x in spacing], abs=2e-9)
+    assert np.array_equal(2.0 * narrow.joints[:, sk.J_BAND], default.joints[:, sk.J_BAND])
+    others = [c for c in range(sk.N_JOINT_COLS) if c != sk.J_BAND]
+    assert np.array_equal(narrow.joints[:, others], default.joints[:, others])
+    with pytest.raises(InputError, match="numerics: edge_band"):
+        compliant(numerics=(("edge_band", 0.0),))
+    with pytest.raises(InputError, match="'slave_time' is not a numerical choice of the compliant model"):
+        compliant(numerics=(("slave_time", 1e-5),))
+    with pytest.raises(InputError, match="'edge_band' is unknown"):  # the rigid models have their own
+        ModelSettings(model="3d", numerics=(("edge_band", 0.5),))

@@ -45,6 +45,7 @@ from functools import lru_cache
 import numpy as np
 
 from pipeline.atomic import atomic_path
+from pipeline.compliant import NUMERICS as COMPLIANT_NUMERICS
 from pipeline.compliant import calibrated_damping
 from pipeline.drums import DrumColumn, named_drum_column
 from pipeline.fragility import fit_lognormal
@@ -57,6 +58,13 @@ OUT = os.path.join(REPO, "out", "drums_vs_rigid")
 
 COLUMN_KEYS = ("paper", "parthenon")
 MODELS = ("rigid", "monolith", "stack")
+# The stack again with the band past a bed joint's edge halved and doubled (edge_band, in
+# spacings of the outer rings of contact points; the stack's own is
+# pipeline.compliant.NUMERICS["edge_band"] = 0.5): a numerical choice, not measured physics,
+# so the report shows what it moves. Run on demand (--models), not by default.
+BAND_DEFAULT = COMPLIANT_NUMERICS["edge_band"]
+BAND_VARIANTS = {"stack-narrow": 0.5 * BAND_DEFAULT, "stack-wide": 2.0 * BAND_DEFAULT}
+ALL_MODELS = MODELS + tuple(BAND_VARIANTS)
 RECORDS = tuple(f"FEMA-FF-{i:02d}" for i in range(1, 23))
 STRIPES = (0.2, 0.4, 0.6, 0.8, 1.0, 1.5)  # PGA [g]
 STIFFNESS = 1e10  # normal stiffness of base and joints, k_n [Pa/m]
@@ -107,6 +115,11 @@ def drum_column(key):
     raise ValueError(f"unknown column {key!r}; choose from {', '.join(COLUMN_KEYS)}")
 
 
+def is_stack(model):
+    """Whether a model simulates the drums (the stack or one of its band variants)."""
+    return model == "stack" or model in BAND_VARIANTS
+
+
 def body(key, model):
     """What each model simulates: the shaft (rigid), the shaft as one body (monolith), the drums (stack)."""
     stack = drum_column(key)
@@ -114,14 +127,14 @@ def body(key, model):
         return stack.column
     if model == "monolith":
         return DrumColumn.equal(stack.column, 1, name=stack.name)
-    if model == "stack":
+    if is_stack(model):
         return stack
-    raise ValueError(f"unknown model {model!r}; choose from {', '.join(MODELS)}")
+    raise ValueError(f"unknown model {model!r}; choose from {', '.join(ALL_MODELS)}")
 
 
 def n_bodies(key, model):
     """Number of rigid bodies of a model of a column [1]."""
-    return 1 if model != "stack" else drum_column(key).n_bodies
+    return drum_column(key).n_bodies if is_stack(model) else 1
 
 
 def label(key):
@@ -159,8 +172,9 @@ def settings(model, damping, restitution):
         Planar restitution [1] (the rigid model's impact law; recorded for the compliant one).
     """
     name = "3d" if model == "rigid" else "3d-compliant"
+    numerics = (("edge_band", BAND_VARIANTS[model]),) if model in BAND_VARIANTS else ()
     return ModelSettings(model=name, normal_stiffness=STIFFNESS, friction=FRICTION, restitution=restitution,
-                         contact_damping=damping, tail=TAIL)
+                         contact_damping=damping, tail=TAIL, numerics=numerics)
 
 
 # Changes of the bed-joint law, which only the stack has (rigid and monolith rows stay valid):
@@ -171,11 +185,13 @@ STACK_REVISION = 2
 def digest(model=None):
     """Short digest of :data:`DESIGN` and the columns' geometry (names the cache files).
 
-    A stack's rows also depend on :data:`STACK_REVISION` (``model="stack"``).
+    A stack's rows also depend on :data:`STACK_REVISION`, a band variant's on its band too.
     """
     design = {**DESIGN, "columns": {k: repr(drum_column(k)) for k in COLUMN_KEYS}}
-    if model == "stack" and STACK_REVISION > 1:
+    if is_stack(model) and STACK_REVISION > 1:
         design["stack_revision"] = STACK_REVISION
+    if model in BAND_VARIANTS:
+        design["edge_band"] = BAND_VARIANTS[model]
     text = json.dumps(design, sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:8]
 
@@ -283,7 +299,7 @@ def make_row(job, summary, wall, scale, duration):
 
 def all_cached(out):
     """Every row of this design's digests in the cache folder (any record or stripe)."""
-    rows, tags = [], {m: (f"-{m}-", f"-{digest(m)}.json") for m in MODELS}
+    rows, tags = [], {m: (f"-{m}-", f"-{digest(m)}.json") for m in ALL_MODELS}
     if os.path.isdir(out):
         for name in sorted(os.listdir(out)):
             if not name.startswith(".") and any(t in name and name.endswith(d) for t, d in tags.values()):
@@ -304,11 +320,15 @@ def rates(rows):
 def rate_for(key, model, measured):
     """Cost per simulated second [s/s] of a (column, model) and where it comes from.
 
-    Measured if cached runs exist; else :data:`PRIOR_RATE` (one measured run); else the
-    same model of another column, scaled by the bodies ratio to :data:`BODY_EXPONENT`.
+    Measured if cached runs exist; else the stack's for a band variant; else
+    :data:`PRIOR_RATE` (one measured run); else the same model of another column, scaled by
+    the bodies ratio to :data:`BODY_EXPONENT`.
     """
     if (key, model) in measured:
         return measured[(key, model)], "measured"
+    if model in BAND_VARIANTS:
+        rate, src = rate_for(key, "stack", measured)
+        return rate, f"the stack's ({src})"
     if (key, model) in PRIOR_RATE:
         return PRIOR_RATE[(key, model)], "prior (one run)"
     for (k, m), rate in measured.items():
@@ -396,8 +416,28 @@ def _status_text():
 _STATUS_TEXT = _status_text()
 
 
+def model_pairs(present):
+    """The pairs of models compared: every pair of :data:`MODELS`, and the stack with each band variant.
+
+    Parameters
+    ----------
+    present : iterable of str
+        Models that have rows.
+
+    Returns
+    -------
+    list of tuple
+        ``(a, b)`` in :data:`ALL_MODELS` order.
+    """
+    present = set(present)
+    have = [m for m in ALL_MODELS if m in present]
+    main = [m for m in have if m in MODELS]
+    pairs = [(a, b) for i, a in enumerate(main) for b in main[i + 1:]]
+    return pairs + [("stack", v) for v in have if v in BAND_VARIANTS and "stack" in have]
+
+
 def _paired_cells(rows, field, keep=None):
-    """Per column and pair of models (in :data:`MODELS` order): a row field on the cells both ran.
+    """Per column and pair of models (:func:`model_pairs`): a row field on the cells both ran.
 
     Parameters
     ----------
@@ -419,11 +459,9 @@ def _paired_cells(rows, field, keep=None):
             cells.setdefault((r["column"], r["model"]), {})[(r["record"], r["stripe"])] = r[field]
     out = {}
     for key in dict.fromkeys(c for c, _m in cells):
-        present = [m for m in MODELS if (key, m) in cells]
-        for i, a in enumerate(present):
-            for b in present[i + 1:]:
-                ca, cb = cells[(key, a)], cells[(key, b)]
-                out[(key, a, b)] = [(ca[c], cb[c]) for c in sorted(set(ca) & set(cb))]
+        for a, b in model_pairs(m for k, m in cells if k == key):
+            ca, cb = cells[(key, a)], cells[(key, b)]
+            out[(key, a, b)] = [(ca[c], cb[c]) for c in sorted(set(ca) & set(cb))]
     return out
 
 
@@ -523,7 +561,7 @@ def design(rows):
         out[(r["column"], r["model"])] = (recs | {r["record"]}, levels | {r["stripe"]}, n + 1)
     columns = list(dict.fromkeys(r["column"] for r in rows))
     return {k: (sorted(v[0]), sorted(v[1]), v[2])
-            for k, v in sorted(out.items(), key=lambda kv: (columns.index(kv[0][0]), MODELS.index(kv[0][1])))}
+            for k, v in sorted(out.items(), key=lambda kv: (columns.index(kv[0][0]), ALL_MODELS.index(kv[0][1])))}
 
 
 def _record_span(records):
@@ -564,9 +602,10 @@ def _median_phrase(x, stripes):
 
 
 def _model_text(key, model):
-    if model == "stack":
+    if is_stack(model):
         stack = drum_column(key)
-        return f"{stack.n_drums}-drum stack" + (" with capital" if stack.capital is not None else "")
+        text = f"{stack.n_drums}-drum stack" + (" with capital" if stack.capital is not None else "")
+        return text + (f", edge band {BAND_VARIANTS[model]:g}" if model in BAND_VARIANTS else "")
     return {"rigid": "rigid model", "monolith": "monolith"}[model]
 
 
@@ -578,7 +617,7 @@ def findings(rows, med, agree, stacks, cost, stripes, tilts=None):
         name = "the paper's column" if key == "paper" else "the Parthenon column"
         parts = [(med[(key, m)]["status"] if med[(key, m)]["status"].startswith("not fitted")
                   else _median_phrase(med[(key, m)]["median"], stripes)) + f" for the {_model_text(key, m)}"
-                 for m in MODELS if (key, m) in med]
+                 for m in MODELS if (key, m) in med]  # the band variants have their own sentence
         text = f"For {name} the fitted median overturning PGA is " + ", ".join(parts)
         inside = []
         for a, b in (("rigid", "monolith"), ("monolith", "stack"), ("rigid", "stack")):
@@ -622,10 +661,32 @@ def findings(rows, med, agree, stacks, cost, stripes, tilts=None):
                                f"joint diameter, {v['standing']} run{'s' if v['standing'] != 1 else ''})")
         if clauses:
             out.append(clauses[0][0].upper() + clauses[0][1:] + "".join("; " + c for c in clauses[1:]) + ".")
+        band = band_phrases(key, agree, tilts)
+        if band:
+            out.append("The band past a bed joint's edge, a numerical choice: " + "; ".join(band) + ".")
     per = [f"{cost[k]['mean']:.2f} s for the {_model_text(k[0], k[1])} of the {k[0]} column"
-           for k in sorted(cost, key=lambda k: (k[0], MODELS.index(k[1])))]
+           for k in sorted(cost, key=lambda k: (k[0], ALL_MODELS.index(k[1])))]
     if per:
         out.append("A run cost on average " + ", ".join(per) + f" ({MACHINE}).")
+    return out
+
+
+def band_phrases(key, agree, tilts):
+    """What each band variant of a column's stack changed, against the stack, as clauses."""
+    out = []
+    for variant, width in BAND_VARIANTS.items():
+        ag = agree.get((key, "stack", variant))
+        if not ag or not ag["cells"]:
+            continue
+        factor = width / BAND_DEFAULT
+        what = "halved" if factor == 0.5 else "doubled" if factor == 2 else f"times {factor:g}"
+        text = (f"{what} (edge_band {width:g}), it changes the stack's outcome in {ag['cells'] - ag['same']} of "
+                f"{ag['cells']} cells ({ag['b_only']} now overturn, {ag['a_only']} now stand)")
+        tr = tilts.get((key, "stack", variant))
+        if tr:
+            text += (f", and where both stood the top body's peak tilt by a factor of median {tr['median']:.3f} "
+                     f"(P10-P90 {tr['p10']:.3f}-{tr['p90']:.3f}, {tr['cells']} cells)")
+        out.append(text)
     return out
 
 
@@ -681,7 +742,7 @@ def report(rows, stripes, records, meta):
     L.append("\n## Median overturning PGA\n")
     L.append("| column | model | runs | overturned | median PGA [g] | 90 % band [g] | beta | fit |")
     L.append("|---|---|---|---|---|---|---|---|")
-    for (key, model), m in sorted(med.items(), key=lambda kv: (columns.index(kv[0][0]), MODELS.index(kv[0][1]))):
+    for (key, model), m in sorted(med.items(), key=lambda kv: (columns.index(kv[0][0]), ALL_MODELS.index(kv[0][1]))):
         beta = "n/a" if math.isnan(m["beta"]) else f"{m['beta']:.3f}"
         L.append(f"| {key} | {_model_text(key, model)} | {m['runs']} | {m['overturned']} | "
                  f"{g_text(m['median'], stripes)} | {band_text(m['lo'], m['hi'], stripes)} | {beta} | "
@@ -720,7 +781,7 @@ def report(rows, stripes, records, meta):
     L.append(f"Wall time of one run in one process ({MACHINE}); runs that overturn stop early.\n")
     L.append("| column | model | bodies | runs | mean wall time [s] | per simulated second [s/s] |")
     L.append("|---|---|---|---|---|---|")
-    for key, model in sorted(cost, key=lambda k: (columns.index(k[0]), MODELS.index(k[1]))):
+    for key, model in sorted(cost, key=lambda k: (columns.index(k[0]), ALL_MODELS.index(k[1]))):
         c = cost[(key, model)]
         L.append(f"| {key} | {_model_text(key, model)} | {n_bodies(key, model)} | {c['runs']} | "
                  f"{c['mean']:.3f} | {c['rate']:.4f} |")
@@ -763,7 +824,8 @@ def parser():
                    help=f"columns, comma separated, from {', '.join(COLUMN_KEYS)} (default: all)")
     p.add_argument("--models", default=",".join(MODELS),
                    help="models, comma separated: rigid (3d on the shaft), monolith (3d-compliant, one body), "
-                        "stack (3d-compliant, the drums) (default: all)")
+                        "stack (3d-compliant, the drums) (default: these three); also stack-narrow and "
+                        "stack-wide, the stack with the band past a bed joint's edge halved and doubled")
     p.add_argument("--records", default=",".join(RECORDS),
                    help="catalog record ids, comma separated (default: FEMA-FF-01..FEMA-FF-22)")
     p.add_argument("--stripes", default=",".join(f"{s:g}" for s in STRIPES),
@@ -789,14 +851,14 @@ def _command(argv):
 
 def _write_report(rows, columns, stripes, records, meta):
     """The report of the rows, in column, model, record and stripe order, on stdout."""
-    rows = sorted(rows, key=lambda r: (columns.index(r["column"]), MODELS.index(r["model"]), r["record"], r["stripe"]))
+    rows = sorted(rows, key=lambda r: (columns.index(r["column"]), ALL_MODELS.index(r["model"]), r["record"], r["stripe"]))
     sys.stdout.write(report(rows, stripes, records, meta))
 
 
 def main(argv=None):
     args = parser().parse_args(argv)
     columns = _choices(args.columns, COLUMN_KEYS, "columns")
-    models = _choices(args.models, MODELS, "models")
+    models = _choices(args.models, ALL_MODELS, "models")
     records = [x.strip() for x in args.records.split(",") if x.strip()]
     stripes = _stripes(args.stripes)
     if args.workers < 1:

@@ -184,3 +184,38 @@ def test_a_change_of_the_joint_law_renews_only_the_stack_rows(compare, tmp_path)
     rows = compare.all_cached(str(tmp_path))  # the stale stack row (the shared digest) is not read
     assert sorted((r["model"], r["tag"]) for r in rows) == [("rigid", compare.digest()),
                                                             ("stack", compare.digest("stack"))]
+
+
+def test_band_variants_have_their_own_rows_and_are_compared_with_the_stack(compare, tmp_path):
+    narrow, wide = "stack-narrow", "stack-wide"
+    assert compare.BAND_VARIANTS == {narrow: 0.25, wide: 1.0}  # half and twice the stack's 0.5 spacings
+    tags = {m: compare.digest(m) for m in ("rigid", "stack", narrow, wide)}
+    assert len(set(tags.values())) == 4  # a variant's rows never pass for the stack's, nor each other's
+    for model in (narrow, wide):
+        assert dict(compare.settings(model, 1e7, 0.96).numerics) == {"edge_band": compare.BAND_VARIANTS[model]}
+        assert compare.n_bodies("paper", model) == 4
+    assert compare.settings("stack", 1e7, 0.96).numerics == ()  # the stack's rows keep their digest and model
+    slip = [0.0] * 4
+    rows = [_row("monolith", r, 0.6, False) for r in RECORDS]
+    rows += [_row("stack", r, 0.6, r == "C", slip=slip) for r in RECORDS]
+    rows += [_row(narrow, r, 0.6, r in "BC", slip=slip) for r in RECORDS]  # B now overturns
+    rows += [_row(wide, r, 0.6, False, slip=slip) for r in RECORDS]  # C now stands
+    rows[6]["peak_theta"] = 0.12  # narrow on A: 1.2 times the stack's 0.1
+    agree = compare.agreement(rows)
+    # the variants are compared with the stack only, not with the monolith or each other
+    assert sorted(agree) == [("paper", "monolith", "stack"), ("paper", "stack", narrow), ("paper", "stack", wide)]
+    assert agree[("paper", "stack", narrow)] == {"cells": 3, "same": 2, "a_only": 0, "b_only": 1}
+    assert agree[("paper", "stack", wide)] == {"cells": 3, "same": 2, "a_only": 1, "b_only": 0}
+    tilts = compare.tilt_ratios(rows)
+    assert tilts[("paper", "stack", narrow)]["cells"] == 1 and tilts[("paper", "stack", narrow)]["median"] == 1.2
+    phrases = compare.band_phrases("paper", agree, tilts)
+    assert phrases[0].startswith("halved (edge_band 0.25), it changes the stack's outcome in 1 of 3 cells "
+                                 "(1 now overturn, 0 now stand)")
+    assert phrases[1].startswith("doubled (edge_band 1), it changes the stack's outcome in 1 of 3 cells "
+                                 "(0 now overturn, 1 now stand)")
+    text = compare.report(rows, (0.6,), RECORDS, {"beds": {}, "report_only": True})
+    assert "| paper | 4-drum stack | 4-drum stack, edge band 0.25 | 3 | 2 |" in text
+    assert "The band past a bed joint's edge, a numerical choice: halved" in text
+    for model, tag in tags.items():  # the cache reads every model's rows under its own digest
+        (tmp_path / f"paper-{model}-X-0.6g-{tag}.json").write_text(json.dumps({"model": model}))
+    assert sorted(r["model"] for r in compare.all_cached(str(tmp_path))) == sorted(tags)
