@@ -39,6 +39,7 @@ import os
 import platform
 import sys
 import time
+import zlib
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from functools import lru_cache
 
@@ -380,9 +381,12 @@ def medians(rows, n_boot=N_BOOT, seed=SEED):
     for r in rows:
         groups.setdefault((r["column"], r["model"]), {}).setdefault(r["record"], []).append(
             (r["stripe"], r["overturned"]))
-    rng = np.random.default_rng(seed)
     out = {}
     for key, outcomes in sorted(groups.items()):
+        # one stream per (column, model), so that a model's band does not depend on which
+        # other models the report holds (a shared stream gave the Parthenon column other bands
+        # alone than after the paper's)
+        rng = np.random.default_rng([seed, zlib.crc32("/".join(key).encode())])
         records = sorted(outcomes)
         levels = {round(s, 6) for v in outcomes.values() for s, _o in v}
         if len(levels) < MIN_STRIPES:

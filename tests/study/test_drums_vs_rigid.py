@@ -59,6 +59,15 @@ def test_separated_medians_are_between_the_stripes(compare):
     assert lo <= med[("paper", "stack")]["median"] <= hi
 
 
+def test_a_models_band_does_not_depend_on_the_other_models_reported(compare):
+    rows = _rows()
+    # the stack alone, and after the rigid model and the monolith: the same resamples of its records
+    alone = compare.medians([r for r in rows if r["model"] == "stack"], n_boot=50)[("paper", "stack")]
+    together = compare.medians(rows, n_boot=50)[("paper", "stack")]
+    assert (alone["lo"], alone["hi"]) == (together["lo"], together["hi"])
+    assert alone["lo"] < alone["hi"]  # record C's 0.6 g overturning makes the resamples differ
+
+
 def test_agreement_counts_which_way_models_disagree(compare):
     agree = compare.agreement(_rows())
     rm = agree[("paper", "rigid", "monolith")]
