@@ -409,6 +409,30 @@ def medians(rows, n_boot=N_BOOT, seed=SEED):
     return out
 
 
+def common_cells(rows):
+    """Rows of the columns whose models ran different cells, cut to the cells every model ran.
+
+    A model run on fewer records or stripes (the Parthenon stack) and fitted on them is not
+    compared like for like with models fitted on the full design; fitted on the cells all
+    of :data:`MODELS` share, the medians are. The band variants are left out (they are
+    compared with the stack cell by cell).
+
+    Returns
+    -------
+    list of dict
+        The rows of those columns' :data:`MODELS` on the shared record x stripe cells; empty
+        where every model of every column ran the same cells.
+    """
+    cells = {}
+    for r in rows:
+        if r["model"] in MODELS:
+            cells.setdefault(r["column"], {}).setdefault(r["model"], set()).add((r["record"], r["stripe"]))
+    shared = {key: set.intersection(*per.values()) for key, per in cells.items()
+              if len(per) > 1 and len({frozenset(c) for c in per.values()}) > 1}
+    return [r for r in rows if r["column"] in shared and r["model"] in MODELS
+            and (r["record"], r["stripe"]) in shared[r["column"]]]
+
+
 def _status_text():
     from pipeline import fragility as fr
 
@@ -613,9 +637,14 @@ def _model_text(key, model):
     return {"rigid": "rigid model", "monolith": "monolith"}[model]
 
 
-def findings(rows, med, agree, stacks, cost, stripes, tilts=None):
-    """3-5 plain sentences read from the tables (no more than they show)."""
+def findings(rows, med, agree, stacks, cost, stripes, tilts=None, common=None):
+    """3-5 plain sentences read from the tables (no more than they show).
+
+    ``common`` are the :func:`medians` of :func:`common_cells`, for the columns whose models
+    ran different cells.
+    """
     tilts = tilts or {}
+    common = common or {}
     out = []
     for key in dict.fromkeys(r["column"] for r in rows):
         name = "the paper's column" if key == "paper" else "the Parthenon column"
@@ -634,6 +663,15 @@ def findings(rows, med, agree, stacks, cost, stripes, tilts=None):
                 break
         text += ("; " + inside[0] if inside else "") + "."
         out.append(text)
+        shared = {m: common[(key, m)] for m in MODELS if (key, m) in common}
+        if shared:
+            runs = next(iter(shared.values()))["runs"]
+            out.append(f"Fitted on the {runs} record x stripe cells every model ran, the medians are "
+                       + ", ".join((v["status"] if v["status"].startswith("not fitted")
+                                    else _median_phrase(v["median"], stripes)) + f" for the {_model_text(key, m)}"
+                                   + ("" if math.isnan(v["lo"]) else
+                                      f" (90 % band {band_text(v['lo'], v['hi'], stripes)} g)")
+                                   for m, v in shared.items()) + ".")
         clauses = []
         for a, b in (("rigid", "monolith"), ("monolith", "stack"), ("rigid", "stack")):
             ag = agree.get((key, a, b))
@@ -694,6 +732,18 @@ def band_phrases(key, agree, tilts):
     return out
 
 
+def _median_table(med, columns, stripes):
+    """The lines of a markdown table of :func:`medians`, columns in report order."""
+    lines = ["| column | model | runs | overturned | median PGA [g] | 90 % band [g] | beta | fit |",
+             "|---|---|---|---|---|---|---|---|"]
+    for (key, model), m in sorted(med.items(), key=lambda kv: (columns.index(kv[0][0]), ALL_MODELS.index(kv[0][1]))):
+        beta = "n/a" if math.isnan(m["beta"]) else f"{m['beta']:.3f}"
+        lines.append(f"| {key} | {_model_text(key, model)} | {m['runs']} | {m['overturned']} | "
+                     f"{g_text(m['median'], stripes)} | {band_text(m['lo'], m['hi'], stripes)} | {beta} | "
+                     f"{m['status']} |")
+    return lines
+
+
 def report(rows, stripes, records, meta):
     """The markdown report.
 
@@ -713,6 +763,7 @@ def report(rows, stripes, records, meta):
     str
     """
     med = medians(rows)
+    common = medians(common_cells(rows))
     agree = agreement(rows)
     stacks = stack_stats(rows)
     tilts = tilt_ratios(rows)
@@ -744,13 +795,13 @@ def report(rows, stripes, records, meta):
             c, e = meta["beds"][key]
             L.append(f"| {label(key)} | {c:.4g} | {e:.4f} |")
     L.append("\n## Median overturning PGA\n")
-    L.append("| column | model | runs | overturned | median PGA [g] | 90 % band [g] | beta | fit |")
-    L.append("|---|---|---|---|---|---|---|---|")
-    for (key, model), m in sorted(med.items(), key=lambda kv: (columns.index(kv[0][0]), ALL_MODELS.index(kv[0][1]))):
-        beta = "n/a" if math.isnan(m["beta"]) else f"{m['beta']:.3f}"
-        L.append(f"| {key} | {_model_text(key, model)} | {m['runs']} | {m['overturned']} | "
-                 f"{g_text(m['median'], stripes)} | {band_text(m['lo'], m['hi'], stripes)} | {beta} | "
-                 f"{m['status']} |")
+    L.extend(_median_table(med, columns, stripes))
+    if common:
+        L.append("\n## Median overturning PGA on the cells every model ran\n")
+        L.append("Where a model ran fewer records or stripes than the others, the medians above are fitted "
+                 "on different cells; here every model of the column is fitted on the record x stripe cells "
+                 "they all ran (same resampling of records as above).\n")
+        L.extend(_median_table(common, columns, stripes))
     L.append("\n## Agreement of the overturning outcome, cell by cell (record x stripe)\n")
     L.append("| column | model A | model B | cells | same outcome | fraction | only A overturns | only B overturns |")
     L.append("|---|---|---|---|---|---|---|---|")
@@ -790,7 +841,7 @@ def report(rows, stripes, records, meta):
         L.append(f"| {key} | {_model_text(key, model)} | {n_bodies(key, model)} | {c['runs']} | "
                  f"{c['mean']:.3f} | {c['rate']:.4f} |")
     L.append("\n## What the numbers say\n")
-    L.append(" ".join(findings(rows, med, agree, stacks, cost, stripes, tilts)))
+    L.append(" ".join(findings(rows, med, agree, stacks, cost, stripes, tilts, common)))
     if meta.get("failed"):
         L.append("\n## Runs that failed (left out above)\n")
         L.extend(f"- {f}" for f in meta["failed"])

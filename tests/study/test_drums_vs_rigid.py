@@ -156,6 +156,22 @@ def test_a_model_on_fewer_than_three_stripes_is_not_fitted(compare):
     assert "not fitted (1 stripe) for the 4-drum stack" in text and "tabulated from the cache" in text
 
 
+def test_models_on_different_cells_are_also_fitted_on_the_cells_they_share(compare):
+    assert compare.common_cells(_rows()) == []  # same design for every model: nothing to add
+    # the stack on the three lower stripes of records A and B only (as the Parthenon stack ran fewer)
+    rows = [r for r in _rows() if r["model"] != "stack" or (r["stripe"] <= 0.6 and r["record"] != "C")]
+    common = compare.common_cells(rows)
+    assert {(r["model"], r["record"], r["stripe"]) for r in common} == {
+        (m, rec, s) for m in ("rigid", "monolith", "stack") for rec in ("A", "B") for s in (0.2, 0.4, 0.6)}
+    text = compare.report(rows, STRIPES, RECORDS, {"beds": {}, "report_only": True})
+    # the monolith overturns from 0.8 g: on its full design the median lies between 0.6 and 0.8 g,
+    # on the cells the stack ran it never overturns
+    assert f"| paper | monolith | 12 | 3 | {math.sqrt(0.6 * 0.8):.3f} |" in text
+    assert "on the cells every model ran" in text
+    assert "| paper | monolith | 6 | 0 | > 0.8 (none overturned) |" in text
+    assert "Fitted on the 6 record x stripe cells every model ran" in text
+
+
 def test_report_only_tabulates_the_cache_and_runs_nothing(compare, monkeypatch, capsys):
     monkeypatch.setattr(compare, "all_cached", lambda out: _rows())
     monkeypatch.setattr(compare, "bed", lambda key: (1e7, 0.96))
