@@ -1,0 +1,52 @@
+"""docs/studies.md lists exactly the study options the code accepts, with the code's defaults."""
+
+import dataclasses
+import os
+import re
+
+from pipeline import study
+from pipeline.simulate import ModelSettings
+
+DOC = os.path.join(os.path.dirname(__file__), os.pardir, "docs", "studies.md")
+HEADING = "### Model options (`[options]`)"
+
+
+def _option_rows():
+    """{option: (units, default)} of the options table of docs/studies.md."""
+    with open(DOC, encoding="utf-8") as f:
+        text = f.read()
+    assert HEADING in text, f"docs/studies.md has no section {HEADING!r}"
+    section = text.split(HEADING, 1)[1].split("\n#", 1)[0]
+    rows = {}
+    for line in section.splitlines():
+        match = re.match(r"\|\s*`(\w+)`\s*\|([^|]*)\|([^|]*)\|", line)
+        if match:
+            name, units, default = match.groups()
+            assert name not in rows, f"{name} is listed twice"
+            rows[name] = (units.strip(), default.strip())
+    return rows
+
+
+def test_every_study_option_has_one_line_and_no_other():
+    rows = _option_rows()
+    missing = sorted(set(study._OPTIONS) - set(rows))
+    extra = sorted(set(rows) - set(study._OPTIONS))
+    assert not missing, f"study options missing from docs/studies.md: {missing}"
+    assert not extra, f"docs/studies.md lists options a study file refuses: {extra}"
+
+
+def test_numeric_defaults_are_the_code_s():
+    defaults = {f.name: f.default for f in dataclasses.fields(ModelSettings)}
+    for name, (_, default) in _option_rows().items():
+        try:
+            stated = float(default)
+        except ValueError:  # a default named in words ("theta_k", "`friction`") is not a number to compare
+            assert defaults.get(name) is None or not isinstance(defaults[name], (int, float)) \
+                or isinstance(defaults[name], bool), f"{name}: the code's default is {defaults[name]!r}, the doc says {default!r}"
+            continue
+        assert stated == defaults[name], f"{name}: the doc's default is {default}, the code's {defaults[name]!r}"
+
+
+def test_contact_tilt_is_in_degrees():
+    # ModelSettings.contact_tilt is degrees (the CLI's --contact-tilt DEG); the doc once said rad, 1e-5
+    assert _option_rows()["contact_tilt"][0] == "degree"
