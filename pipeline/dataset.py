@@ -133,6 +133,11 @@ VARIABLES = {
     "dislocation_ratio": Var("1", "largest residual slip of a bed joint over its diameter (0: no bed joint)"),
     "overturn_drum": Var("1", "body that lay down or fell first, 0 at the bottom (-1: none fell)"),
     "n_drums": Var("1", "number of drums of the column (1: a monolith)"),
+    # the summary of one compliant run (pipeline.compliant) in a simulate file, beside the names above
+    "drum_peak_theta": Var("rad", "peak inclination of the drum's axis from the vertical", degrees=True),
+    "restitution": Var("1", "coefficient of restitution of planar rocking that the joints' normal damping "
+                       "reaches (NaN: damping given, not calibrated, or a rigid model)"),
+    "contact_damping": Var("Pa s m-1", "normal damping of the joints per unit area, c_n (NaN: a rigid model)"),
     # study coordinates
     "angle": Var("degree", "incidence angle: counter-clockwise turn of the horizontal record pair"),
     "scale": Var("1", "factor on the record (all components)"),
@@ -347,7 +352,84 @@ def open_results(path):
     return ds
 
 
-def histories_file(runs, column, record):
+#: The summary of one simulation (:class:`pipeline.simulate.Response`) a simulate file carries, one
+#: value per (column, record, model), by catalog name (:data:`VARIABLES`, :data:`FLAGS`): the study
+#: results' names, and a compliant run's restitution reached and joint damping. Per joint (dimension
+#: ``joint``) and per body (dimension ``drum``) below.
+SUMMARY_VARIABLES = (
+    "peak_theta", "peak_theta_ratio", "peak_time", "overturned", "overturn_time", "uplifted", "uplift_time",
+    "n_impacts", "peak_mu_mob", "min_normal_force_hat", "sliding_onset", "sliding_time", "lift_off",
+    "lift_off_time", "residual_rotation", "residual_displacement", "energy_friction", "energy_balance_error",
+    "restitution", "contact_damping", "dislocation_ratio", "overturn_drum",
+)
+SUMMARY_JOINT_VARIABLES = ("joint_slip", "joint_twist", "joint_tilt", "joint_opening")
+SUMMARY_DRUM_VARIABLES = ("drum_peak_theta",)
+# the integer ones (the rest are float64); a flag or count a run does not report is 0, except
+# overturn_drum: a rigid column is one body, which fell if anything did (as in study results)
+_SUMMARY_INTEGERS = {"n_impacts": np.int32, "overturn_drum": np.int32,
+                     **{name: np.int8 for name in ("overturned", "uplifted", "sliding_onset", "lift_off")}}
+
+
+def _summary_value(summary, name):
+    if name in summary:
+        return summary[name]
+    if name == "overturn_drum" and "overturned" in summary:
+        return 0 if summary["overturned"] else -1
+    return 0 if name in _SUMMARY_INTEGERS else np.nan
+
+
+def add_summaries(ds, summaries):
+    """Add the runs' summaries to a histories file (:func:`histories_file`), as catalogued variables.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Dims ``column``, ``record`` (one each) and ``model``.
+    summaries : list of dict
+        :attr:`pipeline.simulate.Response.summary` of each model, in the order of ``ds.model``
+        (SI units: angles rad, times s, lengths m).
+
+    Returns
+    -------
+    xarray.Dataset
+        ``ds`` with every name of :data:`SUMMARY_VARIABLES` some run reports, on (column, record,
+        model): floats NaN and flags and counts 0 for a run that does not report it. With a
+        compliant run also the residual dislocation per joint (dims ..., ``joint``; coordinate
+        ``joint_diameter`` [m]), the peak tilt of every body (..., ``drum``) and ``n_drums``.
+    """
+    if len(summaries) != ds.sizes["model"]:
+        raise ValueError(f"{len(summaries)} summaries for {ds.sizes['model']} models")
+    dims = ("column", "record", "model")
+    for name in SUMMARY_VARIABLES:
+        if not any(name in s for s in summaries):
+            continue
+        values = np.array([_summary_value(s, name) for s in summaries],
+                          dtype=_SUMMARY_INTEGERS.get(name, np.float64))
+        ds[name] = (dims, values[None, None, :])
+    n_joints = max((len(s["joint_slip"]) for s in summaries if "joint_slip" in s), default=0)
+    if n_joints:
+        for name in SUMMARY_JOINT_VARIABLES:
+            values = np.full((len(summaries), n_joints), np.nan)
+            for m, s in enumerate(summaries):
+                if name in s:
+                    values[m, :len(s[name])] = s[name]
+            ds[name] = (dims + ("joint",), values[None, None])
+        diameters = next(s["joint_diameter"] for s in summaries if "joint_diameter" in s)
+        ds.coords["joint"] = ("joint", np.arange(n_joints, dtype=np.int32))
+        ds.coords["joint_diameter"] = (("column", "joint"), np.asarray(diameters, dtype=np.float64)[None])
+        ds.coords["n_drums"] = ("column", np.array([next(s["n_drums"] for s in summaries if "n_drums" in s)],
+                                                   dtype=np.int32))
+    for name in SUMMARY_DRUM_VARIABLES:
+        if "drum" in ds.dims and any(name in s for s in summaries):
+            values = np.full((len(summaries), ds.sizes["drum"]), np.nan)
+            for m, s in enumerate(summaries):
+                if name in s:
+                    values[m, :len(s[name])] = s[name]
+            ds[name] = (dims + ("drum",), values[None, None])
+    return annotate(ds)
+
+
+def histories_file(runs, column, record, summaries=None):
     """The histories of one column under one record, one or more models, as one Dataset of the convention.
 
     Parameters
@@ -359,6 +441,9 @@ def histories_file(runs, column, record):
         Label of the column.
     record : str
         Identifier of the record (``free-motion`` for a free motion).
+    summaries : list of dict, optional
+        The summary of each run (:attr:`pipeline.simulate.Response.summary`), written beside
+        the histories by :func:`add_summaries`, so the file says what happened.
 
     Returns
     -------
@@ -366,7 +451,8 @@ def histories_file(runs, column, record):
         Dims ``column``, ``record``, ``model`` (string labels) and ``time``;
         the geometry as coordinates on ``column`` (``column_R``, ``column_r``,
         ``column_h``, ``theta_crit`` and ``theta_crit_deg``); incidence angle
-        [degree] and scale factor as scalar coordinates.
+        [degree] and scale factor as scalar coordinates; with ``summaries``,
+        the summary variables on (column, record, model).
     """
     import xarray as xr
 
@@ -398,6 +484,8 @@ def histories_file(runs, column, record):
     )
     if "phase" in ds:
         ds["phase"] = ds["phase"].fillna(0).astype(np.int8)
+    if summaries is not None:
+        ds = add_summaries(ds, summaries)
     return annotate(ds)
 
 
@@ -440,7 +528,12 @@ def catalog_markdown():
         "`frustum simulate` have dims (column, record, model, time), both models in one file when",
         "both were run (`--model 3d,2d`), the geometry as coordinates on `column` and the incidence",
         "angle [degree] and scale as scalar coordinates; `time` is seconds since the start of the",
-        "record (elapsed time, hence no CF `standard_name` time).",
+        "record (elapsed time, hence no CF `standard_name` time). Beside the histories a simulate file",
+        "carries the run's summary on (column, record, model) under the study results' names",
+        "(`peak_theta`, `overturned`, `overturn_time`, `n_impacts`, `sliding_onset`, `lift_off`, ...;",
+        "`pipeline.dataset.SUMMARY_VARIABLES`) and, for the compliant model, `restitution`,",
+        "`contact_damping`, the residual dislocation per `joint`, `drum_peak_theta` per `drum` and",
+        "`overturn_drum`.",
         "",
         "| name | units | long name | CF standard name |",
         "|---|---|---|---|",

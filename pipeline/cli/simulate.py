@@ -147,7 +147,9 @@ def run_simulate(args):
         runs = [_free(args, column)]
     outline = getattr(column, "column", column)
     label = f"R{outline.R:g}-r{outline.r:g}-h{outline.h:g}"
-    ds = histories_file([h for h, _ in runs], column=label, record=runs[0][0].attrs.get("record_id", "free-motion"))
+    # the summary goes into the file too: what the console prints must not be all there is of it
+    ds = histories_file([h for h, _ in runs], column=label, record=runs[0][0].attrs.get("record_id", "free-motion"),
+                        summaries=[s for _, s in runs])
     append_history(ds, "frustum simulate " + " ".join(_argv_echo(args)))
     write_netcdf(ds, args.out)
     print(column.describe())
