@@ -329,20 +329,53 @@ class ModelView:
                             f"ground acceleration (red arrow) {accel:.2f} g")
 
 
+#: Frames per second an animation may have: GIF stores a frame's delay in hundredths of a second.
+FPS_RANGE = (0.1, 100.0)
+#: Resolution [dots per inch] a frame may have: below 10 a view is a few pixels, above 600 a frame of
+#: two views is 5760 x 3120 pixels.
+DPI_RANGE = (10.0, 600.0)
+#: Frames an animation may have (about half an hour of drawing at 0.1 s a frame).
+MAX_FRAMES = 20000
+
+
+def check_animation_options(fps, speed, dpi):
+    """Refuse ``--fps``, ``--speed`` and ``--dpi`` outside what can be drawn, naming the option and the fix."""
+    if not (math.isfinite(fps) and FPS_RANGE[0] <= fps <= FPS_RANGE[1]):
+        raise InputError(f"--fps {fps:g}: give frames per second between {FPS_RANGE[0]:g} and {FPS_RANGE[1]:g} "
+                         "(GIF keeps a frame at least a hundredth of a second), e.g. 10")
+    if not (math.isfinite(speed) and speed > 0):
+        raise InputError(f"--speed {speed:g}: give the seconds of motion per second of animation as a positive "
+                         "number, e.g. 1 (real time) or 0.5 (half speed)")
+    if not (math.isfinite(dpi) and DPI_RANGE[0] <= dpi <= DPI_RANGE[1]):
+        raise InputError(f"--dpi {dpi:g}: give a resolution between {DPI_RANGE[0]:g} and {DPI_RANGE[1]:g} dots per "
+                         "inch, e.g. 80")
+
+
 def frame_times(time, fps, speed=1.0):
     """Times [s] of the frames: every ``speed / fps`` seconds of motion from the first to the last row.
 
-    With ``speed`` 1 the animation plays in real time.
+    With ``speed`` 1 the animation plays in real time. More than :data:`MAX_FRAMES`
+    frames are refused before any is drawn.
     """
     if not (fps > 0 and speed > 0):
         raise InputError(f"--fps {fps} and --speed {speed} must be positive numbers")
     step = speed / fps
-    n = int(math.floor((time[-1] - time[0]) / step + 1e-9)) + 1
-    return time[0] + step * np.arange(n)
+    span = float(time[-1] - time[0])
+    n = span / step + 1e-9
+    if not n < MAX_FRAMES:
+        raise InputError(f"--fps {fps:g} and --speed {speed:g}: {span:g} s of motion would take {n:.3g} frames "
+                         f"(at most {MAX_FRAMES}); lower --fps or raise --speed")
+    return time[0] + step * np.arange(int(math.floor(n)) + 1)
 
 
-def check_animation_path(path, option="--out"):
-    """The suffix of ``path`` (``.gif`` or ``.mp4``) if it can be written here; else an InputError saying why."""
+def check_animation_path(path, option="--out", inputs=()):
+    """The suffix of ``path`` (``.gif`` or ``.mp4``) if it can be written here; else an InputError saying why.
+
+    ``inputs`` ([(what, path)]) are files the command reads, which ``path`` may not name
+    (:func:`pipeline.paths.check_output_file`).
+    """
+    from pipeline.paths import check_output_file
+
     suffix = os.path.splitext(os.fspath(path))[1].lower()
     if suffix not in (".gif", ".mp4"):
         raise InputError(f"{option} {path}: give a file name ending in .gif or .mp4")
@@ -352,6 +385,7 @@ def check_animation_path(path, option="--out"):
         except ImportError:
             raise InputError(f"{option} {path}: MP4 needs the ffmpeg of imageio-ffmpeg (pip install -e '.[video]'); "
                              "or write a .gif") from None
+    check_output_file(path, option, inputs=inputs)
     return suffix
 
 
@@ -426,10 +460,11 @@ def animate(runs, path, fps=10.0, speed=1.0, dpi=80, progress=None):
     import matplotlib.pyplot as plt
 
     path = os.fspath(path)
+    check_animation_options(fps, speed, dpi)
     writer = _writer(path, fps)
     fig, views = _figure(runs, dpi)
-    times = frame_times(views[0].motion.time, fps, speed)
     try:
+        times = frame_times(views[0].motion.time, fps, speed)
         os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
         with atomic_path(path) as tmp, writer.saving(fig, tmp, dpi):  # the temporary name keeps the suffix
             for k, t in enumerate(times):
@@ -462,9 +497,15 @@ def animate_file(path, out, fps=10.0, speed=1.0, models=None, dpi=80):
     """
     from pipeline.dataset import one_run, open_results
 
+    check_animation_options(fps, speed, dpi)
+    check_animation_path(out, inputs=[("results file", path)])
     if not os.path.exists(path):
         raise InputError(f"{path}: no such file; give the netCDF written by 'frustum simulate'")
-    ds = open_results(path)
+    try:
+        ds = open_results(path)
+    except (OSError, ValueError, RuntimeError) as exc:  # truncated, not netCDF, unreadable
+        raise InputError(f"{path}: cannot be read as netCDF ({' '.join(str(exc).split())}); give the complete file "
+                         "'frustum simulate' wrote (run it again if it was cut short)") from None
     missing = [name for name in ("time", "theta", "phi", "x_p", "y_p", "column_R") if name not in ds.variables]
     if missing or "model" not in ds.dims:
         raise InputError(f"{path}: not a histories file of 'frustum simulate' (missing {', '.join(missing) or 'model'})")
@@ -480,6 +521,6 @@ def animate_file(path, out, fps=10.0, speed=1.0, models=None, dpi=80):
     return animate(runs, out, fps=fps, speed=speed, dpi=dpi)
 
 
-__all__ = ["check_animation_path", "render_frame", "Shape", "Pose", "euler_rotation", "frustum_faces", "rigid_bodies",
+__all__ = ["check_animation_path", "check_animation_options", "MAX_FRAMES", "render_frame", "Shape", "Pose", "euler_rotation", "frustum_faces", "rigid_bodies",
            "drum_bodies", "Motion", "ModelView",
            "frame_times", "animate", "animate_file"]

@@ -27,7 +27,7 @@ import numpy as np
 
 from pipeline import fragility as F
 from pipeline import plotting_fragility as P
-from pipeline.atomic import atomic_open
+from pipeline.atomic import atomic_folder, atomic_open
 from pipeline.citation import CITE, REFERENCE
 from pipeline.errors import InputError
 from pipeline.units import G
@@ -349,7 +349,10 @@ def write_report(results, out_dir, pga_levels_g=DEFAULT_PGA_LEVELS_G, states=F.D
         Study results (see :func:`pipeline.fragility.open_results`); must
         carry ``pga``.
     out_dir : str or os.PathLike
-        Folder to write (created).
+        Folder to write (created). Written atomically: every file is made in
+        a temporary folder beside it and moved in only when all are written
+        (:func:`pipeline.atomic.atomic_folder`), so a failure leaves nothing
+        half-written; other files already in the folder are kept.
     pga_levels_g : sequence of float
         PGA levels [g] at which the probability of overturning is stated.
     states, bootstrap, seed, confidence
@@ -372,11 +375,30 @@ def write_report(results, out_dir, pga_levels_g=DEFAULT_PGA_LEVELS_G, states=F.D
         Paths written (``report``, ``csv``, ``geojson`` or None,
         ``fragility``, ``figures``) and the fragility Dataset (``frag``).
     """
+    dest = os.fspath(out_dir)
+    with atomic_folder(dest) as tmp:
+        out = _write_report_into(results, tmp, pga_levels_g, states, bootstrap, seed, confidence, title,
+                                 trajectories, notes, focus, stripe_tables_max)
+
+    def moved(path):
+        return None if path is None else os.path.join(dest, os.path.relpath(path, tmp))
+
+    return {k: ([moved(p) for p in v] if k == "figures" else v if k == "frag" else moved(v)) for k, v in out.items()}
+
+
+def _write_report_into(results, out_dir, pga_levels_g, states, bootstrap, seed, confidence, title, trajectories, notes,
+                       focus, stripe_tables_max):
+    """:func:`write_report` into ``out_dir`` (a temporary folder); returns what it wrote there."""
     out_dir = os.fspath(out_dir)
     results = F._normalise(results, F._where(results))
     if "pga" not in results.variables:
         raise InputError(f"{F._where(results)}: the report states probabilities at PGA levels but the dataset "
                          "has no 'pga'; re-run the study with a runner that writes it")
+    valid = F._valid(results)
+    if not bool(valid.any()):  # nothing to fit or draw: say so, not a plotting library's error
+        raise InputError(f"{F._where(results)}: every one of its {int(valid.size)} simulations failed (status 1), "
+                         "so there is nothing to report; see why in the messages of 'frustum study run', fix the "
+                         "study and run it again")
     os.makedirs(os.path.join(out_dir, "figures"), exist_ok=True)
     frag = F.fragility(results, im="pga", states=states, bootstrap=bootstrap, seed=seed, confidence=confidence)
     frag_path = F.write(frag, os.path.join(out_dir, "fragility.nc"))

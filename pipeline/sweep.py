@@ -141,6 +141,9 @@ class RunReport:
         Wall time of the computing phase [s] (cluster start-up included).
     failed : int
         Cells with status 1.
+    first_error : str
+        The first failed simulation's message ("" when none failed), for a
+        summary of a run in which every cell failed.
     startup_seconds : float
         Of which starting or connecting to the cluster and loading the
         kernels on the workers [s].
@@ -164,6 +167,7 @@ class RunReport:
     grid_size: int = 0
     seconds: float = 0.0
     failed: int = 0
+    first_error: str = ""
     startup_seconds: float = 0.0
     compute_seconds: float = 0.0
     task_seconds: float = 0.0
@@ -727,36 +731,68 @@ def run_study(study, *, out=None, motions=None, scheduler=None, workers=None, se
     """
     from pipeline.study import load_motions
 
-    out = check_output_file(out or study.output, "--out" if out else f"{study.path}: field output")
+    out = check_study_output(study, out)
     check_memory(study)
     motions = motions if motions is not None else load_motions(study)
     measures = [record_intensity(m, study.sa_period) for m in motions]
     factors = scale_factors(study, measures)
     tasks = plan(study, factors)
+    fresh = not os.path.lexists(out + ".checkpoint")
     ckpt = Checkpoint(out + ".checkpoint", checkpoint_key(study, motions, tasks))
     own = cluster is None  # a cluster for this study alone; it connects only if a task is left to compute
     cluster = cluster or Cluster(scheduler, workers)
     try:
         return _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, cluster, serial, progress,
                                  keep_checkpoint, window)
+    except BaseException:
+        if fresh and not ckpt.done():  # a run that could not start (no scheduler) leaves no empty folder
+            ckpt.remove()
+        raise
     finally:
         ckpt.release()
         if own:
             cluster.close()
 
 
+def study_inputs(study):
+    """[(what, path)] of the files a study reads: the study file and its record files."""
+    inputs = [("study file", study.path)]
+    for record in study.records:
+        if getattr(record, "kind", None) == "file":
+            paths = record.path if isinstance(record.path, (list, tuple)) else [record.path]
+            inputs += [("record file", p) for p in paths]
+    return inputs
+
+
+def check_study_output(study, out=None, label=None):
+    """The study's results path, absolute, refused before computing if it cannot be written or is not ours to replace.
+
+    Parameters
+    ----------
+    study : pipeline.study.Study
+    out : str, optional
+        Results file given by the user (default ``study.output``).
+    label : str, optional
+        How the user gave it, for the messages (default ``--out``, or the study's ``output`` field).
+    """
+    label = label or ("--out" if out else f"{study.path}: field output")
+    return check_output_file(out or study.output, label, kind="study", inputs=study_inputs(study))
+
+
 def _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, cluster, serial, progress,
                       keep_checkpoint, window):
     arrays = blank_arrays(study.shape, status=1, n_joints=study.n_joints)  # failures until a task fills them
-    done, found = set(), ckpt.done()
+    done, found, errors = set(), ckpt.done(), []
     for task in tasks:
         if task.index in found:
             result = ckpt.load(task.index, task.shape, task.n_joints)
             if result is not None:
                 _place(arrays, result)
                 done.add(task.index)
+                errors += [f"record {study.records[result['record']].id}: {e}" for e in result.get("errors") or []]
     pending = [t for t in tasks if t.index not in done]
     report = RunReport(out, None, len(tasks), [], sorted(done), 0, study.n_simulations)
+    report.first_error = errors[0] if errors else ""
     t0 = time.monotonic()
     if pending:  # compiled once, here, before any worker starts and before the progress bar's clock
         prepare_kernels(study.models, sys.stderr if progress else None)
@@ -776,6 +812,8 @@ def _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, clust
         report.task_seconds += result["seconds"]
         report.task_cpu_seconds += result.get("cpu_seconds") or 0.0
         report.compute_seconds = time.monotonic() - t0 - report.startup_seconds
+        if result["errors"] and not report.first_error:
+            report.first_error = f"record {study.records[result['record']].id}: {result['errors'][0]}"
         for line in result["errors"]:
             print(f"frustum: simulation failed (status 1): record {study.records[result['record']].id}: {line}",
                   file=sys.stderr)

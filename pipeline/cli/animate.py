@@ -33,8 +33,11 @@ def register(subparsers):
 
 def run(args):
     """Handler of ``frustum animate``."""
-    from pipeline.animate import animate_file
+    from pipeline.animate import animate_file, check_animation_options, check_animation_path
 
+    # every option and the output are refused before the file is read
+    check_animation_options(args.fps, args.speed, args.dpi)
+    check_animation_path(args.out, "--out", inputs=[("results file", args.result)])
     models = [m.strip() for m in args.model.split(",") if m.strip()] if args.model else None
     n = animate_file(args.result, args.out, fps=args.fps, speed=args.speed, models=models, dpi=args.dpi)
     print(f"wrote {args.out} ({n} frames, {args.fps:g} per second, speed {args.speed:g})")

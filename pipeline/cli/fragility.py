@@ -69,7 +69,9 @@ def parse_dislocations(text):
 
 def run(args):
     from pipeline import fragility as F
+    from pipeline.paths import check_output_file
 
+    check_output_file(args.out, "--out", kind="fragility", inputs=[("results file", args.results)])
     results = F.open_results(args.results)
     frag = F.fragility(results, im=args.im, states=parse_states(args.states), bootstrap=args.bootstrap,
                        seed=args.seed, confidence=args.confidence,

@@ -5,7 +5,7 @@ import math
 
 from pipeline.errors import InputError
 
-__all__ = ["register", "add_record_options", "load_record", "record_source"]
+__all__ = ["register", "add_record_options", "load_record", "record_inputs", "record_source"]
 
 
 def register(subparsers):
@@ -60,17 +60,42 @@ def record_source(text):
     return text
 
 
+def record_inputs(record):
+    """[(what, path)] of the record files a ``--record`` value names (none for a catalog id), for output checks."""
+    import os
+
+    if not record:
+        return []
+    source = record_source(record)
+    return [("record file", p) for p in ([source] if isinstance(source, str) else source) if os.path.exists(p)]
+
+
 def load_record(args):
-    """The record named by ``args.record`` read with the options of :func:`add_record_options`."""
+    """The record named by ``args.record`` read with the options of :func:`add_record_options`.
+
+    The options that say how to read a file (``--units``, ``--components``,
+    ``--dt``) are refused on a catalog id rather than ignored.
+    """
+    from pathlib import Path
+
     from pipeline.groundmotion import load
 
     if args.dt is not None and not (math.isfinite(args.dt) and args.dt > 0):
         raise InputError(f"--dt {args.dt!r}: give the time step as a positive number of seconds")
+    source = record_source(args.record)
+    if isinstance(source, str) and not Path(source).exists():
+        from pipeline.groundmotion import catalog
+
+        given = [f"--{name.replace('_', '-')}" for name in ("units", "components", "dt")
+                 if getattr(args, name, None) is not None]
+        if given and source in catalog.catalog().get("records", {}):  # the catalog states these; never ignored
+            raise InputError(f"{' '.join(given)}: {source} is a catalog record, read in the units, components and "
+                             f"sampling records/catalog.toml gives it; drop {', '.join(given)} (they are for files)")
     components = None
     if args.components:
         components = [c if c.lower() != "none" else None for c in args.components.split(",")]
     processing = [{"step": "baseline", "type": args.baseline}] if args.baseline else None
-    return load(record_source(args.record), units=args.units, components=components, missing_y=args.missing_y,
+    return load(source, units=args.units, components=components, missing_y=args.missing_y,
                 dt=args.dt, processing=processing)
 
 
@@ -142,7 +167,7 @@ def _plot(args):
     from pipeline.groundmotion.plot import plot_motion
     from pipeline.paths import check_plot_file
 
-    check_plot_file(args.out, "--out")  # before loading the record
+    check_plot_file(args.out, "--out", inputs=record_inputs(args.record))  # before loading the record
     gm = load_record(args)
     plot_motion(gm, args.out)
     print(f"wrote {args.out}")

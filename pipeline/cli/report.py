@@ -4,6 +4,9 @@ import argparse
 
 from pipeline.errors import InputError
 
+#: The files a report writes in its folder (besides figures/), checked against the inputs before computing.
+REPORT_FILES = ("report.md", "report.html", "summary.csv", "columns.geojson", "fragility.nc")
+
 _EXAMPLES = """\
 examples:
   frustum report out/quickstart.nc --out out/quickstart-report
@@ -40,6 +43,7 @@ def register(subparsers):
 def run(args):
     from pipeline import fragility as F
     from pipeline.cli.fragility import parse_states
+    from pipeline.paths import check_output_folder
     from pipeline.report import write_report
 
     try:
@@ -48,6 +52,8 @@ def run(args):
         raise InputError(f"--pga-levels {args.pga_levels!r}: give PGA values in g separated by commas") from None
     if not levels or any(not (v > 0) for v in levels):
         raise InputError(f"--pga-levels {args.pga_levels!r}: give positive PGA values in g, e.g. 0.1,0.2,0.3")
+    check_output_folder(args.out, "--out", writes=REPORT_FILES, kinds={"fragility.nc": "fragility"},
+                        inputs=[("results file", args.results)])
     results = F.open_results(args.results)
     out = write_report(results, args.out, pga_levels_g=levels, states=parse_states(args.states),
                        bootstrap=args.bootstrap, seed=args.seed, title=args.title)

@@ -6,7 +6,7 @@ import os
 
 import numpy as np
 
-from pipeline.cli.records import add_record_options, load_record
+from pipeline.cli.records import add_record_options, load_record, record_inputs
 from pipeline.errors import InputError
 from pipeline.limits import check_tolerance
 from pipeline.paths import check_output_file, check_plot_file
@@ -126,9 +126,11 @@ def run_simulate(args):
     from pipeline.geometry import Column
 
     # everything that can be refused is refused before computing
-    check_output_file(args.out, "--out")
+    inputs = record_inputs(args.record)
+    check_output_file(args.out, "--out", kind="histories", inputs=inputs)
     if args.plot:
-        check_plot_file(args.plot, "--plot")
+        check_plot_file(args.plot, "--plot", inputs=inputs)
+    _check_sampling(args)
     for name in ("rtol", "atol"):
         if getattr(args, name) is not None:
             check_tolerance(name, getattr(args, name), f"--{name}")
@@ -137,7 +139,7 @@ def run_simulate(args):
     if args.animate:
         from pipeline.animate import check_animation_path
 
-        check_animation_path(args.animate, "--animate")
+        check_animation_path(args.animate, "--animate", inputs=inputs + [("results file", args.out)])
     if args.record:
         runs = _earthquake(args, column, models)
     else:
@@ -176,6 +178,16 @@ def run_simulate(args):
         n = animate_file(args.out, args.animate)
         print(f"wrote {args.animate} ({n} frames)")
     return 0
+
+
+def _check_sampling(args):
+    """The options the memory estimate divides by, refused by name before they are used."""
+    if not (math.isfinite(args.output_step) and args.output_step > 0):
+        raise InputError(f"--output-step {args.output_step!r}: give the sampling interval of the histories as a "
+                         "positive number of seconds, e.g. 0.01")
+    if not (math.isfinite(args.tail) and 0 <= args.tail <= 3600):
+        raise InputError(f"--tail {args.tail!r}: give the free motion after the record as a number of seconds in "
+                         "[0, 3600], e.g. 5")
 
 
 def _models(text):
@@ -286,6 +298,9 @@ def _check_history_memory(duration, output_step, what):
     """Refuse histories that cannot fit in memory, before computing."""
     from pipeline.limits import check_fits, history_bytes
 
+    if not math.isfinite(duration / output_step):  # a step so small the row count overflows
+        raise InputError(f"--output-step {output_step:g}: {duration:g} s of histories at that step are more rows "
+                         "than can be held; sample less often with a larger --output-step, e.g. 0.01")
     rows = math.floor(duration / output_step) + 1
     check_fits(history_bytes(duration, output_step),
                f"{duration:g} s of histories every {output_step:g} s ({rows:,} rows)",

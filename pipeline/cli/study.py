@@ -52,14 +52,14 @@ def register(subparsers):
 
 def _load(path, out=None, plot=None):
     """The study and its records; everything that can be refused is refused before the records load."""
-    from pipeline.paths import check_output_file, check_plot_file
+    from pipeline.paths import check_plot_file
     from pipeline.study import load_motions, load_study
-    from pipeline.sweep import check_memory
+    from pipeline.sweep import check_memory, check_study_output, study_inputs
 
     study = load_study(path, load_records=False)
-    check_output_file(out or study.output, "--out" if out else f"{study.path}: field output")
+    out = check_study_output(study, out)
     if plot:
-        check_plot_file(plot, "--plot")
+        check_plot_file(plot, "--plot", inputs=study_inputs(study) + [("results file", out)])
     check_memory(study)
     motions = load_motions(study)
     return study, motions
@@ -111,6 +111,10 @@ def run_study_command(args):
           f"{report.simulations} simulations in {report.seconds:.1f} s"
           + (f" ({report.simulations / report.seconds:.0f}/s)" if report.simulations and report.seconds else "")
           + f"; {report.failed} failed; wrote {report.path}")
+    if report.failed and report.failed >= report.dataset.status.size:  # nothing ran: not a success, nothing to plot
+        print(f"frustum: error: all {report.failed} cells of the study failed (status = 1 in {report.path}); "
+              f"the first: {report.first_error or 'see the messages above'}", file=sys.stderr)
+        return 1
     if args.plot:
         from pipeline.plotting import plot_study
 

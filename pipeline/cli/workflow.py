@@ -20,8 +20,11 @@ recomputed (a missing or older plot is redrawn from the file). Steps run in
 order; the first failing step stops the workflow and the command exits 1.
 Two runs of the same workflow never overlap (a lock next to the log): the
 second exits 75 (EX_TEMPFAIL, "try again later"). With ``--quiet`` a
-successful run prints nothing (cron mails only failures); the log file gets
-every line either way.
+successful run, and a run that exits 75, print nothing (cron mails only
+failures); the log file gets every line either way. Before any step runs,
+outputs and plots that two steps share, an output that would replace an
+input or a file of the user's, and a log that cannot be written are refused
+(exit 2).
 
 ``frustum workflow install-units`` writes the systemd service and timer of
 ``workflows/systemd/*.in`` filled in with this checkout's path and this
@@ -155,8 +158,50 @@ def load_workflow(path):
                 fail(f"steps[{i}].plot", str(exc).strip())
         out.append({"study": study, "output": resolve(step.get("output"), f"steps[{i}].output"), "plot": plot})
     log = resolve(data.get("log", f"{path.stem}.log"), "log")
+    _check_outputs(path, out, log)
     return {"title": data.get("title", path.stem), "log": log, "workers": workers, "scheduler": scheduler,
             "steps": out, "path": str(path)}
+
+
+def _check_outputs(path, steps, log):
+    """Refuse, before any step runs, an output or plot that two steps share, that replaces an input or a file of
+    the user's, and a log that cannot be written.
+
+    A study that cannot be read is left to its step, which reports it (exit 1);
+    its default output is then unknown here.
+    """
+    from pipeline.paths import check_output_file
+    from pipeline.study import load_study
+    from pipeline.sweep import study_inputs
+
+    inputs = [("workflow file", str(path))] + [(f"study file of steps[{i}]", s["study"]) for i, s in enumerate(steps)]
+    written = {}  # real path -> the field that writes it
+
+    def claim(target, field):
+        key = os.path.realpath(target)
+        if key in written:
+            raise InputError(f"{path}: field {field}: {target} is also written by {written[key]}; give every "
+                             "step its own output and plot")
+        written[key] = field
+
+    for i, step in enumerate(steps):
+        try:
+            study = load_study(step["study"], load_records=False)
+        except InputError:
+            study = None
+        field = f"steps[{i}].output"
+        if study is not None:
+            label = f"{path}: field {field}" if step["output"] else f"{step['study']}: field output (steps[{i}])"
+            output = check_output_file(step["output"] or study.output, label, kind="study",
+                                       inputs=inputs + study_inputs(study))
+            claim(output, field if step["output"] else f"the study of steps[{i}] (its output field)")
+        elif step["output"]:
+            check_output_file(step["output"], f"{path}: field {field}", kind="study", inputs=inputs)
+            claim(step["output"], field)
+        if step["plot"]:
+            check_output_file(step["plot"], f"{path}: field steps[{i}].plot", inputs=inputs)
+            claim(step["plot"], f"steps[{i}].plot")
+    check_output_file(log, f"{path}: field log", inputs=inputs + [(f"output of {f}", p) for p, f in written.items()])
 
 
 def up_to_date(study, motions, output):
@@ -168,6 +213,8 @@ def up_to_date(study, motions, output):
     try:
         ds = open_results(output)
     except Exception:  # noqa: BLE001 - an unreadable file is simply not up to date
+        return False
+    if "status" in ds and int(ds.status.sum()) >= ds.status.size:  # every cell failed: try again
         return False
     return (ds.attrs.get("study_sha256") == study.digest
             and ds.attrs.get("source", "").startswith(f"frustum-pipeline {__version__} ")
@@ -181,8 +228,12 @@ class _Log:
     """
 
     def __init__(self, path, quiet=False):
-        os.makedirs(os.path.dirname(path), exist_ok=True)
-        self.file = open(path, "a", encoding="utf-8")  # noqa: SIM115 - closed in run_workflow
+        try:
+            os.makedirs(os.path.dirname(path), exist_ok=True)
+            self.file = open(path, "a", encoding="utf-8")  # noqa: SIM115 - closed in run_workflow
+        except OSError as exc:  # checked by load_workflow; this is a change since (or a race)
+            raise InputError(f"field log {path!r}: cannot be written ({exc.strerror or exc}); choose a folder you "
+                             "may write in") from None
         self.quiet = quiet
         self.held = []
 
@@ -236,7 +287,7 @@ def run_workflow(path, workers=None, scheduler=None, force=False, quiet=False):
             status = _run_steps(wf, log, cluster, force)
         return status
     finally:
-        if status != 0:
+        if status not in (0, EXIT_LOCKED):  # an overlap is expected under cron: the log has it, no mail
             log.flush_to_stderr()
         if lock is not None:
             lock.release()
@@ -263,6 +314,11 @@ def _run_steps(wf, log, cluster, force):
                     f"{len(report.skipped)} from checkpoint, {report.simulations} simulations, "
                     f"{report.failed} failed, {time.monotonic() - t0:.1f} s -> {output}")
                 computed = True
+                if report.failed and report.failed >= report.dataset.status.size:  # nothing ran: a failure
+                    log(f"step {i + 1}: {step['study']}: FAILED: all {report.failed} cells failed; the first: "
+                        f"{report.first_error or 'unknown'}")
+                    log(f"workflow {wf['path']}: failed at step {i + 1}")
+                    return 1
             plot = step["plot"]
             if plot and (computed or not os.path.isfile(plot) or os.path.getmtime(plot) < os.path.getmtime(output)):
                 from pipeline.dataset import open_results
