@@ -67,10 +67,21 @@ def parse_dislocations(text):
                          "or none") from None
 
 
+def check_fit_options(args):
+    """Refuse ``--bootstrap`` and ``--confidence`` (where the command has it) by name, before anything is read."""
+    if args.bootstrap < 0:
+        raise InputError(f"--bootstrap {args.bootstrap}: give 0 (no bounds) or a positive number of replicates, "
+                         "e.g. 200")
+    confidence = getattr(args, "confidence", 0.9)
+    if not 0 < confidence < 1:  # NaN too
+        raise InputError(f"--confidence {confidence:g}: give a level between 0 and 1, e.g. 0.9")
+
+
 def run(args):
     from pipeline import fragility as F
     from pipeline.paths import check_output_file
 
+    check_fit_options(args)
     check_output_file(args.out, "--out", kind="fragility", inputs=[("results file", args.results)])
     results = F.open_results(args.results)
     frag = F.fragility(results, im=args.im, states=parse_states(args.states), bootstrap=args.bootstrap,

@@ -90,7 +90,7 @@ def load_record(args):
                  if getattr(args, name, None) is not None]
         if given and source in catalog.catalog().get("records", {}):  # the catalog states these; never ignored
             raise InputError(f"{' '.join(given)}: {source} is a catalog record, read in the units, components and "
-                             f"sampling records/catalog.toml gives it; drop {', '.join(given)} (they are for files)")
+                             f"sampling records/catalog.toml gives it; drop {', '.join(given)} (for record files only)")
     components = None
     if args.components:
         components = [c if c.lower() != "none" else None for c in args.components.split(",")]

@@ -42,7 +42,7 @@ def register(subparsers):
 
 def run(args):
     from pipeline import fragility as F
-    from pipeline.cli.fragility import parse_states
+    from pipeline.cli.fragility import check_fit_options, parse_states
     from pipeline.paths import check_output_folder
     from pipeline.report import write_report
 
@@ -52,6 +52,7 @@ def run(args):
         raise InputError(f"--pga-levels {args.pga_levels!r}: give PGA values in g separated by commas") from None
     if not levels or any(not (v > 0) for v in levels):
         raise InputError(f"--pga-levels {args.pga_levels!r}: give positive PGA values in g, e.g. 0.1,0.2,0.3")
+    check_fit_options(args)
     check_output_folder(args.out, "--out", writes=REPORT_FILES, kinds={"fragility.nc": "fragility"},
                         inputs=[("results file", args.results)])
     results = F.open_results(args.results)

@@ -1,0 +1,178 @@
+"""Issue 26, part A: every bad input and fault found by trying the command line as a new user would.
+
+Each entry runs ``frustum`` in-process and asserts: the documented exit
+status (2 for bad input, 1 for a study in which nothing ran, 75 for a held
+workflow lock), no traceback, one ``frustum: error:`` line naming the option
+or field, the fix where there is one, and every file of the user's
+byte-identical afterwards. Nothing here computes more than one 2-s record.
+"""
+
+import os
+import shutil
+
+import pytest
+from cli_files import TINY_STUDY, snapshot, unchanged
+
+from pipeline.cli import main
+
+OUT = "--out"
+SIM = ["simulate", "--column", "0.5,0.4,4", "--record", "SYN-RICKER"]
+
+
+# (id, argv with {placeholders} of the files fixture, exit status, fragments of the error line)
+CATALOGUE = [
+    # outputs that would replace an input or a user's file
+    ("fragility-over-its-results", ["fragility", "{results}", OUT, "{results}"], 2,
+     ["--out", "is the results file this command reads", "give another file name"]),
+    ("fragility-over-text", ["fragility", "{results}", OUT, "{notes}"], 2,
+     ["exists and is not a netCDF result written by frustum", "give a new file name"]),
+    ("fragility-over-histories", ["fragility", "{results}", OUT, "{histories}"], 2,
+     ["is a histories file of 'frustum simulate'"]),
+    ("study-over-its-study-file", ["study", "run", "{study}", OUT, "{study}", "--serial"], 2,
+     ["is the study file this command reads"]),
+    ("study-over-text", ["study", "run", "{study}", OUT, "{notes}", "--serial"], 2,
+     ["exists and is not a netCDF result written by frustum"]),
+    ("study-over-fragility", ["study", "run", "{study}", OUT, "{fragility}", "--serial"], 2,
+     ["is a fragility file of 'frustum fragility'"]),
+    ("simulate-over-text", SIM + [OUT, "{notes}"], 2, ["exists and is not a netCDF result written by frustum"]),
+    ("simulate-over-study-file", SIM + [OUT, "{study}"], 2, ["exists and is not a netCDF result"]),
+    ("simulate-over-its-record", ["simulate", "--column", "0.5,0.4,4", "--record", "{record}", "--units", "g",
+                                  "--dt", "0.01", "--missing-y", "zero", OUT, "{record}"], 2,
+     ["is the record file this command reads"]),
+    ("simulate-over-study-results", SIM + [OUT, "{results}"], 2, ["is a results file of 'frustum study run'"]),
+    ("simulate-plot-over-record", ["simulate", "--column", "0.5,0.4,4", "--record", "{record_png}", OUT,
+                                   "{tmp}/h.nc", "--plot", "{record_png}"], 2,
+     ["--plot", "is the record file this command reads"]),
+    ("report-over-a-file", ["report", "{results}", OUT, "{notes}", "--bootstrap", "0"], 2,
+     ["is a file, not a folder"]),
+    ("report-over-its-results", ["report", "{report_dir}/fragility.nc", OUT, "{report_dir}", "--bootstrap", "0"], 2,
+     ["is the results file this command reads"]),
+    ("animate-over-its-results", ["animate", "{histories}", OUT, "{histories}"], 2,
+     ["give a file name ending in .gif or .mp4"]),
+    ("workflow-two-steps-one-output", ["workflow", "run", "{wf_duplicate}"], 2,
+     ["field steps[1].output", "is also written by steps[0].output", "give every step its own output"]),
+    ("workflow-output-is-a-study", ["workflow", "run", "{wf_output_is_study}"], 2,
+     ["field steps[0].output", "is the study file of steps[0] this command reads"]),
+    ("workflow-log-is-a-study", ["workflow", "run", "{wf_log_is_study}"], 2, ["field log", "this command reads"]),
+    # bad values of options
+    ("simulate-output-step-0", SIM + [OUT, "{tmp}/h.nc", "--output-step", "0"], 2,
+     ["--output-step 0.0", "positive number of seconds"]),
+    ("simulate-output-step-nan", SIM + [OUT, "{tmp}/h.nc", "--output-step", "nan"], 2, ["--output-step nan"]),
+    ("simulate-output-step-tiny", SIM + [OUT, "{tmp}/h.nc", "--output-step", "5e-324"], 2,
+     ["--output-step", "larger --output-step"]),
+    ("simulate-tail-nan", SIM + [OUT, "{tmp}/h.nc", "--tail", "nan"], 2, ["--tail nan", "[0, 3600]"]),
+    ("animate-fps-1e6", ["animate", "{histories}", OUT, "{tmp}/a.gif", "--fps", "1000000"], 2,
+     ["--fps 1e+06", "between 0.1 and 100"]),
+    ("animate-fps-0", ["animate", "{histories}", OUT, "{tmp}/a.gif", "--fps", "0"], 2, ["--fps 0"]),
+    ("animate-speed-1e-9", ["animate", "{histories}", OUT, "{tmp}/a.gif", "--speed", "1e-9"], 2,
+     ["--speed 1e-09", "frames", "lower --fps or raise --speed"]),
+    ("animate-speed-nan", ["animate", "{histories}", OUT, "{tmp}/a.gif", "--speed", "nan"], 2, ["--speed nan"]),
+    ("animate-dpi-0", ["animate", "{histories}", OUT, "{tmp}/a.gif", "--dpi", "0"], 2,
+     ["--dpi 0", "between 10 and 600"]),
+    ("fragility-bootstrap-negative", ["fragility", "{results}", OUT, "{tmp}/f.nc", "--bootstrap", "-1"], 2,
+     ["--bootstrap -1"]),
+    ("fragility-confidence-nan", ["fragility", "{results}", OUT, "{tmp}/f.nc", "--confidence", "nan"], 2,
+     ["--confidence nan"]),
+    ("report-bootstrap-negative", ["report", "{results}", OUT, "{tmp}/rep", "--bootstrap", "-1"], 2,
+     ["--bootstrap -1"]),
+    # outputs that cannot be written: the one message of simulate and study
+    ("simulate-out-unwritable", SIM + [OUT, "/proc/frustum-test/h.nc"], 2, ["/proc cannot be written"]),
+    ("study-out-unwritable", ["study", "run", "{study}", OUT, "/proc/frustum-test/s.nc"], 2,
+     ["/proc cannot be written"]),
+    ("report-out-unwritable", ["report", "{results}", OUT, "/proc/frustum-test/rep", "--bootstrap", "0"], 2,
+     ["--out '/proc/frustum-test/rep': /proc cannot be written", "choose a folder you may write in"]),
+    ("animate-out-unwritable", ["animate", "{histories}", OUT, "/proc/frustum-test/a.gif"], 2,
+     ["--out '/proc/frustum-test/a.gif': /proc cannot be written"]),
+    ("simulate-animate-unwritable", SIM + [OUT, "{tmp}/h.nc", "--animate", "/proc/frustum-test/a.gif"], 2,
+     ["--animate '/proc/frustum-test/a.gif': /proc cannot be written"]),
+    ("workflow-log-unwritable", ["workflow", "run", "{wf_log_unwritable}"], 2,
+     ["field log '/proc/frustum-test/wf.log': /proc cannot be written"]),
+    # files that cannot be read
+    ("animate-truncated-netcdf", ["animate", "{truncated}", OUT, "{tmp}/a.gif"], 2,
+     ["cannot be read as netCDF", "run it again"]),
+    # failures that looked like success
+    ("report-every-cell-failed", ["report", "{failed}", OUT, "{tmp}/rep", "--bootstrap", "0"], 2,
+     ["simulations failed (status 1), so there is nothing to report"]),
+    ("records-units-on-catalog-id", ["records", "show", "SYN-RICKER", "--units", "g"], 2,
+     ["--units: SYN-RICKER is a catalog record", "drop --units"]),
+    ("study-unreachable-scheduler", ["study", "run", "{study}", OUT, "{tmp}/s.nc", "--scheduler",
+                                     "tcp://127.0.0.1:9", "--quiet"], 2, ["--scheduler", "cannot connect"]),
+    ("study-every-cell-failed", ["study", "run", "{study}", OUT, "{tmp}/s.nc", "--serial", "--quiet"], 1,
+     ["all 1 cells of the study failed", "the first: record ricker:", "found no rebound peak"]),
+]
+
+
+@pytest.fixture
+def files(tmp_path, results_nc, histories_nc, failed_results_nc):
+    """Every file a catalogue entry names, in a fresh folder: {placeholder: path}."""
+    from pipeline import fragility as F
+
+    paths = {"tmp": tmp_path}
+    for name, source in (("results", results_nc), ("histories", histories_nc), ("failed", failed_results_nc)):
+        paths[name] = tmp_path / source.name
+        shutil.copy(source, paths[name])
+    paths["fragility"] = tmp_path / "fragility.nc"
+    F.write(F.fragility(F.open_results(results_nc)), paths["fragility"])
+    paths["truncated"] = tmp_path / "cut.nc"
+    paths["truncated"].write_bytes(histories_nc.read_bytes()[:5000])
+    paths["notes"] = tmp_path / "notes.txt"
+    paths["notes"].write_text("my notes\n", encoding="utf-8")
+    paths["study"] = tmp_path / "tiny.toml"
+    paths["study"].write_text(TINY_STUDY, encoding="utf-8")
+    paths["record"] = tmp_path / "record.txt"
+    paths["record"].write_text("0.0\n0.1\n-0.1\n0.0\n", encoding="utf-8")
+    paths["record_png"] = tmp_path / "record.png"  # a record file a plot could be named after
+    paths["record_png"].write_bytes(b"\x89PNG not really\n")
+    paths["report_dir"] = tmp_path / "report"
+    paths["report_dir"].mkdir()
+    shutil.copy(results_nc, paths["report_dir"] / "fragility.nc")
+    for name, log, steps in (
+        ("wf_duplicate", "wf.log", ['study = "tiny.toml"\noutput = "out/a.nc"', 'study = "tiny.toml"\noutput = "out/a.nc"']),
+        ("wf_output_is_study", "wf.log", ['study = "tiny.toml"\noutput = "tiny.toml"']),
+        ("wf_log_is_study", "tiny.toml", ['study = "tiny.toml"\noutput = "out/a.nc"']),
+        ("wf_log_unwritable", "/proc/frustum-test/wf.log", ['study = "tiny.toml"\noutput = "out/a.nc"']),
+    ):
+        paths[name] = tmp_path / f"{name}.toml"
+        paths[name].write_text(f'log = "{log}"\n' + "".join(f"[[steps]]\n{s}\n" for s in steps), encoding="utf-8")
+    return paths
+
+
+@pytest.mark.parametrize("argv, status, fragments", [c[1:] for c in CATALOGUE], ids=[c[0] for c in CATALOGUE])
+def test_bad_input(files, capsys, monkeypatch, argv, status, fragments):
+    if "--serial" in argv and "{tmp}/s.nc" in argv:  # the study in which every simulation fails
+        from pipeline import sweep
+
+        def fails(*args, **kwargs):
+            raise ValueError("found no rebound peak")
+
+        monkeypatch.setattr(sweep, "simulate", fails)
+        monkeypatch.setattr(sweep, "prepare_kernels", lambda *a, **k: 0.0)
+    user = [p for k, p in files.items() if k != "tmp" and os.path.isfile(p)]
+    user += [files["report_dir"] / "fragility.nc"]
+    before = snapshot(*user)
+    listing = sorted(os.listdir(files["tmp"]))
+
+    assert main([a.format(**files) for a in argv]) == status
+    err = capsys.readouterr().err
+    assert "Traceback" not in err
+    errors = [line for line in err.splitlines() if line.startswith("frustum: error:")]
+    assert len(errors) == 1, err
+    for fragment in fragments:
+        assert fragment in errors[0], errors[0]
+    assert unchanged(before)  # every file of the user's, byte for byte
+    if status == 2:  # refused before anything was written: no new file, no checkpoint, no temporary
+        assert sorted(os.listdir(files["tmp"])) == listing
+
+
+def test_quiet_workflow_exits_75_in_silence_when_another_run_holds_the_lock(files, capsys):
+    from pipeline.locking import try_lock
+
+    wf = files["tmp"] / "wf.toml"
+    wf.write_text('log = "logs/wf.log"\n[[steps]]\nstudy = "tiny.toml"\noutput = "out/a.nc"\n', encoding="utf-8")
+    (files["tmp"] / "logs").mkdir()
+    held = try_lock(files["tmp"] / "logs" / "wf.log.lock")
+    try:
+        assert main(["workflow", "run", "--quiet", str(wf)]) == 75
+    finally:
+        held.release()
+    assert capsys.readouterr() == ("", "")
