@@ -320,9 +320,11 @@ class ModelView:
         tilt = math.degrees(m.theta[i])
         state = (f", overturned at {m.overturn_time:.2f} s" if math.isfinite(m.overturn_time)
                  and t >= m.overturn_time else "")
-        name = {"3d": "3D rolling frustum", "2d": "2D planar rocking"}.get(m.model, m.model)
+        from pipeline.model_descriptions import title as model_title  # the one description of each model
+
+        name = model_title(m.model)
         if m.drums:
-            name = f"{name}: {len(m.drums)} bodies on compliant joints"
+            name = f"{name}: {len(m.drums)} bodies"
         accel = float(np.hypot(*m.acc[i, :2])) / 9.80665
         self.title.set_text(f"{name}\nt = {m.time[i]:5.2f} s   tilt θ = {tilt:5.2f}° "
                             f"(θ_crit {math.degrees(m.theta_crit):.1f}°){state}\n"

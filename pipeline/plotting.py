@@ -11,6 +11,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from pipeline.model_descriptions import title as model_title  # noqa: E402
 from pipeline.units import G  # noqa: E402
 
 
@@ -105,7 +106,7 @@ def response_figure(ds, summary, friction=0.7):
 
 def run_title(ds):
     """What one run is, for titles: record, incidence angle, scale, model and column."""
-    model = {"3d": "3D rolling", "2d": "2D rocking"}.get(ds.attrs.get("model", "3d"), ds.attrs.get("model"))
+    model = model_title(ds.attrs.get("model", "3d"))
     column = (f"column R = {ds.attrs['column_R_m']:g} m, r = {ds.attrs['column_r_m']:g} m, "
               f"h = {ds.attrs['column_h_m']:g} m")
     if "record_id" not in ds.attrs or ds.attrs["record_id"] == "free-motion":

@@ -18,10 +18,31 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from pipeline.model_descriptions import title as model_title  # noqa: E402
 from pipeline.units import G  # noqa: E402
 
-_MODEL_STYLE = {"3d": dict(color="C0", ls="-"), "2d": dict(color="C3", ls="--")}
-_MODEL_NAME = {"3d": "3D rolling frustum", "2d": "2D planar rocking"}
+# line of each model's fitted curves and marker of its observed fractions (3D filled, the others open);
+# the models' names come from pipeline.model_descriptions
+_MODEL_STYLE = {"3d": dict(ls="-", marker="o", filled=True), "2d": dict(ls="--", marker="s", filled=False),
+                "3d-compliant": dict(ls="-.", marker="^", filled=False)}
+_LINE_NAME = {"-": "solid", "--": "dashed", "-.": "dash-dotted", ":": "dotted"}
+_MARKER_NAME = {"o": "circles", "s": "squares", "^": "triangles"}
+
+
+def _style(model):
+    return _MODEL_STYLE.get(model, dict(ls=":", marker="D", filled=False))
+
+
+def line_key(models):
+    """Which line is which model, in words: ``"3D (solid) and 2D (dashed)"``."""
+    keys = [f"{m.upper()} ({_LINE_NAME.get(_style(m)['ls'], _style(m)['ls'])})" for m in models]
+    return ", ".join(keys[:-1]) + " and " + keys[-1] if len(keys) > 1 else "".join(keys)
+
+
+def _marker_key(models):
+    """Which marker is which model, in words: ``"3D filled circles, 2D open squares"``."""
+    return ", ".join(f"{m.upper()} {'filled' if _style(m)['filled'] else 'open'} "
+                     f"{_MARKER_NAME.get(_style(m)['marker'], 'diamonds')}" for m in models)
 _STATE_COLORS = ["k", "C2", "C1", "C4", "C5", "C6"]
 
 
@@ -104,7 +125,7 @@ def plot_fragility(frag, stem, column=None, states=None, models=None, title=None
         width = 1.4 if state == "overturning" else 2.4
         for m in models:
             cell = frag.sel(state=state, column=column, model=m)
-            ls = _MODEL_STYLE.get(m, {}).get("ls", "-")
+            ls = _style(m)["ls"]
             med = float(cell["median"])
             bet = float(cell["beta"])
             pretty = _state_text(state, cell)
@@ -122,7 +143,7 @@ def plot_fragility(frag, stem, column=None, states=None, models=None, title=None
             frac = cell["stripe_fraction"].values
             ok = np.isfinite(frac)
             ax.plot(frag["stripe_im"].values[ok] * factor, frac[ok], ls="none",
-                    marker="o" if m == "3d" else "s", mfc=color if m == "3d" else "none", mec=color, ms=5)
+                    marker=_style(m)["marker"], mfc=color if _style(m)["filled"] else "none", mec=color, ms=5)
     ax.set_xscale("log")
     _plain_log(ax.xaxis)
     ax.set_xlabel(xlabel)
@@ -131,7 +152,7 @@ def plot_fragility(frag, stem, column=None, states=None, models=None, title=None
     ax.set_ylim(-0.02, 1.02)
     ax.grid(True, which="both", alpha=0.3)
     band = f"; shaded: {100 * level:g} % bootstrap band over records" if level and "probability_lower" in frag else ""
-    ax.plot([], [], "o", color="0.3", label="markers: observed fraction per scale stripe (3D filled, 2D open)")
+    ax.plot([], [], "o", color="0.3", label=f"markers: observed fraction per scale stripe ({_marker_key(models)})")
     handles, labels = ax.get_legend_handles_labels()
     order = sorted(range(len(keys)), key=lambda j: keys[j]) + [len(handles) - 1]
     ax.legend([handles[j] for j in order], [labels[j] for j in order], fontsize="small", loc="upper left",
@@ -210,7 +231,7 @@ def plot_geometry_map(frag, stem, im_value, model="3d", state="overturning", tit
     ax.set_xlabel("slenderness h/R [1]")
     ax.set_ylabel("conicity r/R [1]")
     ax.margins(0.25)
-    ax.set_title(title or f"{_MODEL_NAME.get(model, model)}: probability of {state.replace('_', ' ')} "
+    ax.set_title(title or f"{model_title(model)}: probability of {state.replace('_', ' ')} "
                  f"at {label.split(' [')[0]} = {im_value * factor:.3g} {label.split('[')[-1][:-1]}",
                  fontsize="medium")
     return _save(fig, stem)
@@ -264,7 +285,7 @@ def plot_angle_polar(results, stem, column, model="2d", scales=None, title=None)
 
     fig.legend(*ax.get_legend_handles_labels(), loc="lower center", bbox_to_anchor=(0.5, 0.01), ncol=3,
                fontsize="small", title="target PGA of the records" if units == "m s-2" else "record scale factor")
-    fig.suptitle((title or f"{_MODEL_NAME.get(model, model)}, column '{column}': overturning by incidence angle")
+    fig.suptitle((title or f"{model_title(model)}, column '{column}': overturning by incidence angle")
                  + "\nangle: incidence angle [deg]; radius: fraction of records that overturn the column [1]",
                  fontsize="medium", y=0.985)
     return _save(fig, stem)

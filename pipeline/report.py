@@ -2,7 +2,7 @@
 
 :func:`write_report` turns a study results Dataset into a folder::
 
-    DIR/report.md            what was simulated, the model's assumptions, the probability of
+    DIR/report.md            what was simulated, the models' assumptions, the probability of
                              overturning at stated PGA levels, 2D against 3D, the figures
     DIR/report.html          the same, one self-contained file (figures embedded)
     DIR/summary.csv          one row per column and model (opens in a spreadsheet)
@@ -26,9 +26,9 @@ import os
 import numpy as np
 
 from pipeline import fragility as F
+from pipeline import model_descriptions as MD
 from pipeline import plotting_fragility as P
 from pipeline.atomic import atomic_folder, atomic_open
-from pipeline.citation import CITE, REFERENCE
 from pipeline.errors import InputError
 from pipeline.units import G
 
@@ -42,26 +42,51 @@ MIN_RECORDS = 7
 #: Significant digits of the numbers in summary.csv (records, bootstrap and fit carry no more).
 CSV_DIGITS = 4
 
-ASSUMPTIONS = """\
-- Each column is one rigid, homogeneous block shaped as a conical frustum (a cone with its tip cut off):
-  bottom radius R, top radius r, height h. It does not bend, crack or break; flutes are ignored.
-- It stands free on a rigid, horizontal ground that moves with the recorded earthquake (both horizontal
-  components{vertical}).
-- **3D model** ({cite}): when the shaking is strong enough the column tips
-  onto the rim of its base and *rolls on the rim without slipping*: it rocks and wobbles (the contact point
-  travels around the rim) and spins about its axis. Friction is assumed large enough that the base never
-  slides; the report counts the runs in which the friction needed would have exceeded the friction
-  coefficient (`sliding_onset`), but their motion is still computed without sliding.
-- **2D model** (classical planar rocking, Housner 1963): the same column can only rock in one vertical plane,
-  driven by the component of the record along the incidence angle.
-- When the base lands back flat the impact takes away energy (angular momentum about the new contact point is
-  kept); that and an optional viscous contact couple (`damping` = {damping}) are the only energy losses.
-- The column *overturns* when it reaches the inclination at which its side touches the ground; the
-  *critical inclination* theta_crit is the static tipping angle (centre of mass above the rim).
-- Damage states other than overturning are the peak inclination reaching a fraction of theta_crit and, for
-  the compliant model, the largest residual slip of a bed joint reaching a fraction of its diameter
-  (`dislocation_s`; a column without bed joints reaches these only by overturning).
-"""
+def assumptions(models, vertical=True, options=None):
+    """The report's assumptions as Markdown bullets: what every model shares, then each model run.
+
+    Each model is described by its entry of :mod:`pipeline.model_descriptions` and only the
+    models given are described, so a report says nothing about a model it did not run.
+
+    Parameters
+    ----------
+    models : sequence of str
+        Models of the study, e.g. ``["3d", "2d"]``.
+    vertical : bool
+        Whether the records' vertical components were used.
+    options : dict, optional
+        The study's model options (``model_options``), listed as given.
+
+    Returns
+    -------
+    str
+    """
+    compliant = "3d-compliant" in models
+    shape = ("Each column is a conical frustum (a cone with its tip cut off): bottom radius R, top radius r, "
+             "height h" + ("; the compliant model may cut it into drums and put a capital on top" if compliant
+                           else "") + ". Its bodies are rigid and homogeneous: they do not bend, crack or break; "
+             "flutes are ignored.")
+    lines = [
+        f"- {shape}",
+        "- It stands free on a horizontal ground that moves with the recorded earthquake (both horizontal "
+        f"components{' and the vertical one where recorded' if vertical else '; the vertical one is ignored'}); "
+        "the ground itself is rigid: what gives is the contact of the base on it, as each model says below.",
+    ]
+    lines += [MD.markdown(m) for m in models]
+    if options:
+        lines.append("- Model options of the study (the others at their defaults, docs/studies.md): "
+                     + ", ".join(f"`{k}` = {v:g}" if isinstance(v, (int, float)) else f"`{k}` = {v}"
+                                 for k, v in sorted(options.items())) + ".")
+    lines.append("- The column *overturns* when it reaches the inclination at which its side touches the ground"
+                 + (" (the compliant model: when any of its bodies lies down or falls)" if compliant else "")
+                 + "; the *critical inclination* theta_crit is the static tipping angle (centre of mass above "
+                 "the rim).")
+    states = "- Damage states other than overturning are the peak inclination reaching a fraction of theta_crit"
+    if compliant:
+        states += (" and, for the compliant model, the largest residual slip of a bed joint reaching a fraction of "
+                   "its diameter (`dislocation_s`; a column without bed joints reaches these only by overturning)")
+    lines.append(states + ".")
+    return "\n".join(lines) + "\n"
 
 
 def _fmt(value, digits=3):
@@ -314,8 +339,7 @@ CAPTIONS = (
     ("fragility_overturning", "Probability of overturning against PGA. Lines: fitted curves; markers: the fraction "
      "of runs that overturned at each intensity; shading: the uncertainty that comes from the choice of records."),
     ("fragility_states", "Probability of reaching each damage state: the peak tilt reaching a quarter, half or all "
-     "of the tipping angle theta_crit, overturning and, for columns of drums, the residual slip of a joint reaching "
-     "a fraction of its diameter."),
+     "of the tipping angle theta_crit, and overturning."),
     ("fragility_all_columns", "The overturning curves of all columns side by side."),
     ("median_pga_grid", "Median PGA of overturning (50 % chance) for each column shape; higher means the column "
      "needs stronger shaking to fall."),
@@ -326,12 +350,20 @@ CAPTIONS = (
     ("ida", "Each line follows one record as it is scaled up: the peak tilt as a fraction of the tipping angle; "
      "crosses mark runs in which the column fell."),
     ("angle_polar", "2D analysis: the share of records that topple the column for each direction of shaking "
-     "(solid); dotted rings: the 3D model, which does not depend on the direction."),
+     "(solid)."),
     ("median_2d_vs_3d", "Each point is a column: above the dashed line the 2D analysis needs stronger shaking than "
      "the 3D one to topple it (unconservative)."),
     ("trajectories", "Paths on the ground of chosen runs: the contact point on the rim (blue) and the centre of the "
      "base (orange). Planar rocking would draw a straight line; the rolling (wobbling) column circles."),
 )
+
+
+#: What a figure's caption adds when the study ran a model: (figure prefix, model) -> words.
+CAPTION_MODEL_NOTES = {
+    ("fragility_states", "3d-compliant"): "; for columns of drums, also the residual slip of a joint reaching a "
+    "fraction of its diameter.",
+    ("angle_polar", "3d"): "; dotted rings: the 3D model, which does not depend on the direction.",
+}
 
 
 def _values(results, name):
@@ -416,7 +448,7 @@ def _write_report_into(results, out_dir, pga_levels_g, states, bootstrap, seed, 
     figs += P.plot_fragility(frag, os.path.join(fig_dir, "fragility_overturning"), column=columns[0],
                              states=["overturning"],
                              title=f"Probability of overturning, column '{columns[0]}'"
-                             + (": 3D (solid) and 2D (dashed)" if len(models) > 1 else ""))[:1]
+                             + (f": {P.line_key(models)}" if len(models) > 1 else ""))[:1]
     for c in columns[:1] if grid_like else columns:
         figs += P.plot_fragility(frag, os.path.join(fig_dir, f"fragility_states_{c}"), column=c,
                                  models=[models[0]],
@@ -428,14 +460,14 @@ def _write_report_into(results, out_dir, pga_levels_g, states, bootstrap, seed, 
             med = frag["median"].sel(state="overturning", model=m).values / G
             figs += P.plot_column_grid(
                 frag, med, os.path.join(fig_dir, f"median_pga_grid_{m}"), "median PGA of overturning [g]",
-                f"{P._MODEL_NAME.get(m, m)}: median PGA of overturning [g] (n/a: none overturned up to "
+                f"{MD.title(m)}: median PGA of overturning [g] (n/a: none overturned up to "
                 f"{_fmt(float(results['pga'].max()) / G)} g)", cmap="viridis_r")[:1]
             level = _informative_level(frag, pga_levels_g)
             p = overturning_probabilities(frag, (level,))
             figs += P.plot_column_grid(
                 frag, [p[(c, m)][0] for c in frag["column"].values],
                 os.path.join(fig_dir, f"probability_grid_{m}"), "probability of overturning [1]",
-                f"{P._MODEL_NAME.get(m, m)}: probability of overturning at PGA = {level:g} g "
+                f"{MD.title(m)}: probability of overturning at PGA = {level:g} g "
                 f"({_fmt(level * G)} m/s²)", vmin=0, vmax=1)[:1]
         if "3d" in models and "2d" in models:
             ratio = (frag["median"].sel(state="overturning", model="2d")
@@ -451,7 +483,7 @@ def _write_report_into(results, out_dir, pga_levels_g, states, bootstrap, seed, 
         view = F.ida(results, im="pga", model=m, column=columns[0])
         figs += P.plot_ida(view, os.path.join(fig_dir, f"ida_{columns[0]}_{m}"),
                            title=f"IDA, column '{columns[0]}', {m.upper()} model"
-                           + (" (largest over incidence angles)" if m == "2d" else ""))[:1]
+                           + ("" if MD.describe(m).angle_invariant else " (largest over incidence angles)"))[:1]
     if "2d" in models and results.sizes["angle"] > 1:
         figs += P.plot_angle_polar(results, os.path.join(fig_dir, f"angle_polar_{columns[0]}"), columns[0])[:1]
     comparison = model_comparison(results, frag, pga_levels_g)
@@ -601,8 +633,10 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
                  (f" from {len(quakes)} earthquake(s): {', '.join(quakes)}" if quakes else "") +
                  (f" (ids {records[0]} ... {records[-1]})" if len(records) > 1 else f" ({records[0]})") + ".")
     angles = results["angle"].values
+    invariant = [m.upper() for m in models if MD.describe(m).angle_invariant]
     lines.append(f"- **{n['angle']} incidence angle(s)**: {', '.join(_fmt(a) for a in angles)} deg "
-                 "(the direction in which the record hits the column; the 3D results do not depend on it).")
+                 "(the direction in which the record hits the column" +
+                 (f"; the {' and '.join(invariant)} results do not depend on it" if invariant else "") + ").")
     scale_units = results["scale"].attrs.get("units", "1")
     scale_text = ", ".join(_fmt(s) for s in results["scale"].values)
     if scale_units in ("1", ""):
@@ -616,26 +650,24 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
     pga = results["pga"]
     lines.append(f"- PGA (peak ground acceleration of the scaled record) ranges from {_g_and_ms2(float(pga.min()))} "
                  f"to {_g_and_ms2(float(pga.max()))}.")
-    lines.append(f"- **Model(s)**: {', '.join(P._MODEL_NAME.get(m, m) for m in models)}.")
+    lines.append(f"- **Model(s)**: {', '.join(f'{MD.title(m)} (`{m}`)' for m in models)}.")
     lines.append(f"- {n_total} simulations in the dataset, {n_failed} failed and left out.")
-    for flag, what in (("sliding_onset", "the friction needed exceeded the friction coefficient (the base would "
-                        "have started to slide; the model does not follow sliding)"),
-                       ("lift_off", "the contact force fell below zero (the column would have jumped)")):
+    for flag in ("sliding_onset", "lift_off"):  # each model says what its flag counts (model_descriptions)
         if flag in results.variables:
             for m in models:
                 one = results.sel(model=m)
                 ok = F._valid(one)
-                if m == "3d":
+                if MD.describe(m).angle_invariant:  # one run per angle set, broadcast
                     one, ok = one.isel(angle=[0]), ok.isel(angle=[0])
                 count = int(((one[flag] > 0) & ok).sum())
-                lines.append(f"- {m.upper()}: in {count} of {int(ok.sum())} runs {what}.")
-    lines += ["", "## Assumptions of the model", ""]
-    damping = results.attrs.get("damping", 0)
+                lines.append(f"- {m.upper()}: in {count} of {int(ok.sum())} runs {getattr(MD.describe(m), flag)}.")
+    lines += ["", "## Assumptions of the models" if len(models) > 1 else "## Assumptions of the model", ""]
     try:  # the study runner records the model options as JSON
-        damping = json.loads(results.attrs.get("model_options", "{}")).get("damping", damping)
+        options = json.loads(results.attrs.get("model_options", "{}"))
     except (TypeError, ValueError):
-        pass
-    lines.append(ASSUMPTIONS.format(vertical=" and the vertical one where recorded", damping=damping, cite=CITE))
+        options = {}
+    lines.append(assumptions(models, vertical=results.attrs.get("vertical_component", "used") != "ignored",
+                             options=options))
 
     lines += ["## Probability of overturning", ""]
     lines.append("Fitted lognormal fragility curves (maximum likelihood, Baker 2015) give the probability that "
@@ -743,13 +775,13 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
         name = stem.replace("_", " ")
         lines += [f"![{name}]({image(path)})", ""]
         caption = next((text for prefix, text in CAPTIONS if stem.startswith(prefix)), None)
+        for (prefix, model), more in CAPTION_MODEL_NOTES.items():  # only what the models run draw
+            if caption and stem.startswith(prefix) and model in models:
+                caption = caption[:-1] + more
         if caption:
             lines += [f"*{caption}*", ""]
-    lines += ["## References", "",
-              f"- {REFERENCE} (the 3D model).",
-              "- Housner G.W. (1963), The behavior of inverted pendulum structures during earthquakes, Bulletin of "
-              "the Seismological Society of America 53(2), 403-417 (the 2D model).",
-              "- Baker J.W. (2015), Efficient analytical fragility function fitting using dynamic structural "
+    lines += ["## References", ""] + [f"- {MD.describe(m).reference}." for m in models if MD.describe(m).reference]
+    lines += ["- Baker J.W. (2015), Efficient analytical fragility function fitting using dynamic structural "
               "analysis data, Earthquake Spectra 31(1), 579-599 (the fit).", ""]
     lines += ["## Files", "",
               "- `report.html`: this report in one file, figures included (opens in any browser, can be mailed).",

@@ -179,7 +179,8 @@ def report_damping():
                                         title=f"Column '{c}' (h/R = {float(frags['0']['slenderness'].sel(column=c)):g}), "
                                         "3D: probability of overturning for three contact dampings ν")[:1]
     lines = ["# Sensitivity of the 3D fragility to the contact damping ν", "",
-             "The 3D model's only dissipation besides the landings is an optional viscous contact couple "
+             "Besides the landings, friction (sliding and slip) and the contact patch's dashpots, the 3D model "
+             "dissipates through an optional viscous contact couple "
              "(`ModelSettings.damping` = ν, per m g R sqrt(R/g)). Three runs of one study differ only in ν "
              "(`damping_nu0.toml`, `damping_nu002.toml`, `damping_nu01.toml`): four columns (R = 0.5 m, r/R = 0.8, "
              f"h/R = 6, 8, 10, 12; `{PAPER}` is the paper's column) under the 22 FEMA P695 far-field pairs at "

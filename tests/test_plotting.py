@@ -47,7 +47,7 @@ def test_nothing_is_drawn_after_overturning(overturning):
 def test_title_names_record_angle_and_scale(overturning):
     fig = response_figure(overturning.histories, overturning.summary)
     title = fig._suptitle.get_text()
-    assert title.startswith("pulse at 30°, × 2, 3D rolling, column R = 0.5 m")
+    assert title.startswith("pulse at 30°, × 2, 3D rolling frustum, column R = 0.5 m")
     assert "(overturned)" in title
     plt.close(fig)
 
@@ -58,7 +58,7 @@ def test_free_motion_has_no_empty_excitation_panel():
     assert len(fig.axes) == 3
     assert all(ax.lines for ax in fig.axes)
     assert "Excitation" not in [ax.get_title() for ax in fig.axes]
-    assert fig._suptitle.get_text().startswith("free motion, 3D rolling")
+    assert fig._suptitle.get_text().startswith("free motion, 3D rolling frustum")
     plt.close(fig)
 
 
