@@ -85,7 +85,9 @@ VARIABLES = {
     "normal_force_hat": Var("1", "normal contact force per weight m g"),
     "tangential_force": Var("N", "magnitude of the tangential contact force"),
     "tangential_force_hat": Var("1", "magnitude of the tangential contact force per weight m g"),
-    "mu_mob": Var("1", "mobilized friction coefficient |F_t|/N"),
+    "mu_mob": Var("1", "mobilized friction coefficient |F_t|/N (3d-compliant: N is the joint's elastic normal "
+                       "force, the one its friction cap mu N uses, so mu_mob never exceeds mu; the dashpot's share "
+                       "of N is left out)"),
     "slip_velocity": Var("m s-1", "speed of the sliding base or rim point relative to the ground"),
     "ground_acc_x": Var("m s-2", "ground acceleration, X component"),
     "ground_acc_y": Var("m s-2", "ground acceleration, Y component"),
@@ -111,7 +113,8 @@ VARIABLES = {
     "overturn_time": Var("s", "time of overturning (NaN if the column stands)"),
     "uplift_time": Var("s", "time of the first uplift (NaN if the base never leaves the ground)"),
     "n_impacts": Var("1", "number of landings (impacts of the base on the ground)"),
-    "peak_mu_mob": Var("1", "peak mobilized friction coefficient |F_t|/N while in contact"),
+    "peak_mu_mob": Var("1", "peak mobilized friction coefficient |F_t|/N while in contact (3d-compliant: N "
+                            "elastic, as for mu_mob; never above the friction coefficient)"),
     "min_normal_force_hat": Var("1", "lowest normal contact force per weight m g while in contact"),
     "sliding_time": Var("s", "time the base or the rim first slides (NaN if it never does)"),
     "lift_off_time": Var("s", "time the column first lifts off into flight (NaN if it never does)"),

@@ -64,8 +64,11 @@ W_R, W_OM, W_F, W_T = 0, 9, 12, 15
 N_WORK = 18
 
 # Columns of the per-joint monitor (params[7]).
-(M_NORMAL, M_TX, M_TY, M_COP_BX, M_COP_BY, M_COP_X, M_COP_Y, M_AREA, M_ELASTIC) = range(9)
-N_MON = 9
+# M_NORMAL_EL: the elastic part of the normal force, which the friction cap uses: the mobilised
+# friction |F_t| / N_el never exceeds mu (the dashpot's part of N would let a separating
+# joint's ratio pass it).
+(M_NORMAL, M_TX, M_TY, M_COP_BX, M_COP_BY, M_COP_X, M_COP_Y, M_AREA, M_ELASTIC, M_NORMAL_EL) = range(10)
+N_MON = 10
 
 # Summary of a run.
 (S_STATUS, S_PEAK_THETA, S_PEAK_TIME, S_OVERTURN_TIME, S_OVERTURN_BODY, S_NFEV, S_STEPS,
@@ -278,6 +281,7 @@ def _contacts(y, params, dydt, rates, monitor):
                 slip_rate += area * lam
             if monitor:
                 mon[j, M_NORMAL] += f_n
+                mon[j, M_NORMAL_EL] += f_el
                 mon[j, M_TX] += fx
                 mon[j, M_TY] += fy
                 mon[j, M_COP_BX] += f_n * points[p, P_X]
@@ -493,8 +497,8 @@ def _monitor(t, y, params, theta_commit, summary, body_stats, joint_stats, joint
             joint_stats[j, JS_FLIGHT_TIME] = t
         if mon[j, M_AREA] < joint_stats[j, JS_MIN_AREA]:
             joint_stats[j, JS_MIN_AREA] = mon[j, M_AREA]
-        if normal > 0.0:
-            mu_mob = tangential / normal
+        if normal > 0.0 and mon[j, M_NORMAL_EL] > 0.0:
+            mu_mob = tangential / mon[j, M_NORMAL_EL]
             if mu_mob > joint_stats[j, JS_PEAK_MU]:
                 joint_stats[j, JS_PEAK_MU] = mu_mob
             if mu_mob >= SLIDE_FRACTION * joints[j, J_MU] and math.isnan(joint_stats[j, JS_SLIDE_TIME]):
@@ -529,7 +533,8 @@ def _history_row(t, y, params, k, hist_y, hist_diag, hist_body, body_stats, y0, 
     ax, ay, az = ground_acceleration(t, record, dt)
     hist_diag[k, D_NORMAL] = normal
     hist_diag[k, D_TANGENTIAL] = tangential
-    hist_diag[k, D_MU] = tangential / normal if normal > 0.0 else math.nan
+    elastic = mon[0, M_NORMAL_EL]
+    hist_diag[k, D_MU] = tangential / elastic if normal > 0.0 and elastic > 0.0 else math.nan
     hist_diag[k, D_COP_X] = mon[0, M_COP_X] if normal > 0.0 else math.nan
     hist_diag[k, D_COP_Y] = mon[0, M_COP_Y] if normal > 0.0 else math.nan
     hist_diag[k, D_AREA] = mon[0, M_AREA]
