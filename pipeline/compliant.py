@@ -16,6 +16,7 @@ from scipy.optimize import brentq
 
 from pipeline.drums import DrumColumn
 from pipeline.dynamics import joint as jl
+from pipeline.dynamics import semi_implicit as si
 from pipeline.dynamics import stack as sk
 from pipeline.errors import InputError
 from pipeline.geometry import Column
@@ -31,7 +32,17 @@ CONTACT_SECTORS = 24  # points per ring
 # edge_band: width of the band past a face's edge over which a point's support runs off
 # (:func:`pipeline.dynamics.joint.overlap`), in spacings of the two outer rings of contact
 # points [1]. Only a drum tilting or sliding over the edge of the one below meets it.
-NUMERICS = {"edge_band": 0.5}
+# step_safety: the fixed step of the semi-implicit integrator as a fraction of its stability
+# limit 2 / omega_max on the stiffest joint mode (:mod:`pipeline.dynamics.semi_implicit`) [1].
+NUMERICS = {"edge_band": 0.5, "step_safety": si.SAFETY}
+# the range each numerical choice may take, and what it is
+_NUMERICS_RANGES = {
+    "edge_band": (0.05, 5.0, "width of the band past a face's edge, in spacings of the outer rings of contact points"),
+    "step_safety": (0.01, 1.0, "fixed step as a fraction of the stability limit of the stiffest joint"),
+}
+# Integrators of the compliant models: the fixed-step semi-implicit one (default) and the
+# adaptive ones it is checked against.
+INTEGRATORS = ("semi-implicit",) + tuple(sk.METHODS)
 
 
 @dataclass(frozen=True)
@@ -239,9 +250,16 @@ def check_settings(settings):
     """
     for name, (lo, hi, unit, what) in _RANGES.items():
         object.__setattr__(settings, name, _number(getattr(settings, name), name, lo, hi, unit, what))
-    if settings.integrator not in sk.METHODS:
-        raise InputError(f"integrator = {settings.integrator!r} is unknown; choose one of {', '.join(sk.METHODS)} "
-                         "(dopri5, the default, is the faster on the joint law's kinks; dop853 the reference)")
+    if settings.integrator not in INTEGRATORS:
+        raise InputError(f"integrator = {settings.integrator!r} is unknown; choose one of {', '.join(INTEGRATORS)} "
+                         "(semi-implicit, the default, takes fixed steps; dopri5 is the adaptive reference, "
+                         "dop853 the one before it)")
+    if settings.step is not None:
+        object.__setattr__(settings, "step", _number(settings.step, "step", 1e-7, 0.01, "s",
+                                                     "fixed step of the semi-implicit integrator"))
+        if settings.integrator != "semi-implicit":
+            raise InputError(f"step = {settings.step:g} s is the fixed step of the semi-implicit integrator; "
+                             f"integrator = {settings.integrator!r} chooses its own steps (set rtol/atol instead)")
     _whole(settings, "contact_rings", 2, 8)
     _whole(settings, "contact_sectors", 4, 256, even=True)
     if settings.joint_stiffness is not None:
@@ -259,8 +277,7 @@ def check_settings(settings):
             if name not in NUMERICS:
                 raise InputError(f"numerics: {name!r} is not a numerical choice of the compliant model; "
                                  f"choose from {', '.join(NUMERICS)}")
-            _number(value, f"numerics: {name}", 0.05, 5.0, "", "width of the band past a face's edge, in "
-                    "spacings of the outer rings of contact points")
+            _number(value, f"numerics: {name}", *_NUMERICS_RANGES[name][:2], "", _NUMERICS_RANGES[name][2])
         # the rigid models also take an infinite stiffness and friction (the paper's point contact
         # rolling without slip); the joints of contact points need finite ones
         _number(settings.normal_stiffness, "normal_stiffness", *_STIFFNESS)
@@ -290,13 +307,23 @@ def critical_damping(column, settings):
     return 2.0 * math.sqrt(settings.normal_stiffness * mass / area)
 
 
-def released_state(asm, params, theta):
+def rest_state(params, settings):
+    """The upright state of static equilibrium (:func:`pipeline.dynamics.stack.rest_state`),
+    with the bodies' weights set to the joints' net forces as the settings' integrator sums
+    them, so that a column left alone stays exactly still under either."""
+    y = sk.rest_state(params)
+    if settings.integrator == "semi-implicit":
+        si.set_static_weights(y, 1.0, params, si.make_scratch(params[0].shape[0], params[1].shape[0]))
+    return y
+
+
+def released_state(asm, params, theta, settings):
     """A monolith tilted by theta [rad] towards +x, still, on its rim point at (R, 0).
 
     The pivot point is pressed in by the whole weight (its static penetration); the rest of
     the base is in the air.
     """
-    y = sk.rest_state(params)
+    y = rest_state(params, settings)
     bodies = params[0]
     q = (math.cos(0.5 * theta), 0.0, math.sin(0.5 * theta), 0.0)
     rot = np.empty(9)
@@ -341,11 +368,10 @@ def planar_restitution(column, settings, damping, amplitude=RELEASE_TILT):
     params = asm.params()
     alpha = outline.critical_tilt
     theta0 = amplitude * alpha
-    y0 = released_state(asm, params, theta0)
+    y0 = released_state(asm, params, theta0, settings)
     # the rigid column falls in (1/p) acosh(alpha / (alpha - theta0)) (linearised rocking)
     fall = math.acosh(alpha / (alpha - theta0)) / outline.frequency_parameter()
-    tilt, _raw = _run_free(asm, params, y0, 2.6 * fall, monitor=min(2e-4, fall / 200.0),
-                           integrator=settings.integrator)
+    tilt, _raw = _run_free(asm, params, y0, 2.6 * fall, monitor=min(2e-4, fall / 200.0), settings=settings)
     low = int(np.argmax(tilt < 0.5 * theta0))
     bottom = low + int(np.argmax(np.diff(tilt[low:]) > 0.0))
     top = bottom + int(np.argmax(np.diff(tilt[bottom:]) < 0.0))
@@ -363,10 +389,16 @@ def _parabola_peak(three):
     return b if curv >= 0.0 else b - 0.125 * (c - a) ** 2 / curv
 
 
-def _run_free(asm, params, y0, duration, monitor, integrator="dopri5"):
-    """Run without ground motion; the top body's tilt every ``monitor`` seconds, and the raw run."""
-    raw = _integrate(asm, params, y0, duration, monitor, 1, rtol=1e-9, atol=1e-12, histories=True,
-                     integrator=integrator)
+def _run_free(asm, params, y0, duration, monitor, settings):
+    """Run without ground motion; the top body's tilt every ``monitor`` seconds, and the raw run.
+
+    The adaptive integrators run at rtol 1e-9, atol 1e-12 whatever the settings say; the
+    fixed-step one at the settings' step (the calibration then matches the discrete model).
+    """
+    from dataclasses import replace
+
+    raw = _integrate(asm, params, y0, duration, monitor, 1, replace(settings, rtol=1e-9, atol=1e-12),
+                     histories=True)
     return raw.hist_body[:, -1, sk.H_TILT], raw
 
 
@@ -389,7 +421,7 @@ def _calibrated(outline, settings_key, target):
 
 
 _CALIBRATION_FIELDS = ("normal_stiffness", "stiffness_ratio", "friction", "contact_rings", "contact_sectors",
-                       "base_anathyrosis", "integrator")
+                       "base_anathyrosis", "integrator", "step", "numerics")
 
 
 def _settings_key(settings):
@@ -452,18 +484,50 @@ class _Raw:
     joint_committed: np.ndarray
     y0: np.ndarray
     y_end: np.ndarray
+    step: float = math.nan  # fixed step [s] (semi-implicit), NaN for the adaptive integrators
 
 
-def _integrate(asm, params, y0, duration, monitor, stride, rtol, atol, histories, theta_commit=math.inf,
-               integrator="dopri5"):
+def fixed_step(asm, params, y, settings):
+    """The semi-implicit integrator's step for a column [s], and its stability limit [s].
+
+    The limit is ``2 / omega_max`` of the stiffest joint mode in the state y
+    (:func:`pipeline.dynamics.semi_implicit.stiffest_frequency`); the step is
+    ``settings.step`` if given (refused if above the limit), else ``step_safety`` times the limit.
+
+    Raises
+    ------
+    InputError
+        A given step above the stability limit, before anything is computed.
+    """
+    limit = 2.0 / si.stiffest_frequency(params, y) * asm.time
+    if settings.step is not None:
+        if settings.step > limit:
+            raise InputError(
+                f"step = {settings.step:g} s is above the stability limit {limit:.3g} s of the semi-implicit "
+                f"integrator for this column (2 / omega of its stiffest joint, k_n = {settings.normal_stiffness:g} "
+                f"Pa/m): give a step of at most {limit:.3g} s, or omit step for {numerics(settings)['step_safety']:g} "
+                "of the limit")
+        return float(settings.step), limit
+    return numerics(settings)["step_safety"] * limit, limit
+
+
+def numerics(settings):
+    """The compliant model's numerical choices: :data:`NUMERICS` with the settings' overrides."""
+    return {**NUMERICS, **dict(settings.numerics)}
+
+
+def _integrate(asm, params, y0, duration, monitor, stride, settings, histories, theta_commit=math.inf,
+               step=None, progress=None):
     """Run the kernel for ``duration`` [s], monitoring every ``monitor`` [s]; history every ``stride``.
 
-    ``integrator``: ``"dopri5"`` or ``"dop853"`` (:data:`pipeline.dynamics.stack.METHODS`).
+    The integrator, its tolerances (adaptive) or step (fixed) come from ``settings``; ``step`` [s]
+    overrides the fixed step. ``progress(done, total)`` [s], if given, is called as the run
+    goes on (the fixed-step integrator runs in pieces for it; the result is the same).
     """
     n_bodies = asm.n_bodies
-    step = monitor / asm.time
+    dtau = monitor / asm.time
     m = int(math.ceil(duration / monitor - 1e-9)) + 1
-    t_mon = np.arange(m) * step
+    t_mon = np.arange(m) * dtau
     n_hist = (m - 1) // stride + 1 if histories else 0
     raw = _Raw(
         t_mon=t_mon, stride=stride,
@@ -473,11 +537,31 @@ def _integrate(asm, params, y0, duration, monitor, stride, rtol, atol, histories
         summary=np.zeros(sk.N_SUMMARY), body_stats=np.zeros((n_bodies, sk.N_BODY_STATS)),
         joint_stats=np.zeros((n_bodies, sk.N_JOINT_STATS)), joint_committed=np.zeros((n_bodies, sk.N_JOINT_STATS)),
         y0=y0, y_end=np.zeros_like(y0))
+    if settings.integrator == "semi-implicit":
+        if step is None:
+            step = fixed_step(asm, params, y0, settings)[0]
+        per_monitor = max(1, int(math.ceil(monitor / step - 1e-9)))
+        raw.step = monitor / per_monitor
+        y = y0.copy()
+        scratch = si.make_scratch(n_bodies, asm.points.shape[0])
+        # pieces of about a second of motion (a progress line; the same result as one piece)
+        piece = max(1, int(round(1.0 / monitor))) if progress is not None else m
+        k = 0
+        while k < m:
+            k = si.run(params, y, t_mon, k, min(m, max(k, 1) + piece), per_monitor, stride, theta_commit,
+                       raw.hist_y, raw.hist_diag, raw.hist_body, raw.summary, raw.body_stats, raw.joint_stats,
+                       raw.joint_committed, y0, scratch)
+            if progress is not None:
+                progress(min(k, m - 1) * monitor, (m - 1) * monitor)
+        raw.summary[sk.S_ENERGY_END] = sk.energy(y, params)
+        raw.y_end[:] = y
+        return raw
     record, dt = params[4], params[5]
     breaks = np.arange(record.shape[0]) * dt  # kinks of the linearly interpolated record
-    sk.run(params, y0, t_mon, stride, breaks, rtol, np.full(y0.shape[0], atol), np.inf,
+    atol = np.full(y0.shape[0], settings.atol)
+    sk.run(params, y0, t_mon, stride, breaks, settings.rtol, atol, np.inf,
            np.ones(2 * n_bodies), theta_commit, raw.hist_y, raw.hist_diag, raw.hist_body, raw.summary,
-           raw.body_stats, raw.joint_stats, raw.joint_committed, raw.y_end, sk.METHODS[integrator])
+           raw.body_stats, raw.joint_stats, raw.joint_committed, raw.y_end, sk.METHODS[settings.integrator])
     if raw.summary[sk.S_STATUS] < 0:
         raise RuntimeError(
             f"integration failed at t = {raw.summary[sk.S_END_TIME] * asm.time:.6g} s "
@@ -501,11 +585,12 @@ def turned_record(motion, excitation):
     return np.ascontiguousarray(np.stack([c * ax - s * ay, s * ax + c * ay, az], axis=1) / G)
 
 
-def simulate_compliant(column, motion, excitation, settings, histories=True):
+def simulate_compliant(column, motion, excitation, settings, histories=True, progress=None):
     """Response of a column at rest (monolith or drums) to a ground motion, compliant contact.
 
     The friendly entry of :func:`pipeline.simulate.simulate` for ``model="3d-compliant"``;
-    same arguments and the same :class:`pipeline.simulate.Response`.
+    same arguments and the same :class:`pipeline.simulate.Response`. ``progress(done, total)``
+    [s of motion], if given, is called about every simulated second (fixed-step integrator).
     """
     from pipeline.simulate import COMPLIANT_MODELS, Excitation, Response, check_column
 
@@ -516,18 +601,25 @@ def simulate_compliant(column, motion, excitation, settings, histories=True):
     check_column(stack.column)
     if not isinstance(excitation, Excitation):
         raise InputError(f"excitation must be an Excitation, got {type(excitation).__name__}")
+    step = limit = math.nan
+    if settings.integrator == "semi-implicit":  # an unstable step is refused before any computing
+        probe = assemble(stack, settings, 0.0)
+        probe_params = probe.params()
+        step, limit = fixed_step(probe, probe_params, sk.rest_state(probe_params), settings)
     if settings.contact_damping is None:
         damping, restitution = calibrated_damping(stack, settings)
     else:
         damping, restitution = settings.contact_damping, math.nan
     asm = assemble(stack, settings, damping)
     params = asm.params(turned_record(motion, excitation), motion.dt / asm.time)
-    y0 = sk.rest_state(params)
+    y0 = rest_state(params, settings)
     stride = max(1, int(math.ceil(settings.output_step / settings.monitor_step - 1e-9)))
     raw = _integrate(asm, params, y0, motion.duration + settings.tail, settings.output_step / stride, stride,
-                     settings.rtol, settings.atol, histories, stack.column.critical_tilt, settings.integrator)
+                     settings, histories, stack.column.critical_tilt,
+                     step=None if math.isnan(step) else step, progress=progress)
     summary = _summary(stack, asm, params, settings, raw, damping, restitution)
-    summary.update(record_id=motion.record_id, angle=float(excitation.angle), scale=float(excitation.scale))
+    summary.update(record_id=motion.record_id, angle=float(excitation.angle), scale=float(excitation.scale),
+                   step=float(raw.step), step_limit=float(limit))
     ds = _histories(stack, asm, settings, raw, motion, excitation, damping) if histories else None
     return Response(summary, ds, np.empty((0, 4)))
 
@@ -755,8 +847,9 @@ def _histories(stack, asm, settings, raw, motion, excitation, damping):
         contact_damping_Pa_s_m=damping,
         contact_points=f"{settings.contact_rings} Gauss-Lobatto rings x {settings.contact_sectors} sectors",
         friction=settings.friction,
-        rtol=settings.rtol,
-        atol=settings.atol,
+        integrator=settings.integrator,
+        **({"step_s": raw.step} if settings.integrator == "semi-implicit" else
+           {"rtol": settings.rtol, "atol": settings.atol}),
         record_id=motion.record_id,
         record_sha256=motion.sha256(),
         incidence_angle_rad=excitation.angle_rad,

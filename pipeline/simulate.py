@@ -141,19 +141,25 @@ class ModelSettings:
         ``min_rebound``, ``slave_time``, ``look_ahead``, ``slaved_turn``), for studies that
         show no result depends on them; e.g. ``(("slave_time", 1e-5),)``. With
         ``"3d-compliant"``, overrides of :data:`pipeline.compliant.NUMERICS` instead
-        (``edge_band``).
+        (``edge_band``, ``step_safety``).
     tail : float
         Free motion after the record ends [s].
     rtol, atol : float
         Integration tolerances (dimensionless state).
     output_step : float
         Sampling interval of the time histories [s].
-    integrator : {"dopri5", "dop853"}
-        Integrator of the compliant-contact model: DOPRI5 (default), whose
-        low order suits the kinks of the joint law (~3x fewer right-hand
-        sides on drum stacks), or the DOP853 it replaced, kept as the
-        reference (:mod:`pipeline.dynamics.dopri5`). The rigid models
-        always use DOP853.
+    integrator : {"semi-implicit", "dopri5", "dop853"}
+        Integrator of the compliant-contact model: fixed steps of the
+        semi-implicit scheme of DEM codes (default; springs explicit,
+        dashpots implicit, friction by return to the Coulomb cone:
+        :mod:`pipeline.dynamics.semi_implicit`), or the adaptive DOPRI5 it
+        is checked against (``rtol``, ``atol``), or DOP853 before it
+        (:mod:`pipeline.dynamics.dopri5`). The rigid models always use DOP853.
+    step : float or None
+        Fixed step of the semi-implicit integrator [s]; None: ``step_safety``
+        (``numerics``, default 0.5) times the stability limit ``2 / omega_max``
+        of the stiffest joint mode, then shortened to divide ``monitor_step``.
+        A step above the stability limit is refused before computing.
     joint_stiffness, stiffness_ratio, contact_rings, contact_sectors, joint_friction, \
 anathyrosis, base_anathyrosis, monitor_step
         Options of the compliant-contact model ``"3d-compliant"`` (there
@@ -183,7 +189,8 @@ anathyrosis, base_anathyrosis, monitor_step
     anathyrosis: float | tuple = 0.0
     base_anathyrosis: float = 0.0
     monitor_step: float = 0.001
-    integrator: str = "dopri5"
+    integrator: str = "semi-implicit"
+    step: float | None = None
 
     def __post_init__(self):
         if self.model not in MODELS:
@@ -368,7 +375,7 @@ def patch_parameters(column, settings):
     return mass * G / (kn * area * column.R), damping * column.R**3 / (mass * math.sqrt(G * column.R))
 
 
-def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), histories=True):
+def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), histories=True, progress=None):
     """Response of a column at rest to a ground motion.
 
     Parameters
@@ -381,6 +388,9 @@ def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), 
     settings : ModelSettings
     histories : bool
         Also return the time histories (a Dataset); False is faster for studies.
+    progress : callable, optional
+        ``progress(done, total)`` [s of motion], called about every simulated second by the
+        compliant model's fixed-step integrator (a progress line for long drum stacks).
 
     Returns
     -------
@@ -389,7 +399,7 @@ def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), 
     if settings.model in COMPLIANT_MODELS or not isinstance(column, Column):
         from pipeline.compliant import simulate_compliant
 
-        return simulate_compliant(column, motion, excitation, settings, histories)
+        return simulate_compliant(column, motion, excitation, settings, histories, progress=progress)
     check_column(column)
     if not isinstance(excitation, Excitation):
         raise InputError(f"excitation must be an Excitation, got {type(excitation).__name__}")

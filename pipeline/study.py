@@ -86,7 +86,9 @@ _OPTIONS = {"restitution", "contact_tilt", "damping", "friction", "tail", "rtol"
             # the joints of contact points (normal_stiffness and contact_damping also set the rigid
             # models' contact patch; the others only the compliant model, models = ["3d-compliant"])
             "normal_stiffness", "joint_stiffness", "stiffness_ratio", "contact_damping", "contact_rings",
-            "contact_sectors", "joint_friction", "anathyrosis", "base_anathyrosis", "monitor_step"}
+            "contact_sectors", "joint_friction", "anathyrosis", "base_anathyrosis", "monitor_step",
+            # the compliant model's integrator: its name, and the fixed step of the semi-implicit one
+            "integrator", "step"}
 _EXECUTION = {"block_columns"}
 _GENERATORS = ("one_sine_pulse", "cycloidal_pulse", "rectangular_pulse", "ricker_wavelet",
                "mavroeidis_papageorgiou", "harmonic", "kanai_tajimi", "clough_penzien")
@@ -440,6 +442,11 @@ def parse_study(data, path="<study>", digest=""):
     for key, value in options.items():
         if key == "restitution":
             ck.number(value, "options.restitution", lo=0.0, hi=1.0)
+        elif key == "integrator":
+            from pipeline.compliant import INTEGRATORS
+
+            if value not in INTEGRATORS:
+                ck.fail("options.integrator", f"{value!r} is unknown; choose one of {', '.join(INTEGRATORS)}")
         elif key in ("rtol", "atol"):
             try:
                 check_tolerance(key, value, "value")
@@ -447,7 +454,7 @@ def parse_study(data, path="<study>", digest=""):
                 ck.fail(f"options.{key}", str(exc))
         else:
             ck.number(value, f"options.{key}")
-    options = tuple(sorted((k, float(v)) for k, v in options.items()))
+    options = tuple(sorted((k, v if k == "integrator" else float(v)) for k, v in options.items()))
     for m in models:
         try:
             ModelSettings(model=m, **dict(options))

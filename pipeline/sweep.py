@@ -634,10 +634,13 @@ def checkpoint_key(study, motions, tasks):
 # -- progress ------------------------------------------------------------------------------------
 
 class Progress:
-    """A text progress bar on stderr: finished tasks, elapsed time and ETA (a line every 5 s when not a terminal)."""
+    """A text progress bar on stderr: work done, elapsed time and ETA (a line every 5 s when not a terminal).
 
-    def __init__(self, total, done=0, stream=None, enabled=True, width=30):
-        self.total, self.done, self.width = total, done, width
+    ``unit`` names what is counted (finished tasks; seconds of motion for a single long run).
+    """
+
+    def __init__(self, total, done=0, stream=None, enabled=True, width=30, unit="tasks"):
+        self.total, self.done, self.width, self.unit = total, done, width, unit
         self.stream = stream or sys.stderr
         self.enabled = enabled
         self.start = time.monotonic()
@@ -648,6 +651,11 @@ class Progress:
 
     def advance(self, n=1):
         self.done += n
+        self.show()
+
+    def update(self, done):
+        """Set the work done so far (a run that reports its own progress)."""
+        self.done = done
         self.show()
 
     def restart(self):
@@ -668,7 +676,7 @@ class Progress:
         new = self.done - self.first
         eta = elapsed / new * (self.total - self.done) if new else math.nan
         bar = "#" * int(round(frac * self.width))
-        text = (f"[{bar:<{self.width}}] {self.done}/{self.total} tasks {100 * frac:5.1f}% "
+        text = (f"[{bar:<{self.width}}] {self.done:g}/{self.total:g} {self.unit} {100 * frac:5.1f}% "
                 f"elapsed {elapsed:6.1f} s" + (f" eta {eta:6.1f} s" if math.isfinite(eta) else ""))
         self.stream.write(("\r" + text) if self.tty else text + "\n")
         if self.tty and self.done == self.total:

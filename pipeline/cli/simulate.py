@@ -90,6 +90,12 @@ def register(subparsers):
                         help="normal stiffness of the bed joints per unit area [Pa/m] (default: the base's)")
     joints.add_argument("--anathyrosis", type=float, default=0.0, metavar="RATIO",
                         help="inner/outer radius of the bed joints' contact ring [1] (default 0: full)")
+    joints.add_argument("--integrator", default="semi-implicit", choices=("semi-implicit", "dopri5", "dop853"),
+                        help="semi-implicit: fixed steps, springs explicit, dashpots implicit (default, fast); "
+                        "dopri5: the adaptive reference (--rtol, --atol; drum stacks take minutes)")
+    joints.add_argument("--step", type=float, default=None, metavar="S",
+                        help="fixed step of the semi-implicit integrator [s] (default: half the stability limit "
+                        "of the stiffest joint; a step above the limit is refused)")
     free = p.add_argument_group("initial state (free motion)")
     for name, unit, default, text in [  # noqa: B007
         ("phi0", "deg", 0.0, "precession angle"),
@@ -259,10 +265,27 @@ def _earthquake(args, column, models):
             friction=args.friction, tail=args.tail, rtol=_given(args.rtol, 1e-9), atol=_given(args.atol, 1e-12),
             output_step=args.output_step, normal_stiffness=_given(args.normal_stiffness, 1.0e10),
             joint_stiffness=args.joint_stiffness, joint_friction=args.joint_friction, anathyrosis=args.anathyrosis,
+            **({"integrator": args.integrator, "step": args.step} if model == "3d-compliant" else {}),
         )
-        response = simulate(column, motion, excitation, settings)
+        response = simulate(column, motion, excitation, settings, progress=_progress_line(model, settings))
         runs.append((response.histories, response.summary))
     return runs
+
+
+def _progress_line(model, settings):
+    """A progress line (seconds of motion simulated, ETA) on stderr for the compliant model's runs."""
+    if model != "3d-compliant" or settings.integrator != "semi-implicit":
+        return None
+    from pipeline.sweep import Progress
+
+    bar = []
+
+    def report(done, total):
+        if not bar:
+            bar.append(Progress(total, unit=f"s of motion ({model})"))
+        bar[0].update(done)
+
+    return report
 
 
 def _free(args, column):

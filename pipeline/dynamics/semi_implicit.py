@@ -1,0 +1,926 @@
+"""Fixed-step semi-implicit integrator of the compliant models (monolith and drum stacks).
+
+The integrator of DEM codes (3DEC, PFC) written for the joint law of
+:mod:`pipeline.dynamics.joint` and the bodies of :mod:`pipeline.dynamics.stack`, whose state
+layout, tables, monitor and statistics it shares. One step of size h:
+
+1. **Forces at the configuration q_n** (one evaluation per step): the elastic normal force of
+   every contact point, ``A s k_n d``; its shear spring, returned onto the Coulomb cone first
+   (elastic-perfectly plastic: if ``k_s A |u| > mu f_el`` the state is scaled back to the cone,
+   and the spring energy it loses is booked as friction); the pull of a patch running off an
+   edge; weights and the field ``-m a_g(t_n)``; the gyroscopic couple.
+2. **Velocities, dashpots implicit**: the normal and shear dashpots are linear in the bodies'
+   velocities, so ``(M + h C) V_{n+1} = M V_n + h F`` with C the dashpots' matrix at q_n. C is
+   block-tridiagonal (a joint couples two neighbouring bodies) and is assembled per joint from
+   sums over its points (weights, first and second moments of the lever arms), not per point.
+   The system is solved by a block Cholesky factorisation (6 x 6 blocks). A point whose
+   normal force would pull (``f_el + c_n d' < 0``, the clipped joint) is taken out of the
+   system (no elastic force, no dashpot) and the step solved again (an active set, at most
+   :data:`MAX_PASSES` solves). The shear dashpot of a sticking point gets the share of the
+   joint law that keeps the shear force within the cone, from the velocities at the step's
+   start; a slipping point has none.
+3. **Positions** with the new velocities (symplectic Euler): centres ``c += h v``, orientation
+   by the exact rotation of the body-frame angular velocity over h; shear states
+   ``u += h v_t`` (the relative tangential velocity in the frame of the face below); a spring
+   without normal force relaxes by ``exp(-h / tau)``.
+
+The step is bounded by the springs alone: symplectic Euler is stable for ``h omega < 2`` on
+the stiffest undamped mode. :func:`stiffest_frequency` finds it (the generalised eigenvalue
+of the joints' springs, every point pressed, against the bodies' masses), and the default step
+is :data:`SAFETY` times that limit (``pipeline.compliant``).
+
+Energy is booked with the discrete scheme: work of the field ``-m a_g . v_{n+1} h``, damping
+``h V^T C V`` at the new velocities (plus the elastic energy a clipped point releases without
+work), friction as the spring energy lost in each return to the cone and in the relaxation
+of unloaded springs. What remains of the budget is the scheme's error (first order in h; the
+summary states it).
+
+Kernel layer: dimensionless floats and arrays as in :mod:`pipeline.dynamics.stack`.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from pipeline.dynamics import joint as jl
+from pipeline.dynamics import stack as sk
+from pipeline.dynamics.frustum import ground_acceleration
+
+# Default step as a fraction of the stability limit 2 / omega_max of symplectic Euler on the
+# stiffest spring mode (about 4 % frequency error on that mode, far above the rocking ones).
+SAFETY = 0.5
+# Solves of one step's active set of clipped points at most (one when no point changes).
+MAX_PASSES = 4
+
+# Per-point scratch columns (one row per contact point).
+(Q_RX, Q_RY, Q_RZ, Q_FEL, Q_CN, Q_CT, Q_FX, Q_FY, Q_D, Q_ACTIVE, Q_CONTACT, Q_VTX, Q_VTY,
+ Q_DDOT) = range(14)
+N_Q = 14
+
+
+@njit(cache=True)
+def _cholesky6(a, out):
+    """Lower Cholesky factor of a symmetric positive definite 6 x 6 matrix."""
+    for i in range(6):
+        for j in range(i + 1):
+            s = a[i, j]
+            for k in range(j):
+                s -= out[i, k] * out[j, k]
+            if i == j:
+                out[i, i] = math.sqrt(s)
+            else:
+                out[i, j] = s / out[j, j]
+        for j in range(i + 1, 6):
+            out[i, j] = 0.0
+
+
+@njit(cache=True)
+def _lower_solve(L, b):
+    """Solve L x = b in place (L lower triangular, 6 x 6)."""
+    for i in range(6):
+        s = b[i]
+        for k in range(i):
+            s -= L[i, k] * b[k]
+        b[i] = s / L[i, i]
+
+
+@njit(cache=True)
+def _upper_solve(L, b):
+    """Solve L^T x = b in place."""
+    for i in range(5, -1, -1):
+        s = b[i]
+        for k in range(i + 1, 6):
+            s -= L[k, i] * b[k]
+        b[i] = s / L[i, i]
+
+
+@njit(cache=True)
+def block_tridiagonal_solve(diag, off, rhs, fac, coup, tmp):
+    """Solve a symmetric positive definite block-tridiagonal system in place.
+
+    Parameters
+    ----------
+    diag : float64[n, 6, 6]
+        Diagonal blocks (body b).
+    off : float64[n, 6, 6]
+        ``off[b]`` couples body b (rows) with body b - 1 (columns); ``off[0]`` unused.
+    rhs : float64[n, 6]
+        Right-hand side, overwritten by the solution.
+    fac, coup : float64[n, 6, 6]
+        Scratch: Cholesky factors of the Schur complements and the coupling factors.
+    tmp : float64[6, 6]
+        Scratch.
+    """
+    n = diag.shape[0]
+    for b in range(n):
+        if b == 0:
+            _cholesky6(diag[0], fac[0])
+            _lower_solve(fac[0], rhs[0])
+            continue
+        # coup[b] = off[b] L_{b-1}^{-T}: row by row, solve L_{b-1} x = off[b] row
+        for i in range(6):
+            for k in range(6):
+                tmp[0, k] = off[b, i, k]
+            _lower_solve(fac[b - 1], tmp[0])
+            for k in range(6):
+                coup[b, i, k] = tmp[0, k]
+        for i in range(6):
+            for j in range(i + 1):
+                s = diag[b, i, j]
+                for k in range(6):
+                    s -= coup[b, i, k] * coup[b, j, k]
+                tmp[i, j] = s
+                tmp[j, i] = s
+        _cholesky6(tmp, fac[b])
+        for i in range(6):
+            s = rhs[b, i]
+            for k in range(6):
+                s -= coup[b, i, k] * rhs[b - 1, k]
+            rhs[b, i] = s
+        _lower_solve(fac[b], rhs[b])
+    for b in range(n - 1, -1, -1):
+        if b < n - 1:
+            for i in range(6):
+                s = rhs[b, i]
+                for k in range(6):
+                    s -= coup[b + 1, k, i] * rhs[b + 1, k]
+                rhs[b, i] = s
+        _upper_solve(fac[b], rhs[b])
+
+
+@njit(cache=True)
+def joint_matrix(mom, nx, ny, nz, out):
+    """Dashpot matrix of one joint in the velocities (a, b) of the upper body's centre.
+
+    The relative velocity at a point with lever arm rho from the upper centre is
+    ``g = a + b x rho`` and its dashpot force on the upper body ``-D g`` with
+    ``D = alpha I + beta n n^T`` (alpha the shear coefficient, alpha + beta the normal one, n
+    the normal of the face below). Summed over the points, ``sum H^T D H`` (H = [I, -[rho]x])
+    needs only the moments ``mom``: for alpha and for beta, the sum, the first moment (3) and
+    the second moment (xx, yy, zz, xy, xz, yz) of the lever arms.
+
+    Parameters
+    ----------
+    mom : float64[20]
+        ``[S_a, S_a rho (3), S_a rho rho (6), S_b, S_b rho (3), S_b rho rho (6)]``.
+    nx, ny, nz : float
+        Unit normal of the face below (ground frame).
+    out : float64[6, 6]
+        The matrix, in the order (a, b).
+    """
+    sa = mom[0]
+    ax, ay, az = mom[1], mom[2], mom[3]
+    axx, ayy, azz, axy, axz, ayz = mom[4], mom[5], mom[6], mom[7], mom[8], mom[9]
+    sb = mom[10]
+    bx, by, bz = mom[11], mom[12], mom[13]
+    bxx, byy, bzz, bxy, bxz, byz = mom[14], mom[15], mom[16], mom[17], mom[18], mom[19]
+    n = (nx, ny, nz)
+    # A11 = S_a I + S_b n n^T
+    for i in range(3):
+        for j in range(3):
+            out[i, j] = sb * n[i] * n[j]
+        out[i, i] += sa
+    # A12 = -([S_a rho]x + n n^T [S_b rho]x)
+    # [v]x = [[0, -vz, vy], [vz, 0, -vx], [-vy, vx, 0]]
+    cx = ((0.0, -bz, by), (bz, 0.0, -bx), (-by, bx, 0.0))
+    for i in range(3):
+        for j in range(3):
+            nc = n[0] * cx[0][j] + n[1] * cx[1][j] + n[2] * cx[2][j]  # (n^T [S_b rho]x)_j
+            out[i, 3 + j] = -(n[i] * nc)
+    out[0, 4] += az
+    out[0, 5] -= ay
+    out[1, 3] -= az
+    out[1, 5] += ax
+    out[2, 3] += ay
+    out[2, 4] -= ax
+    for i in range(3):
+        for j in range(3):
+            out[3 + j, i] = out[i, 3 + j]
+    # A22 = tr(Sa_rr) I - Sa_rr + [n]x Sb_rr [n]x^T
+    tr = axx + ayy + azz
+    sarr = ((axx, axy, axz), (axy, ayy, ayz), (axz, ayz, azz))
+    sbrr = ((bxx, bxy, bxz), (bxy, byy, byz), (bxz, byz, bzz))
+    nxm = ((0.0, -nz, ny), (nz, 0.0, -nx), (-ny, nx, 0.0))
+    for i in range(3):
+        for j in range(3):
+            s = 0.0
+            for k in range(3):
+                for m in range(3):
+                    s += nxm[i][k] * sbrr[k][m] * nxm[j][m]
+            out[3 + i, 3 + j] = s - sarr[i][j]
+        out[3 + i, 3 + i] += tr
+
+
+@njit(cache=True)
+def joint_matrix_z(mom, out):
+    """:func:`joint_matrix` with the normal n = e_z (a joint in the frame of its face below),
+    written out: with n = e_z, ``[n]x M [n]x^T = [[M_yy, -M_xy, 0], [-M_xy, M_xx, 0], [0, 0, 0]]``."""
+    sa, ax, ay, az = mom[0], mom[1], mom[2], mom[3]
+    axx, ayy, azz, axy, axz, ayz = mom[4], mom[5], mom[6], mom[7], mom[8], mom[9]
+    sb, bx, by = mom[10], mom[11], mom[12]
+    bxx, byy, bxy = mom[14], mom[15], mom[17]
+    for i in range(6):
+        for k in range(6):
+            out[i, k] = 0.0
+    out[0, 0] = sa
+    out[1, 1] = sa
+    out[2, 2] = sa + sb
+    # A12 = -([S_a rho]x + e_z e_z^T [S_b rho]x)
+    out[0, 4] = az
+    out[0, 5] = -ay
+    out[1, 3] = -az
+    out[1, 5] = ax
+    out[2, 3] = ay + by
+    out[2, 4] = -(ax + bx)
+    for i in range(3):
+        for k in range(3):
+            out[3 + k, i] = out[i, 3 + k]
+    tr = axx + ayy + azz
+    out[3, 3] = tr - axx + byy
+    out[4, 4] = tr - ayy + bxx
+    out[5, 5] = tr - azz
+    out[3, 4] = out[4, 3] = -axy - bxy
+    out[3, 5] = out[5, 3] = -axz
+    out[4, 5] = out[5, 4] = -ayz
+
+
+@njit(cache=True)
+def _add_moments(mom, alpha, beta, rx, ry, rz):
+    mom[0] += alpha
+    mom[1] += alpha * rx
+    mom[2] += alpha * ry
+    mom[3] += alpha * rz
+    mom[4] += alpha * rx * rx
+    mom[5] += alpha * ry * ry
+    mom[6] += alpha * rz * rz
+    mom[7] += alpha * rx * ry
+    mom[8] += alpha * rx * rz
+    mom[9] += alpha * ry * rz
+    mom[10] += beta
+    mom[11] += beta * rx
+    mom[12] += beta * ry
+    mom[13] += beta * rz
+    mom[14] += beta * rx * rx
+    mom[15] += beta * ry * ry
+    mom[16] += beta * rz * rz
+    mom[17] += beta * rx * ry
+    mom[18] += beta * rx * rz
+    mom[19] += beta * ry * rz
+
+
+@njit(cache=True)
+def assemble_system(y, bodies, joint_matrices, h, work, diag, off):
+    """``M + h C`` as blocks (ground-frame velocities and angular velocities of each body).
+
+    ``joint_matrices[j]``: the dashpot matrix of joint j (:func:`joint_matrix`); ``work``
+    holds each body's rotation matrix (:func:`pipeline.dynamics.stack._kinematics`).
+    """
+    n = bodies.shape[0]
+    for b in range(n):
+        R = work[b]
+        m, it, ia = bodies[b, sk.B_MASS], bodies[b, sk.B_IT], bodies[b, sk.B_IA]
+        for i in range(6):
+            for k in range(6):
+                diag[b, i, k] = 0.0
+                off[b, i, k] = 0.0
+        diag[b, 0, 0] = m
+        diag[b, 1, 1] = m
+        diag[b, 2, 2] = m
+        # inertia in the ground frame: it I + (ia - it) a a^T, a the body axis
+        a = (R[2], R[5], R[8])
+        for i in range(3):
+            for k in range(3):
+                diag[b, 3 + i, 3 + k] = (ia - it) * a[i] * a[k]
+            diag[b, 3 + i, 3 + i] += it
+    for j in range(n):
+        K = joint_matrices[j]
+        for i in range(6):
+            for k in range(6):
+                diag[j, i, k] += h * K[i, k]
+        if j == 0:
+            continue
+        # off = h K E, lower diagonal += h E^T K E, with E = [[-I, [e]x], [0, -I]] written out
+        o, lo = sk.NB * j, sk.NB * (j - 1)
+        ex = y[o + sk.X] - y[lo + sk.X]
+        ey = y[o + sk.Y] - y[lo + sk.Y]
+        ez = y[o + sk.Z] - y[lo + sk.Z]
+        KE = off[j]
+        for i in range(6):
+            k0, k1, k2 = K[i, 0], K[i, 1], K[i, 2]
+            KE[i, 0] = -h * k0
+            KE[i, 1] = -h * k1
+            KE[i, 2] = -h * k2
+            # row of K[:, :3] [e]x, less K[:, 3:]
+            KE[i, 3] = h * (k1 * ez - k2 * ey - K[i, 3])
+            KE[i, 4] = h * (k2 * ex - k0 * ez - K[i, 4])
+            KE[i, 5] = h * (k0 * ey - k1 * ex - K[i, 5])
+        D = diag[j - 1]
+        for k in range(6):
+            a0, a1, a2 = KE[0, k], KE[1, k], KE[2, k]
+            D[0, k] -= a0
+            D[1, k] -= a1
+            D[2, k] -= a2
+            # -[e]x (KE)[:3] - (KE)[3:]
+            D[3, k] -= (ey * a2 - ez * a1) + KE[3, k]
+            D[4, k] -= (ez * a0 - ex * a2) + KE[4, k]
+            D[5, k] -= (ex * a1 - ey * a0) + KE[5, k]
+
+
+@njit(cache=True)
+def _joint_frame(y, j, params, frame):
+    """The frame of joint j: the upper body seen from the face below.
+
+    ``frame``: ``P = R_l^T R_u`` (9, row-major) and ``q`` (3), the upper centre in the frame of
+    the face below (origin at its centre), so a point p of the upper body's base (body axes)
+    lies at ``xi = P p + q`` with lever arm ``r = P p`` from the upper centre (both in the
+    frame of the face below). The ground's frame is the reference frame.
+    """
+    bodies, points, joint_start, joints, record, dt, work, mon = params
+    Ru = work[j]
+    o = sk.NB * j
+    if j == 0:
+        for k in range(9):
+            frame[k] = Ru[k]
+        frame[9], frame[10], frame[11] = y[o + sk.X], y[o + sk.Y], y[o + sk.Z]
+        return
+    Rl = work[j - 1]
+    lo = sk.NB * (j - 1)
+    for r in range(3):
+        for c in range(3):
+            frame[3 * r + c] = Rl[r] * Ru[c] + Rl[3 + r] * Ru[3 + c] + Rl[6 + r] * Ru[6 + c]
+    h = bodies[j - 1, sk.B_TOP] - bodies[j - 1, sk.B_ZC]
+    dx = y[o + sk.X] - y[lo + sk.X] - Rl[2] * h
+    dy = y[o + sk.Y] - y[lo + sk.Y] - Rl[5] * h
+    dz = y[o + sk.Z] - y[lo + sk.Z] - Rl[8] * h
+    frame[9] = Rl[0] * dx + Rl[3] * dy + Rl[6] * dz
+    frame[10] = Rl[1] * dx + Rl[4] * dy + Rl[7] * dz
+    frame[11] = Rl[2] * dx + Rl[5] * dy + Rl[8] * dz
+
+
+@njit(cache=True)
+def _relative_motion(Rl, vx, vy, vz, wx, wy, wz, lvx, lvy, lvz, lwx, lwy, lwz, out):
+    """(a', b') of :func:`_joint_motion_of_state` from the two bodies' velocities (ground frame)
+    and the centres' offset ``out[6:9]``."""
+    ex, ey, ez = out[6], out[7], out[8]
+    ax = vx - lvx - (lwy * ez - lwz * ey)
+    ay = vy - lvy - (lwz * ex - lwx * ez)
+    az = vz - lvz - (lwx * ey - lwy * ex)
+    bx, by, bz = wx - lwx, wy - lwy, wz - lwz
+    out[0] = Rl[0] * ax + Rl[3] * ay + Rl[6] * az
+    out[1] = Rl[1] * ax + Rl[4] * ay + Rl[7] * az
+    out[2] = Rl[2] * ax + Rl[5] * ay + Rl[8] * az
+    out[3] = Rl[0] * bx + Rl[3] * by + Rl[6] * bz
+    out[4] = Rl[1] * bx + Rl[4] * by + Rl[7] * bz
+    out[5] = Rl[2] * bx + Rl[5] * by + Rl[8] * bz
+
+
+@njit(cache=True)
+def _joint_motion_of_state(y, j, params, out):
+    """Relative motion (a', b') of joint j in the frame of the face below, ``g' = a' + b' x r``.
+
+    ``a'`` is the velocity of the upper centre relative to the lower body's material point
+    there, ``b'`` the relative angular velocity, both in the lower frame, at the velocities of
+    the state y (and the angular velocities of the scratch). ``out[6:9]`` keeps the centres'
+    offset for :func:`_joint_motion_of_bodies`.
+    """
+    work = params[6]
+    Ru = work[j]
+    o = sk.NB * j
+    vx, vy, vz = y[o + sk.VX], y[o + sk.VY], y[o + sk.VZ]
+    wx, wy, wz = Ru[sk.W_OM], Ru[sk.W_OM + 1], Ru[sk.W_OM + 2]
+    if j == 0:
+        out[0], out[1], out[2], out[3], out[4], out[5] = vx, vy, vz, wx, wy, wz
+        return
+    Rl = work[j - 1]
+    lo = sk.NB * (j - 1)
+    out[6] = y[o + sk.X] - y[lo + sk.X]
+    out[7] = y[o + sk.Y] - y[lo + sk.Y]
+    out[8] = y[o + sk.Z] - y[lo + sk.Z]
+    _relative_motion(Rl, vx, vy, vz, wx, wy, wz, y[lo + sk.VX], y[lo + sk.VY], y[lo + sk.VZ],
+                     Rl[sk.W_OM], Rl[sk.W_OM + 1], Rl[sk.W_OM + 2], out)
+
+
+@njit(cache=True)
+def _joint_motion_of_bodies(vel, j, params, out):
+    """(a', b') of joint j at the solved body velocities (rows of ``vel``, ground frame)."""
+    if j == 0:
+        for k in range(6):
+            out[k] = vel[0, k]
+        return
+    Rl = params[6][j - 1]
+    u, l = vel[j], vel[j - 1]
+    _relative_motion(Rl, u[0], u[1], u[2], u[3], u[4], u[5], l[0], l[1], l[2], l[3], l[4], l[5], out)
+
+
+@njit(cache=True)
+def _point_forces(y, h, params, pts, frames, motion, fric_slip):
+    """Geometry and explicit forces of every point at the step's start (step 1 of the module).
+
+    Fills the point scratch ``pts`` (lever arm r and forces in the frame of the face below,
+    elastic normal force, dashpot coefficients, penetration, contact and active flags), the
+    joint frames and motions, and returns the friction the returns to the cone dissipate;
+    ``fric_slip[j]`` gets the joint's area-weighted plastic slip of this step. Shear states
+    are returned onto the cone in y.
+    """
+    bodies, points, joint_start, joints, record, dt, work, mon = params
+    n_bodies = bodies.shape[0]
+    sh = sk.NB * n_bodies
+    friction = 0.0
+    for j in range(n_bodies):
+        kn, ks, mu, cn, tau = joints[j, sk.J_KN], joints[j, sk.J_KS], joints[j, sk.J_MU], joints[j, sk.J_CN], \
+            joints[j, sk.J_TAU]
+        delta = joints[j, sk.J_DELTA]
+        band = joints[j, sk.J_BAND]
+        face = bodies[j - 1, sk.B_TOP_R] if j > 0 else math.inf
+        decay = math.exp(-h / tau)
+        F = frames[j]
+        _joint_frame(y, j, params, F)
+        mo = motion[j]
+        _joint_motion_of_state(y, j, params, mo)
+        slip = 0.0
+        for p in range(joint_start[j], joint_start[j + 1]):
+            iu = sh + 2 * p
+            px, py, pz = points[p, sk.P_X], points[p, sk.P_Y], points[p, sk.P_Z]
+            rz = F[6] * px + F[7] * py + F[8] * pz
+            d = -(rz + F[11])
+            s, ds = 1.0, 0.0
+            if d > 0.0:
+                rx = F[0] * px + F[1] * py + F[2] * pz
+                ry = F[3] * px + F[4] * py + F[5] * pz
+                xi_x, xi_y = rx + F[9], ry + F[10]
+                if j > 0:
+                    s, ds = jl.overlap(math.sqrt(xi_x * xi_x + xi_y * xi_y), face, band)
+            if d <= 0.0 or s <= 0.0:
+                ux, uy = y[iu], y[iu + 1]
+                uu = ux * ux + uy * uy
+                if uu > 0.0:  # an unloaded spring relaxes; its energy goes as friction
+                    friction += 0.5 * ks * points[p, sk.P_AREA] * uu * (1.0 - decay * decay)
+                    y[iu] = ux * decay
+                    y[iu + 1] = uy * decay
+                pts[p, Q_CONTACT] = 0.0
+                pts[p, Q_ACTIVE] = 0.0
+                continue
+            vtx = mo[0] + mo[4] * rz - mo[5] * ry
+            vty = mo[1] + mo[5] * rx - mo[3] * rz
+            d_dot = -(mo[2] + mo[3] * ry - mo[4] * rx)
+            area = points[p, sk.P_AREA]
+            f_el = area * s * kn * d
+            engage = min(1.0, d / delta)
+            c_n = area * s * cn * engage
+            k_area = ks * area
+            cap = mu * f_el
+            ux, uy = y[iu], y[iu + 1]
+            ur = math.sqrt(ux * ux + uy * uy)
+            c_t = 0.0
+            if k_area * ur > cap:  # on the cone: return the state to it, Coulomb's force
+                scale = cap / (k_area * ur)
+                # Coulomb's mu f_el times the plastic slip: what the step's slip took from the
+                # bodies (the spring's overshoot past the cone, 1/2 k_s A slip^2, never came
+                # from them: the drift put it there)
+                friction += cap * ur * (1.0 - scale)
+                slip += area * ur * (1.0 - scale)
+                ux *= scale
+                uy *= scale
+                y[iu] = ux
+                y[iu + 1] = uy
+            else:  # sticking: the shear dashpot, with the share that keeps it within the cone
+                c_full = ks / kn * cn * area * s * engage
+                c_t = c_full * jl._viscous_share(k_area * ux, k_area * uy, c_full * vtx, c_full * vty, cap)
+            fx = -k_area * ux
+            fy = -k_area * uy
+            if ds != 0.0:  # the pull of a patch running off the edge below
+                rho = math.sqrt(xi_x * xi_x + xi_y * xi_y)
+                push = -0.5 * kn * area * d * d * ds / rho
+                fx += push * xi_x
+                fy += push * xi_y
+            pts[p, Q_RX], pts[p, Q_RY], pts[p, Q_RZ] = rx, ry, rz
+            pts[p, Q_FEL] = f_el
+            pts[p, Q_CN] = c_n
+            pts[p, Q_CT] = c_t
+            pts[p, Q_FX] = fx
+            pts[p, Q_FY] = fy
+            pts[p, Q_D] = d
+            pts[p, Q_CONTACT] = 1.0
+            # the clipped joint: active if the normal force at the current velocities pushes
+            pts[p, Q_ACTIVE] = 1.0 if f_el + c_n * d_dot >= 0.0 else 0.0
+        fric_slip[j] = slip / joints[j, sk.J_AREA]
+    return friction
+
+
+@njit(cache=True)
+def _rotate_joint_matrix(K, Rl, tmp, out):
+    """``T K T^T`` with T = diag(R_l, R_l): a joint's dashpot matrix from its lower frame to the
+    ground's, block by block (``R K_b R^T``); ``tmp`` is 3 x 3 scratch."""
+    for bi in range(2):
+        for bj in range(bi, 2):
+            for i in range(3):
+                for b in range(3):
+                    tmp[i, b] = (Rl[3 * i] * K[3 * bi, 3 * bj + b] + Rl[3 * i + 1] * K[3 * bi + 1, 3 * bj + b]
+                                 + Rl[3 * i + 2] * K[3 * bi + 2, 3 * bj + b])
+            for i in range(3):
+                for k in range(3):
+                    v = tmp[i, 0] * Rl[3 * k] + tmp[i, 1] * Rl[3 * k + 1] + tmp[i, 2] * Rl[3 * k + 2]
+                    out[3 * bi + i, 3 * bj + k] = v
+                    out[3 * bj + k, 3 * bi + i] = v
+
+
+@njit(cache=True)
+def _joint_loads(y, params, pts, mats, mom, kl, tmp3):
+    """Explicit joint forces on the bodies (scratch W_F, W_T) and each joint's dashpot matrix.
+
+    Summed per joint in the frame of the face below, point pairs next to each other, so that
+    at rest the moments cancel exactly and the forces equal the static weights bit for bit
+    (:func:`set_static_weights`).
+    """
+    bodies, points, joint_start, joints, record, dt, work, mon = params
+    n_bodies = bodies.shape[0]
+    for b in range(n_bodies):
+        for k in range(6):
+            work[b, sk.W_F + k] = 0.0
+    for j in range(n_bodies):
+        for k in range(20):
+            mom[k] = 0.0
+        sfx = sfy = sfz = 0.0
+        stx = sty = stz = 0.0
+        for p in range(joint_start[j], joint_start[j + 1]):
+            if pts[p, Q_CONTACT] == 0.0:
+                continue
+            active = pts[p, Q_ACTIVE] > 0.0
+            f_n = pts[p, Q_FEL] if active else 0.0
+            fx, fy = pts[p, Q_FX], pts[p, Q_FY]
+            rx, ry, rz = pts[p, Q_RX], pts[p, Q_RY], pts[p, Q_RZ]
+            alpha = pts[p, Q_CT]
+            beta = (pts[p, Q_CN] if active else 0.0) - alpha
+            _add_moments(mom, alpha, beta, rx, ry, rz)
+            sfx += fx
+            sfy += fy
+            sfz += f_n
+            stx += ry * f_n - rz * fy
+            sty += rz * fx - rx * f_n
+            stz += rx * fy - ry * fx
+        Ru = work[j]
+        if j == 0:
+            joint_matrix_z(mom, mats[0])
+            Fx, Fy, Fz, Tx, Ty, Tz = sfx, sfy, sfz, stx, sty, stz
+        else:
+            joint_matrix_z(mom, kl)
+            Rl = work[j - 1]
+            _rotate_joint_matrix(kl, Rl, tmp3, mats[j])
+            Fx = Rl[0] * sfx + Rl[1] * sfy + Rl[2] * sfz
+            Fy = Rl[3] * sfx + Rl[4] * sfy + Rl[5] * sfz
+            Fz = Rl[6] * sfx + Rl[7] * sfy + Rl[8] * sfz
+            Tx = Rl[0] * stx + Rl[1] * sty + Rl[2] * stz
+            Ty = Rl[3] * stx + Rl[4] * sty + Rl[5] * stz
+            Tz = Rl[6] * stx + Rl[7] * sty + Rl[8] * stz
+            o, lo = sk.NB * j, sk.NB * (j - 1)
+            ex = y[o + sk.X] - y[lo + sk.X]
+            ey = y[o + sk.Y] - y[lo + sk.Y]
+            ez = y[o + sk.Z] - y[lo + sk.Z]
+            # the reaction on the lower body, its moment about the lower centre
+            Rl[sk.W_F] -= Fx
+            Rl[sk.W_F + 1] -= Fy
+            Rl[sk.W_F + 2] -= Fz
+            Rl[sk.W_T] -= Tx + (ey * Fz - ez * Fy)
+            Rl[sk.W_T + 1] -= Ty + (ez * Fx - ex * Fz)
+            Rl[sk.W_T + 2] -= Tz + (ex * Fy - ey * Fx)
+        Ru[sk.W_F] += Fx
+        Ru[sk.W_F + 1] += Fy
+        Ru[sk.W_F + 2] += Fz
+        Ru[sk.W_T] += Tx
+        Ru[sk.W_T + 1] += Ty
+        Ru[sk.W_T + 2] += Tz
+
+
+@njit(cache=True)
+def set_static_weights(y, h, params, s):
+    """Each body's weight set to the net joint force on it in the rest state y, as this
+    integrator sums it: at rest its velocity update is then exactly zero."""
+    bodies, points, joint_start, joints, record, dt, work, mon = params
+    pts, mats, mom, diag, off, fac, coup, tmp, vel, slip, impulse, frames, motion, kl = s
+    sk._kinematics(y, bodies, work)
+    _point_forces(y, h, params, pts, frames, motion, slip)
+    _joint_loads(y, params, pts, mats, mom, kl, tmp)
+    for b in range(bodies.shape[0]):
+        bodies[b, sk.B_WEIGHT] = work[b, sk.W_F + 2]
+
+
+@njit(cache=True)
+def _momentum(y, bodies, work, h, ax, ay, az, rhs):
+    """``M V_n + h (F - gyroscopic)`` per body, ground frame (after :func:`_joint_loads`)."""
+    for b in range(bodies.shape[0]):
+        o = sk.NB * b
+        R = work[b]
+        m, it, ia = bodies[b, sk.B_MASS], bodies[b, sk.B_IT], bodies[b, sk.B_IA]
+        # the joints' sum first, then the weight: at rest this is exactly zero (as in stack.rhs)
+        fx = R[sk.W_F] - m * ax
+        fy = R[sk.W_F + 1] - m * ay
+        fz = (R[sk.W_F + 2] - bodies[b, sk.B_WEIGHT]) - m * az
+        rhs[b, 0] = m * y[o + sk.VX] + h * fx
+        rhs[b, 1] = m * y[o + sk.VY] + h * fy
+        rhs[b, 2] = m * y[o + sk.VZ] + h * fz
+        wx, wy, wz = R[sk.W_OM], R[sk.W_OM + 1], R[sk.W_OM + 2]
+        a0, a1, a2 = R[2], R[5], R[8]
+        aw = a0 * wx + a1 * wy + a2 * wz
+        # I_g w = it w + (ia - it)(a.w) a; gyroscopic w x I_g w = (ia - it)(a.w)(w x a)
+        lx = it * wx + (ia - it) * aw * a0
+        ly = it * wy + (ia - it) * aw * a1
+        lz = it * wz + (ia - it) * aw * a2
+        gyro = (ia - it) * aw
+        rhs[b, 3] = lx + h * (R[sk.W_T] - gyro * (wy * a2 - wz * a1))
+        rhs[b, 4] = ly + h * (R[sk.W_T + 1] - gyro * (wz * a0 - wx * a2))
+        rhs[b, 5] = lz + h * (R[sk.W_T + 2] - gyro * (wx * a1 - wy * a0))
+
+
+@njit(cache=True)
+def _update_active_set(params, pts, vel, motion):
+    """Relative velocities of the contact points at the new body velocities (stored in ``pts``),
+    and the clipped joint: points whose normal force would pull are clipped, those that push
+    are not. Returns the number of points that changed.
+    """
+    bodies, points, joint_start, joints, record, dt, work, mon = params
+    changed = 0
+    for j in range(bodies.shape[0]):
+        mo = motion[j]
+        _joint_motion_of_bodies(vel, j, params, mo)
+        for p in range(joint_start[j], joint_start[j + 1]):
+            if pts[p, Q_CONTACT] == 0.0:
+                continue
+            rx, ry, rz = pts[p, Q_RX], pts[p, Q_RY], pts[p, Q_RZ]
+            d_dot = -(mo[2] + mo[3] * ry - mo[4] * rx)
+            pts[p, Q_VTX] = mo[0] + mo[4] * rz - mo[5] * ry
+            pts[p, Q_VTY] = mo[1] + mo[5] * rx - mo[3] * rz
+            pts[p, Q_DDOT] = d_dot
+            push = pts[p, Q_FEL] + pts[p, Q_CN] * d_dot >= 0.0
+            if push != (pts[p, Q_ACTIVE] > 0.0):
+                pts[p, Q_ACTIVE] = 1.0 if push else 0.0
+                changed += 1
+    return changed
+
+
+@njit(cache=True)
+def _implicit_excess(bodies, work, vel, impulse):
+    """What the implicit dashpots take beyond their power at the new velocities.
+
+    With ``M v* = M v_n + h F`` (the explicit update) and ``(M + h C) v = M v*``, the dashpot
+    stage takes ``1/2 v*^T M v* - 1/2 v^T M v = h v^T C v + 1/2 P^T M^-1 P`` out of the
+    kinetic energy, P = h C v the dashpots' impulse (``impulse`` holds M v* on entry). The
+    second term is backward Euler's own dissipation, as real in the discrete model as the
+    first: booked as damping, so that the budget closes on the scheme's other errors.
+    """
+    excess = 0.0
+    for b in range(bodies.shape[0]):
+        R = work[b]
+        m, it, ia = bodies[b, sk.B_MASS], bodies[b, sk.B_IT], bodies[b, sk.B_IA]
+        a0, a1, a2 = R[2], R[5], R[8]
+        px = impulse[b, 0] - m * vel[b, 0]
+        py = impulse[b, 1] - m * vel[b, 1]
+        pz = impulse[b, 2] - m * vel[b, 2]
+        excess += 0.5 * (px * px + py * py + pz * pz) / m
+        wx, wy, wz = vel[b, 3], vel[b, 4], vel[b, 5]
+        aw = a0 * wx + a1 * wy + a2 * wz
+        qx = impulse[b, 3] - (it * wx + (ia - it) * aw * a0)
+        qy = impulse[b, 4] - (it * wy + (ia - it) * aw * a1)
+        qz = impulse[b, 5] - (it * wz + (ia - it) * aw * a2)
+        qa = a0 * qx + a1 * qy + a2 * qz
+        # I_g^-1 = (I - a a^T) / it + a a^T / ia
+        excess += 0.5 * ((qx * qx + qy * qy + qz * qz - qa * qa) / it + qa * qa / ia)
+    return excess
+
+
+@njit(cache=True)
+def step(t, y, h, params, s):
+    """Advance the state y (in place) from t by one step h; returns (solves, friction, damping, work).
+
+    ``s`` is the scratch tuple of :func:`make_scratch`.
+    """
+    bodies, points, joint_start, joints, record, dt, work, mon = params
+    pts, mats, mom, diag, off, fac, coup, tmp, vel, slip, impulse, frames, motion, kl = s
+    n_bodies = bodies.shape[0]
+    ax, ay, az = ground_acceleration(t, record, dt)
+    sk._kinematics(y, bodies, work)
+    friction = _point_forces(y, h, params, pts, frames, motion, slip)
+    solves = 0
+    while True:
+        _joint_loads(y, params, pts, mats, mom, kl, tmp)
+        assemble_system(y, bodies, mats, h, work, diag, off)
+        _momentum(y, bodies, work, h, ax, ay, az, vel)
+        impulse[:, :] = vel
+        block_tridiagonal_solve(diag, off, vel, fac, coup, tmp)
+        solves += 1
+        changed = _update_active_set(params, pts, vel, motion)
+        if changed == 0 or solves >= MAX_PASSES:
+            break
+    # bookings at the new velocities, then the shear states
+    sh = sk.NB * n_bodies
+    damping = 0.0
+    for j in range(n_bodies):
+        for p in range(joint_start[j], joint_start[j + 1]):
+            if pts[p, Q_CONTACT] == 0.0:
+                continue
+            vtx, vty, d_dot = pts[p, Q_VTX], pts[p, Q_VTY], pts[p, Q_DDOT]
+            if pts[p, Q_ACTIVE] > 0.0:
+                damping += h * pts[p, Q_CN] * d_dot * d_dot
+            else:  # clipped: the spring's energy goes without work as the point separates
+                damping -= h * pts[p, Q_FEL] * d_dot
+            damping += h * pts[p, Q_CT] * (vtx * vtx + vty * vty)
+            y[sh + 2 * p] += h * vtx
+            y[sh + 2 * p + 1] += h * vty
+    damping += _implicit_excess(bodies, work, vel, impulse)
+    power = 0.0
+    for b in range(n_bodies):
+        o = sk.NB * b
+        R = work[b]
+        m = bodies[b, sk.B_MASS]
+        vx, vy, vz = vel[b, 0], vel[b, 1], vel[b, 2]
+        power -= m * (ax * vx + ay * vy + az * vz)
+        y[o + sk.VX], y[o + sk.VY], y[o + sk.VZ] = vx, vy, vz
+        y[o + sk.X] += h * vx
+        y[o + sk.Y] += h * vy
+        y[o + sk.Z] += h * vz
+        # body-frame angular velocity, and the exact rotation by it over h
+        wx = R[0] * vel[b, 3] + R[3] * vel[b, 4] + R[6] * vel[b, 5]
+        wy = R[1] * vel[b, 3] + R[4] * vel[b, 4] + R[7] * vel[b, 5]
+        wz = R[2] * vel[b, 3] + R[5] * vel[b, 4] + R[8] * vel[b, 5]
+        y[o + sk.WX], y[o + sk.WY], y[o + sk.WZ] = wx, wy, wz
+        w = math.sqrt(wx * wx + wy * wy + wz * wz)
+        if w > 0.0:
+            half = 0.5 * w * h
+            c = math.cos(half)
+            sn = math.sin(half) / w
+            px, py, pz = sn * wx, sn * wy, sn * wz
+            qw, qx, qy, qz = y[o + sk.QW], y[o + sk.QX], y[o + sk.QY], y[o + sk.QZ]
+            nw = qw * c - qx * px - qy * py - qz * pz
+            nx = qw * px + qx * c + qy * pz - qz * py
+            ny = qw * py - qx * pz + qy * c + qz * px
+            nz = qw * pz + qx * py - qy * px + qz * c
+            norm = 1.0 / math.sqrt(nw * nw + nx * nx + ny * ny + nz * nz)
+            y[o + sk.QW], y[o + sk.QX], y[o + sk.QY], y[o + sk.QZ] = nw * norm, nx * norm, ny * norm, nz * norm
+    acc = sh + 2 * points.shape[0]
+    y[acc + sk.A_WORK] += h * power
+    y[acc + sk.A_FRICTION] += friction
+    y[acc + sk.A_DAMPING] += damping
+    for j in range(n_bodies):
+        y[acc + sk.N_ACC + j] += slip[j]
+    return solves
+
+
+def make_scratch(n_bodies, n_points):
+    """Scratch arrays of :func:`step` (one set per simulation)."""
+    return (np.zeros((n_points, N_Q)), np.zeros((n_bodies, 6, 6)), np.zeros(20),
+            np.zeros((n_bodies, 6, 6)), np.zeros((n_bodies, 6, 6)),
+            np.zeros((n_bodies, 6, 6)), np.zeros((n_bodies, 6, 6)), np.zeros((6, 6)), np.zeros((n_bodies, 6)),
+            np.zeros(n_bodies), np.zeros((n_bodies, 6)), np.zeros((n_bodies, 12)), np.zeros((n_bodies, 9)),
+            np.zeros((6, 6)))
+
+
+@njit(cache=True)
+def _event_values(y, bodies, g):
+    """Per body: cos(lying tilt) - R33 (>= 0 lying down) and -z (>= 0 below the ground)."""
+    n = bodies.shape[0]
+    for b in range(n):
+        o = sk.NB * b
+        qw, qx, qy, qz = y[o + sk.QW], y[o + sk.QX], y[o + sk.QY], y[o + sk.QZ]
+        r33 = 1.0 - 2.0 * (qx * qx + qy * qy) / (qw * qw + qx * qx + qy * qy + qz * qz)
+        g[b] = bodies[b, sk.B_COS_LIE] - r33
+        g[n + b] = -y[o + sk.Z]
+
+
+@njit(cache=True, nogil=True)
+def run(params, y, t_mon, start, stop, per_monitor, stride, theta_commit, hist_y, hist_diag, hist_body,
+        summary, body_stats, joint_stats, joint_committed, y0, scratch):
+    """Integrate over the monitor samples ``start`` to ``stop`` (exclusive) with fixed steps.
+
+    ``y`` is the state at ``t_mon[start - 1]`` (or the initial state with ``start = 0``, when
+    the statistics are initialised) and is advanced in place; the step is
+    ``(t_mon[1] - t_mon[0]) / per_monitor``. The statistics, histories and summary are those of
+    :func:`pipeline.dynamics.stack.run` (same arrays, same meaning), so a long run can be done
+    in pieces (progress, interruption) with the same result as in one.
+
+    Returns
+    -------
+    int
+        The next monitor sample to do: ``stop``, or ``len(t_mon)`` once the column is down.
+    """
+    bodies = params[0]
+    n_bodies = bodies.shape[0]
+    m = t_mon.shape[0]
+    n_hist = hist_y.shape[0]
+    R = np.empty(9)
+    if start == 0:
+        summary[:] = 0.0
+        summary[sk.S_OVERTURN_TIME] = math.nan
+        summary[sk.S_OVERTURN_BODY] = -1.0
+        body_stats[:, :] = 0.0
+        joint_stats[:, :] = 0.0
+        joint_stats[:, sk.JS_UPLIFT_TIME] = math.nan
+        joint_stats[:, sk.JS_SLIDE_TIME] = math.nan
+        joint_stats[:, sk.JS_FLIGHT_TIME] = math.nan
+        joint_stats[:, sk.JS_MIN_NORMAL] = math.inf
+        joint_stats[:, sk.JS_MIN_AREA] = math.inf
+        for b in range(n_bodies):
+            body_stats[b, sk.BS_ROTATION] = sk.tilt_and_rotation(y, b, R)[1]
+        summary[sk.S_ENERGY_START] = sk.energy(y, params)
+        sk._monitor(t_mon[0], y, params, theta_commit, summary, body_stats, joint_stats, joint_committed, True, R)
+        joint_committed[:, :] = joint_stats
+        if n_hist > 0:
+            sk._history_row(t_mon[0], y, params, 0, hist_y, hist_diag, hist_body, body_stats, y0, R)
+        start = 1
+    h = (t_mon[1] - t_mon[0]) / per_monitor
+    g_old = np.empty(2 * n_bodies)
+    g_new = np.empty(2 * n_bodies)
+    k = start
+    while k < stop:
+        t0 = t_mon[k - 1]
+        _event_values(y, bodies, g_old)
+        down = -1
+        frac = 1.0
+        for i in range(per_monitor):
+            t = t0 + i * h
+            summary[sk.S_NFEV] += step(t, y, h, params, scratch)
+            summary[sk.S_STEPS] += 1
+            _event_values(y, bodies, g_new)
+            for e in range(2 * n_bodies):
+                if g_new[e] >= 0.0 and g_old[e] < 0.0:
+                    f = -g_old[e] / (g_new[e] - g_old[e])  # linear: the crossing within the step
+                    if down < 0 or f < frac:
+                        down = e
+                        frac = f
+                g_old[e] = g_new[e]
+            if down >= 0:
+                t_down = t + frac * h
+                break
+        if down >= 0:
+            b = down % n_bodies
+            summary[sk.S_OVERTURN_TIME] = t_down
+            summary[sk.S_OVERTURN_BODY] = b
+            if down >= n_bodies:
+                summary[sk.S_STATUS] = sk.STATUS_COLLAPSED
+            summary[sk.S_END_TIME] = t_down
+            sk._monitor(t_down, y, params, theta_commit, summary, body_stats, joint_stats, joint_committed, True, R)
+            for kk in range(k, m):  # frozen from here on
+                if kk % stride == 0 and kk // stride < n_hist:
+                    sk._monitor(t_mon[kk], y, params, theta_commit, summary, body_stats, joint_stats,
+                                joint_committed, False, R)
+                    sk._history_row(t_mon[kk], y, params, kk // stride, hist_y, hist_diag, hist_body,
+                                    body_stats, y0, R)
+            return m
+        sk._monitor(t_mon[k], y, params, theta_commit, summary, body_stats, joint_stats, joint_committed, True, R)
+        if k % stride == 0 and k // stride < n_hist:
+            sk._history_row(t_mon[k], y, params, k // stride, hist_y, hist_diag, hist_body, body_stats, y0, R)
+        summary[sk.S_END_TIME] = t_mon[k]
+        k += 1
+    return stop
+
+
+def stiffest_frequency(params, y):
+    """Highest angular frequency of the joints' springs, every point pressed [1/tau].
+
+    The generalised eigenvalue problem ``K x = omega^2 M x`` of the stack in the state y (the
+    rest state), with every contact point carrying its normal spring ``k_n A`` and its shear
+    spring ``k_s A`` (whole faces in contact: the stiffest the joints get). Symplectic Euler
+    is stable on it for ``h < 2 / omega``.
+    """
+    from scipy.linalg import eigh
+
+    bodies, points, joint_start, joints = params[:4]
+    work = params[6]
+    n = bodies.shape[0]
+    sk._kinematics(y, bodies, work)
+    mats = np.zeros((n, 6, 6))
+    mom = np.zeros(20)
+    for j in range(n):
+        mom[:] = 0.0
+        kn, ks = joints[j, sk.J_KN], joints[j, sk.J_KS]
+        for p in range(joint_start[j], joint_start[j + 1]):
+            geo = sk._point_geometry(y, p, j, params)
+            area = points[p, sk.P_AREA]
+            _add_moments(mom, ks * area, (kn - ks) * area, geo[0], geo[1], geo[2])
+        R = work[j - 1] if j > 0 else np.array([0, 0, 0, 0, 0, 0, 0, 0, 1.0])
+        joint_matrix(mom, R[2], R[5], R[8], mats[j])
+    diag = np.zeros((n, 6, 6))
+    off = np.zeros((n, 6, 6))
+    # with h = 1 the assembled blocks are M + K; subtract M to get K
+    assemble_system(y, bodies, mats, 1.0, work, diag, off)
+    K = np.zeros((6 * n, 6 * n))
+    M = np.zeros((6 * n, 6 * n))
+    for b in range(n):
+        mass = np.zeros((6, 6))
+        assemble_mass(bodies, work, b, mass)
+        M[6 * b:6 * b + 6, 6 * b:6 * b + 6] = mass
+        K[6 * b:6 * b + 6, 6 * b:6 * b + 6] = diag[b] - mass
+        if b > 0:
+            K[6 * b:6 * b + 6, 6 * (b - 1):6 * b] = off[b]
+            K[6 * (b - 1):6 * b, 6 * b:6 * b + 6] = off[b].T
+    values = eigh(0.5 * (K + K.T), M, eigvals_only=True)
+    return math.sqrt(max(values.max(), 0.0))
+
+
+def assemble_mass(bodies, work, b, out):
+    """Mass matrix of body b in ground-frame velocities (6 x 6)."""
+    m, it, ia = bodies[b, sk.B_MASS], bodies[b, sk.B_IT], bodies[b, sk.B_IA]
+    R = work[b]
+    a = np.array([R[2], R[5], R[8]])
+    out[:, :] = 0.0
+    out[0, 0] = out[1, 1] = out[2, 2] = m
+    out[3:, 3:] = it * np.eye(3) + (ia - it) * np.outer(a, a)
