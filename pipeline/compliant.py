@@ -38,7 +38,7 @@ NUMERICS = {"edge_band": 0.5, "step_safety": si.SAFETY}
 # the range each numerical choice may take, and what it is
 _NUMERICS_RANGES = {
     "edge_band": (0.05, 5.0, "width of the band past a face's edge, in spacings of the outer rings of contact points"),
-    "step_safety": (0.01, 1.0, "fixed step as a fraction of the stability limit of the stiffest joint"),
+    "step_safety": (0.01, 0.9, "fixed step as a fraction of the stability limit of the stiffest joint"),
 }
 # Integrators of the compliant models: the fixed-step semi-implicit one (default) and the
 # adaptive ones it is checked against.
@@ -511,6 +511,25 @@ def fixed_step(asm, params, y, settings):
     return numerics(settings)["step_safety"] * limit, limit
 
 
+# The default step may exceed step_safety x the limit by this factor when that lets it divide
+# the monitor interval with fewer steps (e.g. 10 drums: 1/6 ms instead of 1/7 ms).
+STEP_ROUNDING = 1.1
+
+
+def steps_per_monitor(monitor, step, exact):
+    """Whole steps per monitor interval: the step is ``monitor / n`` [s].
+
+    A given step (``exact``) is never exceeded; the default one may be by
+    :data:`STEP_ROUNDING` at most (it stays below the stability limit: its safety is 0.5).
+    """
+    n = max(1, int(math.ceil(monitor / step - 1e-9)))
+    if not exact:
+        nearest = max(1, int(round(monitor / step)))
+        if monitor / nearest <= STEP_ROUNDING * step:
+            n = nearest
+    return n
+
+
 def numerics(settings):
     """The compliant model's numerical choices: :data:`NUMERICS` with the settings' overrides."""
     return {**NUMERICS, **dict(settings.numerics)}
@@ -521,7 +540,8 @@ def _integrate(asm, params, y0, duration, monitor, stride, settings, histories, 
     """Run the kernel for ``duration`` [s], monitoring every ``monitor`` [s]; history every ``stride``.
 
     The integrator, its tolerances (adaptive) or step (fixed) come from ``settings``; ``step`` [s]
-    overrides the fixed step. ``progress(done, total)`` [s], if given, is called as the run
+    is the fixed step if already found (:func:`fixed_step`), shortened to divide ``monitor``
+    (:func:`steps_per_monitor`). ``progress(done, total)`` [s], if given, is called as the run
     goes on (the fixed-step integrator runs in pieces for it; the result is the same).
     """
     n_bodies = asm.n_bodies
@@ -538,9 +558,10 @@ def _integrate(asm, params, y0, duration, monitor, stride, settings, histories, 
         joint_stats=np.zeros((n_bodies, sk.N_JOINT_STATS)), joint_committed=np.zeros((n_bodies, sk.N_JOINT_STATS)),
         y0=y0, y_end=np.zeros_like(y0))
     if settings.integrator == "semi-implicit":
+        given = settings.step is not None
         if step is None:
             step = fixed_step(asm, params, y0, settings)[0]
-        per_monitor = max(1, int(math.ceil(monitor / step - 1e-9)))
+        per_monitor = steps_per_monitor(monitor, step, exact=given)
         raw.step = monitor / per_monitor
         y = y0.copy()
         scratch = si.make_scratch(n_bodies, asm.points.shape[0])

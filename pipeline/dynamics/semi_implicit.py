@@ -246,27 +246,25 @@ def joint_matrix_z(mom, out):
 
 
 @njit(cache=True)
+def _weighted_moments(mom, o, w, rx, ry, rz):
+    """Add weight w's sum, first and second moments of (rx, ry, rz) to ``mom[o:o + 10]``."""
+    mom[o] += w
+    mom[o + 1] += w * rx
+    mom[o + 2] += w * ry
+    mom[o + 3] += w * rz
+    mom[o + 4] += w * rx * rx
+    mom[o + 5] += w * ry * ry
+    mom[o + 6] += w * rz * rz
+    mom[o + 7] += w * rx * ry
+    mom[o + 8] += w * rx * rz
+    mom[o + 9] += w * ry * rz
+
+
+@njit(cache=True)
 def _add_moments(mom, alpha, beta, rx, ry, rz):
-    mom[0] += alpha
-    mom[1] += alpha * rx
-    mom[2] += alpha * ry
-    mom[3] += alpha * rz
-    mom[4] += alpha * rx * rx
-    mom[5] += alpha * ry * ry
-    mom[6] += alpha * rz * rz
-    mom[7] += alpha * rx * ry
-    mom[8] += alpha * rx * rz
-    mom[9] += alpha * ry * rz
-    mom[10] += beta
-    mom[11] += beta * rx
-    mom[12] += beta * ry
-    mom[13] += beta * rz
-    mom[14] += beta * rx * rx
-    mom[15] += beta * ry * ry
-    mom[16] += beta * rz * rz
-    mom[17] += beta * rx * ry
-    mom[18] += beta * rx * rz
-    mom[19] += beta * ry * rz
+    """A point's shear (alpha) and normal-less-shear (beta) dashpot weights into the moments."""
+    _weighted_moments(mom, 0, alpha, rx, ry, rz)
+    _weighted_moments(mom, 10, beta, rx, ry, rz)
 
 
 @njit(cache=True)
