@@ -65,7 +65,11 @@ MODELS = ("rigid", "monolith", "stack")
 # so the report shows what it moves. Run on demand (--models), not by default.
 BAND_DEFAULT = COMPLIANT_NUMERICS["edge_band"]
 BAND_VARIANTS = {"stack-narrow": 0.5 * BAND_DEFAULT, "stack-wide": 2.0 * BAND_DEFAULT}
-ALL_MODELS = MODELS + tuple(BAND_VARIANTS)
+# The stack again with another integrator (issue 25): the semi-implicit default at half its
+# step (step_safety halved), and the adaptive DOPRI5 reference it replaced; on demand too.
+INTEGRATOR_VARIANTS = {"stack-half-step": {"step_factor": 0.5}, "stack-dopri5": {"integrator": "dopri5"}}
+VARIANTS = (*BAND_VARIANTS, *INTEGRATOR_VARIANTS)
+ALL_MODELS = MODELS + VARIANTS
 RECORDS = tuple(f"FEMA-FF-{i:02d}" for i in range(1, 23))
 STRIPES = (0.2, 0.4, 0.6, 0.8, 1.0, 1.5)  # PGA [g]
 STIFFNESS = 1e10  # normal stiffness of base and joints, k_n [Pa/m]
@@ -92,8 +96,9 @@ BODY_EXPONENT = 1.85
 
 # What the cached rows depend on: changing any of it starts a new cache (a new digest).
 # version: bumped when the models change under the same settings (2: the joint law's energy
-# booking and the rigid slip layer of 2026-11-23; rows of version 1 are not comparable).
-DESIGN = dict(version=2, stiffness=STIFFNESS, friction=FRICTION, joint_friction=None, angle=ANGLE,
+# booking and the rigid slip layer of 2026-11-23; rows of version 1 are not comparable; 3: the
+# semi-implicit integrator of the compliant models and the bed calibrated with it, 2026-11-25).
+DESIGN = dict(version=3, integrator="semi-implicit", stiffness=STIFFNESS, friction=FRICTION, joint_friction=None, angle=ANGLE,
               vertical=VERTICAL, tail=TAIL, calibration="rigid_vs_compliant: calibrated_damping on the outline")
 
 
@@ -118,7 +123,7 @@ def drum_column(key):
 
 def is_stack(model):
     """Whether a model simulates the drums (the stack or one of its band variants)."""
-    return model == "stack" or model in BAND_VARIANTS
+    return model == "stack" or model in VARIANTS
 
 
 def body(key, model):
@@ -161,7 +166,19 @@ def bed(key):
     return float(damping), float(reached)
 
 
-def settings(model, damping, restitution):
+@lru_cache(maxsize=None)
+def default_step(key):
+    """The semi-implicit integrator's default step for a column's stack [s] (what the stack runs)."""
+    from pipeline.compliant import assemble, fixed_step, rest_state, steps_per_monitor
+
+    base = ModelSettings(model="3d-compliant", normal_stiffness=STIFFNESS, friction=FRICTION)
+    asm = assemble(drum_column(key), base, 0.0)
+    params = asm.params()
+    step = fixed_step(asm, params, rest_state(params, base), base)[0]
+    return base.monitor_step / steps_per_monitor(base.monitor_step, step, exact=False)
+
+
+def settings(model, damping, restitution, key=None):
     """Model settings on the shared bed.
 
     Parameters
@@ -171,16 +188,23 @@ def settings(model, damping, restitution):
         Normal dashpots per unit area c_n [Pa s/m].
     restitution : float
         Planar restitution [1] (the rigid model's impact law; recorded for the compliant one).
+    key : str, optional
+        The column (the half-step variant's step is a fraction of its stack's default).
     """
     name = "3d" if model == "rigid" else "3d-compliant"
     numerics = (("edge_band", BAND_VARIANTS[model]),) if model in BAND_VARIANTS else ()
+    variant = dict(INTEGRATOR_VARIANTS.get(model, {}))
+    if "step_factor" in variant:  # a fraction of the stack's own default step, exactly
+        variant = {"step": variant.pop("step_factor") * default_step(key)}
     return ModelSettings(model=name, normal_stiffness=STIFFNESS, friction=FRICTION, restitution=restitution,
-                         contact_damping=damping, tail=TAIL, numerics=numerics)
+                         contact_damping=damping, tail=TAIL, numerics=numerics, **variant)
 
 
 # Changes of the bed-joint law, which only the stack has (rigid and monolith rows stay valid):
 # 2: the band past a face's edge runs off as a smoothstep (2026-11-23), not linearly.
 STACK_REVISION = 2
+# 3: the compliant models run the fixed-step semi-implicit integrator by default and the shared
+# bed is calibrated with it (issue 25, 2026-11-25): every model's rows are new (DESIGN version).
 
 
 def digest(model=None):
@@ -193,6 +217,8 @@ def digest(model=None):
         design["stack_revision"] = STACK_REVISION
     if model in BAND_VARIANTS:
         design["edge_band"] = BAND_VARIANTS[model]
+    if model in INTEGRATOR_VARIANTS:
+        design["variant"] = INTEGRATOR_VARIANTS[model]
     text = json.dumps(design, sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:8]
 
@@ -241,7 +267,7 @@ def run(task):
     scale = stripe * G / pga
     t = time.perf_counter()
     summary = simulate(body(key, model), load_record(record), Excitation(angle=ANGLE, scale=scale, vertical=VERTICAL),
-                       settings(model, damping, restitution), histories=False).summary
+                       settings(model, damping, restitution, key), histories=False).summary
     wall = time.perf_counter() - t
     row = make_row(job, summary, wall, scale, duration)
     with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8") as fh:
@@ -327,7 +353,7 @@ def rate_for(key, model, measured):
     """
     if (key, model) in measured:
         return measured[(key, model)], "measured"
-    if model in BAND_VARIANTS:
+    if model in VARIANTS:
         rate, src = rate_for(key, "stack", measured)
         return rate, f"the stack's ({src})"
     if (key, model) in PRIOR_RATE:
@@ -461,7 +487,7 @@ def model_pairs(present):
     have = [m for m in ALL_MODELS if m in present]
     main = [m for m in have if m in MODELS]
     pairs = [(a, b) for i, a in enumerate(main) for b in main[i + 1:]]
-    return pairs + [("stack", v) for v in have if v in BAND_VARIANTS and "stack" in have]
+    return pairs + [("stack", v) for v in have if v in VARIANTS and "stack" in have]
 
 
 def _paired_cells(rows, field, keep=None):
@@ -633,7 +659,9 @@ def _model_text(key, model):
     if is_stack(model):
         stack = drum_column(key)
         text = f"{stack.n_drums}-drum stack" + (" with capital" if stack.capital is not None else "")
-        return text + (f", edge band {BAND_VARIANTS[model]:g}" if model in BAND_VARIANTS else "")
+        if model in BAND_VARIANTS:
+            text += f", edge band {BAND_VARIANTS[model]:g}"
+        return text + {"stack-half-step": ", half step", "stack-dopri5": ", DOPRI5"}.get(model, "")
     return {"rigid": "rigid model", "monolith": "monolith"}[model]
 
 
@@ -880,7 +908,9 @@ def parser():
     p.add_argument("--models", default=",".join(MODELS),
                    help="models, comma separated: rigid (3d on the shaft), monolith (3d-compliant, one body), "
                         "stack (3d-compliant, the drums) (default: these three); also stack-narrow and "
-                        "stack-wide, the stack with the band past a bed joint's edge halved and doubled")
+                        "stack-wide, the stack with the band past a bed joint's edge halved and doubled, and "
+                        "stack-half-step and stack-dopri5, the stack at half the semi-implicit step and with "
+                        "the adaptive DOPRI5 reference")
     p.add_argument("--records", default=",".join(RECORDS),
                    help="catalog record ids, comma separated (default: FEMA-FF-01..FEMA-FF-22)")
     p.add_argument("--stripes", default=",".join(f"{s:g}" for s in STRIPES),
