@@ -165,6 +165,54 @@ VARIABLES = {
     "pga": Var("m s-2", "peak ground acceleration of the scaled record: peak of the horizontal vector"),
     "pgv": Var("m s-1", "peak ground velocity of the scaled record: peak of the horizontal vector"),
     "sa": Var("m s-2", "5%-damped spectral acceleration RotD50 of the scaled record at the study period"),
+    # site risk (pipeline.risk, frustum risk): a fragility integrated against a site's hazard curve. Intensities
+    # are in the fragility's units (m s-2 for PGA and Sa, m s-1 for PGV), the units written in the file win.
+    "site": Var("1", "label of the site of the hazard curve (the file's custom_site_id, else site-<row>)"),
+    "site_longitude": Var("degree_east", "longitude of the site as the hazard curve gives it", "longitude"),
+    "site_latitude": Var("degree_north", "latitude of the site as the hazard curve gives it", "latitude"),
+    "site_depth": Var("km", "depth of the site as the hazard curve gives it (OpenQuake: km)"),
+    "years": Var("year", "period T of probability_in_period"),
+    "intensity": Var("m s-2", "intensity at which the integrand, the fragility and the interpolated hazard are given"),
+    "intensity_g": Var("1", "intensity over standard gravity g = 9.80665 m s-2"),
+    "hazard_level": Var("m s-2", "intensity level of the hazard curve (converted to SI from the file's unit)"),
+    "hazard_level_g": Var("1", "intensity level of the hazard curve over standard gravity g = 9.80665 m s-2"),
+    "hazard_rate": Var("year-1", "annual rate of exceedance of the hazard curve at its levels, -ln(1 - PoE)/T "
+                       "from a probability of exceedance PoE in T years (inf: PoE 1)"),
+    "hazard_poe": Var("1", "probability of exceedance of the level in the hazard curve's investigation time, as "
+                      "the file gives it"),
+    "hazard_rate_interpolated": Var("year-1", "annual rate of exceedance, log-log interpolated between the curve's "
+                                    "levels and extended beyond them by its first and last segments' power laws"),
+    "hazard_curve_end": Var("m s-2", "last level of the hazard curve with a positive rate"),
+    "fragility_median": Var("m s-2", "median of the lognormal fragility curve (from the fragility file)"),
+    "fragility_beta": Var("1", "lognormal dispersion of the fragility curve (from the fragility file)"),
+    "fragility_probability": Var("1", "probability of reaching the damage state at the intensity (the fragility's "
+                                 "lognormal curve)"),
+    "risk_integrand": Var("year-1", "risk integrand P(DS | a) |dH/d ln a|: annual rate of reaching the damage state "
+                          "per unit of ln intensity (its area over ln a is annual_frequency)"),
+    "annual_frequency": Var("year-1", "mean annual frequency of reaching the damage state, integral of "
+                            "P(DS | a) |dH/da| da (hazard curve extended beyond its ends by its end segments)"),
+    "annual_frequency_lower": Var("year-1", "lower bound of the mean annual frequency: shaking beyond the hazard "
+                                  "curve's last level counted at that level's probability, none below its first"),
+    "annual_frequency_upper": Var("year-1", "upper bound of the mean annual frequency: every shaking beyond the "
+                                  "hazard curve's last level reaches the damage state"),
+    "annual_frequency_band_lower": Var("year-1", "lower bound of the mean annual frequency, bootstrap interval "
+                                       "over the fragility's replicates"),
+    "annual_frequency_band_upper": Var("year-1", "upper bound of the mean annual frequency, bootstrap interval "
+                                       "over the fragility's replicates"),
+    "probability_in_period": Var("1", "probability of reaching the damage state at least once in `years`, "
+                                 "1 - exp(-annual_frequency years)"),
+    "probability_in_period_lower": Var("1", "probability in `years` from annual_frequency_lower"),
+    "probability_in_period_upper": Var("1", "probability in `years` from annual_frequency_upper"),
+    "probability_in_period_band_lower": Var("1", "probability in `years` from annual_frequency_band_lower"),
+    "probability_in_period_band_upper": Var("1", "probability in `years` from annual_frequency_band_upper"),
+    "return_period": Var("year", "mean return period of the damage state, 1 / annual_frequency"),
+    "share_below_first_level": Var("1", "share of annual_frequency from shaking below the hazard curve's first "
+                                   "level (first segment extended)"),
+    "share_beyond_last_level": Var("1", "share of annual_frequency from shaking beyond the hazard curve's last "
+                                   "level (last segment extended)"),
+    "intensity_risk_05": Var("m s-2", "intensity below which 5 % of annual_frequency accrues"),
+    "intensity_risk_50": Var("m s-2", "intensity below which half of annual_frequency accrues"),
+    "intensity_risk_95": Var("m s-2", "intensity below which 95 % of annual_frequency accrues"),
 }
 
 # Names whose meaning in a study Dataset differs from the time-history one:
@@ -185,6 +233,10 @@ FLAGS = {
                  "the normal contact force reached zero and the column flew"),
     "status": ([0, 1], "ok failed", "status of the simulation (failed: values are NaN or 0)"),
     "drum_kind": ([0, 1], "drum capital", "kind of body: a drum (frustum) or a capital (square block)"),
+    "risk_flag": ([0, 1, 2, 3, 4], "ok median_beyond_hazard_curve no_median_no_exceedance_observed "
+                  "no_median_every_run_exceeds no_fit",
+                  "how far the site risk rests on the data: the fragility's median beyond the hazard curve's last "
+                  "level (mostly extrapolated), or no median to integrate"),
 }
 
 

@@ -24,3 +24,11 @@ class RecordWarning(UserWarning):
     The message names the record, what is wrong and the processing step that
     fixes it. The command line prints it as one line.
     """
+
+
+class HazardWarning(UserWarning):
+    """A site-risk result that rests on extrapolation (a hazard curve that ends before a fragility's median).
+
+    The message names the hazard file, the site, the cells affected and where the bounds are.
+    The command line prints it as one line, like :class:`RecordWarning`.
+    """

@@ -580,6 +580,11 @@ def fragility(results, im="pga", states=DEFAULT_STATES, bootstrap=0, seed=0, con
 
     im_units = im_da.attrs["units"]
     im_long = im_da.attrs["long_name"]
+    used = (weight > 0) & np.isfinite(x)
+    im_min = np.where(used, x, np.inf).min(axis=(1, 2, 3))  # (column, model)
+    im_max = np.where(used, x, -np.inf).max(axis=(1, 2, 3))
+    im_min[~np.isfinite(im_min)] = np.nan
+    im_max[~np.isfinite(im_max)] = np.nan
     dims3 = ("state", "column", "model")
     ds = xr.Dataset(
         {
@@ -604,6 +609,10 @@ def fragility(results, im="pga", states=DEFAULT_STATES, bootstrap=0, seed=0, con
                 "units": "1", "long_name": "number of runs in the scale stripe"}),
             "stripe_fraction": (("state", "column", "scale", "model"), stripe_frac, {
                 "units": "1", "long_name": "observed fraction of runs in the scale stripe that reached the damage state"}),
+            "im_simulated_min": (("column", "model"), im_min, {
+                "units": im_units, "long_name": f"weakest {im_long} of the runs in the fit"}),
+            "im_simulated_max": (("column", "model"), im_max, {
+                "units": im_units, "long_name": f"strongest {im_long} of the runs in the fit"}),
             "stripe_im": (("scale",), stripe_im, {
                 "units": im_units, "long_name": f"geometric mean {im_long} of the runs in the scale stripe"}),
         },
@@ -639,6 +648,7 @@ def fragility(results, im="pga", states=DEFAULT_STATES, bootstrap=0, seed=0, con
                 "angles pooled; 3D runs counted once per record and scale).",
         intensity_measure=im,
         intensity_measure_units=im_units,
+        **({"intensity_measure_period": float(im_da.attrs["period"])} if "period" in im_da.attrs else {}),
         confidence_level=float(confidence),
         bootstrap_replicates=bootstrap,
         bootstrap_seed=int(seed),
@@ -710,6 +720,14 @@ def _bootstrap(ds, x, exceed, weight, grid, n_boot, seed, confidence):
     degenerate = np.sum(~(np.isfinite(med) & (med > 0) & np.isfinite(bet) & (bet > 0)), axis=0)
     ds["n_bootstrap_degenerate"] = (dims3, degenerate.astype(np.int32), {
         "units": "1", "long_name": "bootstrap replicates without a regular fit (no exceedance, all exceed or separated)"})
+    # the replicates themselves, so that a quantity computed from the curve (the risk at a site,
+    # pipeline.risk) gets its own interval rather than one built from these pointwise bounds
+    ds["median_bootstrap"] = (("bootstrap",) + dims3, med, {
+        "units": units, "long_name": "median of each bootstrap replicate's fit",
+        "comment": "inf: the replicate has no exceedance; 0: every run of it exceeds; NaN: no valid runs"})
+    ds["beta_bootstrap"] = (("bootstrap",) + dims3, bet, {
+        "units": "1", "long_name": "dispersion of each bootstrap replicate's fit",
+        "comment": "0: perfectly separated replicate (a step at its median); NaN where the median is inf, 0 or NaN"})
 
 
 def ida(results, im="pga", model=None, column=None, angle="max"):

@@ -25,6 +25,7 @@ KINDS = {
     "histories": "histories file of 'frustum simulate'",
     "study": "results file of 'frustum study run'",
     "fragility": "fragility file of 'frustum fragility'",
+    "risk": "risk file of 'frustum risk'",
 }
 
 
@@ -94,6 +95,8 @@ def result_kind(path):
         return None
     if not source.startswith("frustum-pipeline"):
         return None
+    if "site" in dims and "annual_frequency" in names:
+        return "risk"
     if "intensity_measure" in attrs or ("state" in dims and "median" in names):
         return "fragility"
     if "time" in dims:

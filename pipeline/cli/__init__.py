@@ -11,11 +11,11 @@ import sys
 import warnings
 
 from pipeline import __version__
-from pipeline.errors import InputError, RecordWarning
+from pipeline.errors import HazardWarning, InputError, RecordWarning
 
 # Modules that provide ``register(subparsers)``; a module missing in a partial
 # checkout is skipped so the rest of the command still works.
-_COMMAND_MODULES = ("simulate", "records", "study", "workflow", "fragility", "report", "animate")
+_COMMAND_MODULES = ("simulate", "records", "study", "workflow", "fragility", "risk", "report", "animate")
 
 
 def build_parser():
@@ -62,7 +62,7 @@ def _warnings_as_lines():
     show = warnings.showwarning
 
     def one_line(message, category, filename, lineno, file=None, line=None):
-        if issubclass(category, RecordWarning):
+        if issubclass(category, (RecordWarning, HazardWarning)):
             print(f"frustum: warning: {message}", file=sys.stderr)
         else:
             show(message, category, filename, lineno, file, line)

@@ -1,0 +1,124 @@
+"""``frustum risk``: how likely a column is to reach a damage state at its site, from a fragility and a hazard curve."""
+
+import argparse
+import math
+
+from pipeline.errors import InputError
+
+_EXAMPLES = """\
+examples:
+  the risk of every column, model and damage state at the sites of an OpenQuake hazard curve (PGA):
+    frustum risk out/quickstart-fragility.nc --hazard hazard_curve-mean-PGA_12.csv --out risk.nc
+  in 100 years, with a spreadsheet and a figure:
+    frustum risk frag.nc --hazard curve.csv --years 100 --out risk.nc --csv risk.csv --plot risk.png
+  a plain two-column curve: first line 'PGA [g],annual_rate [1/yr]' (or 'SA(1.0) [g],poe in 50 years')
+"""
+
+
+def register(subparsers):
+    """Add the ``risk`` sub-command."""
+    p = subparsers.add_parser(
+        "risk",
+        help="mean annual frequency and probability in N years of each damage state at a site (netCDF out)",
+        description="Integrate the fragility of 'frustum fragility' against a site's hazard curve "
+        "(lambda = integral P(DS | a) |dH/da| da, the curve interpolated log-log, the part beyond its last level "
+        "bounded): mean annual frequency [1/yr], probability in --years, return period [yr] and the bootstrap band "
+        "of every site, damage state, column and model. The hazard curve is the OpenQuake engine's CSV "
+        "(hazard_curve-mean-PGA_<id>.csv: levels in g, probabilities of exceedance in its investigation time) or a "
+        "two-column CSV (level with its unit, annual rate); its intensity measure must be the fragility's.",
+        epilog=_EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument("fragility", metavar="FRAGILITY.nc", help="fragility written by 'frustum fragility' (medians in m/s^2)")
+    p.add_argument("--hazard", required=True, metavar="CURVE.csv",
+                   help="hazard curve: OpenQuake engine CSV (IMLs in g) or 'PGA [g],annual_rate [1/yr]' CSV")
+    p.add_argument("--years", type=float, default=50.0, metavar="T",
+                   help="period of the stated probability [yr] (default 50)")
+    p.add_argument("--out", required=True, metavar="RISK.nc", help="netCDF file to write")
+    p.add_argument("--csv", default=None, metavar="FILE.csv",
+                   help="also write one row per site, column, model and damage state (units in the column names)")
+    p.add_argument("--plot", default=None, metavar="FILE.png",
+                   help="also draw the hazard curve, the fragility and the risk integrand (any matplotlib format)")
+    p.add_argument("--state", default="overturning", metavar="STATE",
+                   help="damage state drawn by --plot and printed (default overturning)")
+    p.set_defaults(handler=run)
+
+
+def run(args):
+    from pipeline import risk as R
+    from pipeline.paths import check_output_file, check_plot_file
+
+    if not (math.isfinite(args.years) and args.years > 0):
+        raise InputError(f"--years {args.years:g}: give a positive number of years, e.g. 50")
+    inputs = [("fragility file", args.fragility), ("hazard curve", args.hazard)]
+    outs = [("--out", args.out)] + [(o, p) for o, p in (("--csv", args.csv), ("--plot", args.plot)) if p]
+    for i, (label, path) in enumerate(outs):  # two outputs on one path would leave only the last
+        for other, path2 in outs[:i]:
+            if check_output_file(path, label) == check_output_file(path2, other):
+                raise InputError(f"{label} {path!r} is also given to {other}; give each output its own file name")
+    check_output_file(args.out, "--out", kind="risk", inputs=inputs)
+    if args.csv:
+        _check_csv(args.csv, inputs)
+    if args.plot:
+        check_plot_file(args.plot, "--plot", inputs=inputs)
+    frag = R.open_fragility(args.fragility)
+    states = [str(s) for s in frag["state"].values]
+    if args.state not in states:
+        raise InputError(f"--state {args.state!r} is not in {args.fragility}; its damage states: {', '.join(states)}")
+    hazard = R.read_hazard_curve(args.hazard)
+    risk = R.site_risk(frag, hazard, years=args.years)
+    R.write(risk, args.out)
+    written = [args.out]
+    if args.csv:
+        written.append(R.write_csv(risk, args.csv))
+    if args.plot:
+        from pipeline.plotting_risk import plot_risk
+
+        written.append(plot_risk(risk, args.plot, state=args.state))
+    _print_summary(risk, args.state)
+    print(f"wrote {', '.join(written)}")
+    return 0
+
+
+def _check_csv(path, inputs):
+    """A CSV is written over an existing file only if it is a CSV this command wrote (its header says so)."""
+    import os
+
+    from pipeline.paths import check_output_file
+
+    full = check_output_file(path, "--csv", inputs=inputs)
+    if os.path.lexists(full):
+        try:
+            with open(full, encoding="utf-8") as fh:
+                first = fh.readline()
+        except (OSError, UnicodeError):
+            first = ""
+        if not first.startswith("site,site_longitude,site_latitude,column,model,state,"):
+            raise InputError(f"--csv {path!r} exists and is not a CSV written by 'frustum risk'; give a new file name "
+                             "(or move that file away)")
+
+
+def _print_summary(risk, state):
+    from pipeline import risk as R
+
+    years = float(risk["years"])
+    sites = [str(s) for s in risk["site"].values]
+    for site in sites[:10]:
+        for c in risk["column"].values:
+            for m in risk["model"].values:
+                cell = risk.sel(site=site, column=c, model=m, state=state)
+                lam = float(cell["annual_frequency"])
+                flag = R.RISK_FLAGS[int(cell["risk_flag"])]
+                if not math.isfinite(lam):
+                    print(f"{site} {c} {m} {state}: no risk computed ({flag.replace('_', ' ')})")
+                    continue
+                p = float(cell["probability_in_period"])
+                lo, hi = float(cell["probability_in_period_lower"]), float(cell["probability_in_period_upper"])
+                note = "" if flag == "ok" else f"; {flag.replace('_', ' ')}"
+                if lam <= 0:
+                    print(f"{site} {c} {m} {state}: 0 /yr{'' if flag == 'ok' else '; ' + flag.replace('_', ' ')}")
+                    continue
+                print(f"{site} {c} {m} {state}: {lam:.3g} /yr, once in {1 / lam:,.0f} yr on average; in {years:g} yr "
+                      f"{100 * p:.3g} % ({R.one_in(p)}; bounds for the curve's end {100 * lo:.3g}-{100 * hi:.3g} %{note})")
+    if len(sites) > 10:
+        print(f"... and {len(sites) - 10} more site(s): see the netCDF or --csv")

@@ -1,0 +1,106 @@
+"""The figure of a site risk (:mod:`pipeline.risk`): the hazard curve, the fragility and the risk integrand.
+
+Three panels over one intensity axis (in g for accelerations, m/s^2 on the top axis): the hazard
+curve H(a) [1/yr] as read (points) and as integrated (log-log interpolation, dashed where it is
+extended beyond the curve's levels); the fragility P(DS | a) of each model; and the integrand
+P(DS | a) |dH/d ln a| [1/yr per unit ln a], whose area over a log axis is the mean annual
+frequency, so the figure shows which shaking levels carry the risk.
+"""
+
+import numpy as np
+
+from pipeline.plotting_fragility import _plain_log, _secondary, _style, im_axis, plt
+from pipeline.risk import RISK_FLAGS, describe_im, one_in
+
+
+def _draw(risk, axes, site, column, state, models):
+    im = risk.attrs.get("intensity_measure", "pga")
+    units = risk["intensity"].attrs.get("units", "m s-2")
+    factor, xlabel, secondary = im_axis(im, units)
+    x = risk["intensity"].values * factor
+    end = float(risk["hazard_curve_end"].sel(site=site))
+    first = float(risk["hazard_level"].values[np.isfinite(risk["hazard_rate"].sel(site=site).values)
+                                              & (risk["hazard_rate"].sel(site=site).values > 0)][0])
+    ax_h, ax_p, ax_i = axes
+    h = risk["hazard_rate_interpolated"].sel(site=site).values
+    inside = (risk["intensity"].values >= first) & (risk["intensity"].values <= end)
+    ax_h.plot(x[inside], h[inside], color="C0", lw=1.6, label="log-log interpolation")
+    ax_h.plot(np.where(inside, np.nan, x), np.where(inside, np.nan, h), color="C0", lw=1.2, ls=":",
+              label="extended by the end segments")
+    levels = risk["hazard_level"].values * factor
+    rate = risk["hazard_rate"].sel(site=site).values
+    ok = np.isfinite(rate) & (rate > 0)
+    ax_h.plot(levels[ok], rate[ok], "o", color="C0", ms=4, label=f"hazard curve ({risk.attrs.get('hazard_file', '')})")
+    ax_h.set_yscale("log")
+    ax_h.set_ylabel("annual rate of exceedance\nH(a) [1/yr]")
+    ax_h.legend(fontsize="small", loc="lower left")
+    years = float(risk["years"])
+    lines = []
+    for j, m in enumerate(models):
+        cell = risk.sel(site=site, column=column, model=m, state=state)
+        style = _style(m)
+        color = f"C{j + 1}"
+        med = float(cell["fragility_median"])
+        ax_p.plot(x, cell["fragility_probability"].values, color=color, ls=style["ls"], lw=1.6,
+                  label=f"{m.upper()}: median {med * factor:.3g}" if np.isfinite(med) else f"{m.upper()}: no median")
+        dens = cell["risk_integrand"].values
+        lam = float(cell["annual_frequency"])
+        p = float(cell["probability_in_period"])
+        flag = RISK_FLAGS[int(cell["risk_flag"])]
+        text = (f"{m.upper()}: λ = {lam:.3g} /yr, {years:g} yr: {100 * p:.3g} % ({one_in(p)})" if np.isfinite(lam)
+                else f"{m.upper()}: not computed ({flag.replace('_', ' ')})")
+        if flag == "median_beyond_hazard_curve":
+            text += " - median beyond the curve"
+        ax_i.plot(x, dens, color=color, ls=style["ls"], lw=1.6, label=text)
+        lines.append(text)
+        for ax in (ax_h, ax_p, ax_i):
+            if np.isfinite(med):
+                ax.axvline(med * factor, color=color, lw=0.8, ls=style["ls"], alpha=0.6)
+    ax_p.set_ylabel(f"P({state} | a) [1]")
+    ax_p.set_ylim(-0.02, 1.02)
+    ax_p.legend(fontsize="small", loc="upper left", title="fragility (vertical lines: medians)",
+                title_fontsize="small")
+    ax_i.set_ylabel("risk integrand\nP |dH/d ln a| [1/yr]")
+    ax_i.legend(fontsize="small", loc="upper left")
+    for ax in axes:
+        ax.axvline(end * factor, color="0.4", lw=1.0, ls="--")
+        ax.set_xscale("log")
+        ax.grid(True, which="both", alpha=0.3)
+    ax_i.text(end * factor, 0.98, " last level", transform=ax_i.get_xaxis_transform(), fontsize="small",
+              va="top", color="0.3")
+    meds = risk["fragility_median"].sel(column=column, state=state, model=models).values
+    bets = np.nan_to_num(risk["fragility_beta"].sel(column=column, state=state, model=models).values)
+    reach = [float(v) for v in meds * np.exp(2.5 * bets) if np.isfinite(v)]
+    ax_i.set_xlim(first * factor / 1.5, min(max([end * 1.5] + reach), float(risk["intensity"].max())) * factor)
+    _plain_log(ax_i.xaxis)
+    ax_i.set_xlabel(xlabel)
+    _secondary(ax_h, secondary)
+    return describe_im(im, risk.attrs.get("intensity_measure_period"))
+
+
+def figure(risk, site=None, column=None, state="overturning", models=None, title=None):
+    """The three-panel figure of one site and column (every model), as a matplotlib Figure."""
+    site = str(risk["site"].values[0]) if site is None else site
+    column = str(risk["column"].values[0]) if column is None else column
+    models = [str(m) for m in risk["model"].values] if models is None else models
+    fig, axes = plt.subplots(3, 1, figsize=(8.5, 9.5), sharex=True, constrained_layout=True)
+    name = _draw(risk, axes, site, column, state, models)
+    fig.suptitle(title or f"Risk of {state} of column '{column}' at site {site} ({name})", fontsize="medium")
+    return fig
+
+
+def plot_risk(risk, path, site=None, column=None, state="overturning", models=None, title=None):
+    """Draw :func:`figure` to ``path`` (any format matplotlib writes, atomically); returns ``path``."""
+    from pipeline.figfile import save_figure
+
+    return save_figure(figure(risk, site, column, state, models, title), path)
+
+
+def plot_risk_stem(risk, stem, **kwargs):
+    """Draw :func:`figure` to ``<stem>.png`` and ``<stem>.pdf`` (the report's figures); returns both paths."""
+    from pipeline.plotting_fragility import _save
+
+    return _save(figure(risk, **kwargs), stem)
+
+
+__all__ = ["figure", "plot_risk", "plot_risk_stem"]

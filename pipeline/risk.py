@@ -1,0 +1,1043 @@
+"""Site risk: how often a column reaches a damage state at its site, from a fragility and a hazard curve.
+
+A fragility (:mod:`pipeline.fragility`) gives P(DS | IM = a), the probability of a damage state
+given the shaking. A hazard curve gives H(a), the mean annual rate at which shaking at the site
+exceeds a. The mean annual frequency of the damage state is the risk integral (Cornell 1968)::
+
+    lambda_DS = integral P(DS | a) |dH/da| da                                       [1/yr]
+
+Functions here are pure: arrays and Datasets in, arrays and Datasets out; reading a hazard curve
+is the one thing that touches a file.
+
+Hazard curves
+-------------
+:func:`read_hazard_curve` reads two formats, told apart by their first line:
+
+* the OpenQuake engine's CSV export, exactly as ``oq export hcurves`` writes it
+  (``hazard_curve-mean-PGA_<calc_id>.csv``; :func:`read_openquake_csv`): a first row holding
+  the metadata as a comment (``#,,,,,"generated_by='OpenQuake engine 3.18.0', ..., kind='mean',
+  investigation_time=50.0, imt='PGA'"``; older engines wrote ``# ..., investigation_time=1.0,
+  imt="PGA"``), then the header ``lon,lat,depth,poe-0.1000000,...`` (a ``custom_site_id`` column
+  first when the job named its sites), then one row per site. The intensity measure levels
+  (IMLs) are in the column names, in g for PGA and SA(T) (cm/s for PGV), as the engine
+  writes them; the values are probabilities of exceedance (PoE) in the investigation time T
+  [yr], converted to annual rates by ``-ln(1 - PoE) / T`` (Poisson occurrence, the engine's
+  own assumption).
+* a plain two-column CSV (:func:`read_plain_csv`): a header naming the intensity measure with
+  its unit and the rate, e.g. ``PGA [g],annual_rate [1/yr]`` (or ``SA(1.0) [m/s2]``, ``PGV
+  [cm/s]``; the second column may instead be ``poe in 50 years``), then one row per level;
+  lines starting with ``#`` are comments.
+
+Several sites in one file give a ``site`` dimension. Every level is converted to SI on reading
+(m/s^2 for PGA and Sa, m/s for PGV), the units of the fragility's medians.
+
+The integral
+------------
+Between its levels the hazard curve is interpolated log-log (a power law H = H_i (a/a_i)^-k_i on
+each segment), and with a lognormal fragility each segment's integral has a closed form
+(:func:`segment_integral`; integration by parts, then the Gaussian integral), so no quadrature
+error enters. Over one segment extended from 0 to infinity it is Kennedy's closed form
+``lambda = H(median) exp(k^2 beta^2 / 2)`` (Kennedy & Short 1994, Cornell et al. 2002).
+
+Beyond the curve's last level a_L the hazard is unknown. :func:`risk_integral` returns three
+numbers, so the part beyond is bounded and stated rather than silently dropped:
+
+* ``lower``: shaking beyond a_L (rate H(a_L)) counted at P(a_L), the least probability it can
+  have (P grows with a), and nothing below the first level a_0;
+* ``upper``: shaking beyond a_L counted with P = 1, plus the part below a_0 as ``central``;
+* ``central``: the last segment's power law extended beyond a_L, the first one's below a_0.
+
+``central`` lies between the bounds. Where the fragility's median lies beyond a_L, most of the
+risk comes from the extrapolation and the result is flagged (``risk_flag``) and warned about.
+
+Public functions: :func:`read_hazard_curve`, :func:`read_openquake_csv`, :func:`read_plain_csv`,
+:func:`annual_rate`, :func:`segment_integral`, :func:`risk_integral`, :func:`probability_in`,
+:func:`fragility_im`, :func:`check_im`, :func:`site_risk`, :func:`open_fragility`,
+:func:`risk_rows`, :func:`write`, :func:`write_csv`.
+"""
+
+import csv
+import math
+import os
+import re
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+import xarray as xr
+from scipy.special import log_ndtr
+
+from pipeline import fragility as F
+from pipeline.dataset import annotate, append_history, write_netcdf
+from pipeline.errors import HazardWarning, InputError
+from pipeline.units import G
+
+#: Default period of the probability stated [yr].
+DEFAULT_YEARS = 50.0
+
+#: Units of the OpenQuake engine's intensity measure levels, and the factor to SI.
+OPENQUAKE_UNITS = {"pga": ("g", G), "sa": ("g", G), "pgv": ("cm/s", 0.01)}
+
+#: Units a plain CSV may give its levels in: name -> factor to SI (m/s^2 or m/s).
+LEVEL_UNITS = {
+    "g": G, "m/s2": 1.0, "m/s^2": 1.0, "m s-2": 1.0, "m/s²": 1.0, "cm/s2": 0.01, "cm/s^2": 0.01, "cm/s²": 0.01,
+    "gal": 0.01, "m/s": 1.0, "m s-1": 1.0, "cm/s": 0.01, "cm s-1": 0.01,
+}
+_VELOCITY_UNITS = {"m/s", "m s-1", "cm/s", "cm s-1"}
+SI_UNITS = {"pga": "m s-2", "sa": "m s-2", "pgv": "m s-1"}
+
+#: risk_flag values: how far a number rests on the data (CF flag_values / flag_meanings).
+RISK_OK, RISK_MEDIAN_BEYOND, RISK_NO_EXCEEDANCE, RISK_ALL_EXCEED, RISK_NO_FIT = range(5)
+RISK_FLAGS = {
+    RISK_OK: "ok",
+    RISK_MEDIAN_BEYOND: "median_beyond_hazard_curve",
+    RISK_NO_EXCEEDANCE: "no_median_no_exceedance_observed",
+    RISK_ALL_EXCEED: "no_median_every_run_exceeds",
+    RISK_NO_FIT: "no_fit",
+}
+
+#: Shares of the risk at which the intensity is stated (``intensity_risk_05`` ...): 5, 50, 95 %.
+RISK_SHARES = (0.05, 0.5, 0.95)
+
+LIMITS = ("The fragility's PGA is the peak of the horizontal acceleration vector and its Sa the RotD50 of the "
+          "record pair (pipeline.sweep); a hazard curve is for the component its ground-motion models predict "
+          "(often RotD50 or the geometric mean), which for PGA is lower than the vector peak by some 10-20 %: "
+          "no conversion is applied, so with such a curve the risk is underestimated. Shaking beyond the "
+          "curve's last level is bounded (annual_frequency_lower, annual_frequency_upper), the central value "
+          "extends the curve's last segment. Occurrences are Poisson (probability in T years = "
+          "1 - exp(-lambda T)); the column is assumed undamaged before each earthquake (no accumulation).")
+
+
+# --------------------------------------------------------------------------- hazard curves
+
+
+@dataclass(frozen=True)
+class HazardCurve:
+    """Hazard curves of one or more sites for one intensity measure.
+
+    Attributes
+    ----------
+    im : str
+        ``"pga"``, ``"sa"`` or ``"pgv"`` (the names of :mod:`pipeline.fragility`).
+    period : float or None
+        Period of Sa [s]; None for PGA and PGV.
+    levels : numpy.ndarray
+        Intensity levels, increasing, in SI: [m/s^2] for PGA and Sa, [m/s] for PGV. Shape (L,).
+    rate : numpy.ndarray
+        Annual rate of exceedance of each level [1/yr], shape (S, L); ``inf`` where the file
+        gives a probability of exceedance of 1 (saturated), 0 where it gives 0.
+    sites : tuple of str
+        Site labels: the file's ``custom_site_id`` or ``site-<i>`` in row order.
+    lon, lat, depth : numpy.ndarray
+        Site coordinates as the file gives them ([degree_east], [degree_north], [km]); NaN in a
+        plain CSV.
+    investigation_time : float or None
+        Investigation time of the probabilities in the file [yr]; None when it gave rates.
+    poe : numpy.ndarray or None
+        The file's probabilities of exceedance in ``investigation_time`` [1], shape (S, L).
+    source : str
+        The file read.
+    format : str
+        ``"openquake"`` or ``"plain"``.
+    imt : str
+        The intensity measure as the file names it (``"PGA"``, ``"SA(1.0)"``).
+    file_units : str
+        Unit of the levels in the file (``"g"``).
+    kind : str
+        OpenQuake's ``kind`` (``"mean"``, ``"quantile-0.5"``, ``"rlz-000"``) or ``""``.
+    """
+
+    im: str
+    period: float | None
+    levels: np.ndarray
+    rate: np.ndarray
+    sites: tuple
+    lon: np.ndarray
+    lat: np.ndarray
+    depth: np.ndarray
+    investigation_time: float | None
+    poe: np.ndarray | None
+    source: str
+    format: str
+    imt: str
+    file_units: str
+    kind: str = ""
+    notes: tuple = field(default=())
+
+    def describe(self):
+        """The intensity measure in words: ``"PGA"``, ``"Sa(T = 1 s)"``."""
+        return describe_im(self.im, self.period)
+
+
+def describe_im(im, period=None):
+    """``"PGA"``, ``"PGV"``, ``"Sa(T = 1 s)"`` (``"Sa (period not recorded)"`` without one)."""
+    if im == "sa":
+        return f"Sa(T = {period:g} s)" if period is not None else "Sa (period not recorded)"
+    return im.upper()
+
+
+def annual_rate(poe, investigation_time):
+    """Annual rate of exceedance from a probability of exceedance in a time, ``-ln(1 - PoE) / T`` [1/yr].
+
+    Parameters
+    ----------
+    poe : array_like
+        Probability of exceedance in ``investigation_time`` [1], in [0, 1] (1 gives ``inf``).
+    investigation_time : float
+        [yr], > 0.
+    """
+    poe = np.asarray(poe, float)
+    with np.errstate(divide="ignore"):
+        return -np.log1p(-poe) / float(investigation_time)
+
+
+def probability_in(rate, years):
+    """Probability of at least one occurrence in ``years`` of a Poisson process of ``rate`` [1/yr]: 1 - exp(-rate T)."""
+    return -np.expm1(-np.asarray(rate, float) * float(years))
+
+
+_IMT = re.compile(r"^\s*(PGA|PGV|SA\s*\(\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(?:s)?\s*\))\s*$", re.IGNORECASE)
+
+
+def parse_imt(text, where=""):
+    """``"PGA"`` -> ("pga", None); ``"SA(0.2)"`` -> ("sa", 0.2); ``"PGV"`` -> ("pgv", None)."""
+    m = _IMT.match(str(text))
+    if not m:
+        raise InputError(f"{where}intensity measure {text!r} is not one this project fits fragilities against; "
+                         "give PGA, SA(T) with T in seconds (e.g. SA(1.0)) or PGV")
+    name = m.group(1).upper()
+    if name.startswith("SA"):
+        period = float(m.group(2))
+        if not period > 0:
+            raise InputError(f"{where}intensity measure {text!r}: the period of SA must be positive (e.g. SA(1.0))")
+        return "sa", period
+    return name.lower(), None
+
+
+def read_hazard_curve(path):
+    """Read a hazard curve file: the OpenQuake engine's CSV or a plain two-column CSV (module docstring).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+
+    Returns
+    -------
+    HazardCurve
+        Levels in SI ([m/s^2] for PGA and Sa, [m/s] for PGV), rates [1/yr].
+    """
+    path = os.fspath(path)
+    lines = _lines(path)
+    first = next((line for line in lines if line.strip()), "")
+    if first.lstrip().startswith("#") and _openquake_header(lines):
+        return read_openquake_csv(path)
+    return read_plain_csv(path)
+
+
+def _lines(path):
+    if not os.path.exists(path):
+        raise InputError(f"{path}: no such file; give a hazard curve (the OpenQuake engine's CSV, e.g. "
+                         "hazard_curve-mean-PGA_12.csv, or a two-column CSV 'PGA [g],annual_rate [1/yr]')")
+    if os.path.isdir(path):
+        raise InputError(f"{path} is a folder; give the hazard curve file (CSV)")
+    try:
+        with open(path, encoding="utf-8-sig", newline="") as fh:
+            return fh.read().splitlines()
+    except UnicodeDecodeError:
+        raise InputError(f"{path}: not a text file; give a hazard curve as CSV") from None
+    except OSError as exc:
+        raise InputError(f"{path}: cannot be read ({exc.strerror or exc})") from None
+
+
+def _openquake_header(lines):
+    """Whether the first line after the comment is the engine's header (lon, lat, poe-...)."""
+    rows = [line for line in lines if line.strip()]
+    if len(rows) < 2:
+        return False
+    header = [c.strip() for c in next(csv.reader([rows[1]]))]
+    return "lon" in header and "lat" in header and any(c.startswith("poe-") for c in header)
+
+
+def _meta(comment, key):
+    m = re.search(rf"\b{key}\s*=\s*(?:'([^']*)'|\"([^\"]*)\"|([^,\s\"']+))", comment)
+    if not m:
+        return None
+    return next(g for g in m.groups() if g is not None)
+
+
+def read_openquake_csv(path):
+    """Read hazard curves exported by the OpenQuake engine (``hazard_curve-<kind>-<IMT>_<calc_id>.csv``).
+
+    The engine writes (``openquake.commonlib`` export of ``hcurves``, ``writers.write_csv``): a
+    first row ``#,,,,,"generated_by='OpenQuake engine 3.x', start_date=..., checksum=...,
+    kind='mean', investigation_time=50.0, imt='PGA'"`` (one field per column, the comment in the
+    last), then ``[custom_site_id,]lon,lat,depth,poe-<IML>,...`` with each IML as ``%.7f`` in
+    g (PGA, SA) or cm/s (PGV), then one row per site: coordinates as ``%.5f`` and probabilities
+    of exceedance in the investigation time as ``%.6E``; lines end in CRLF.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+
+    Returns
+    -------
+    HazardCurve
+        Levels in SI, annual rates ``-ln(1 - PoE) / investigation_time`` [1/yr].
+    """
+    path = os.fspath(path)
+    lines = [line for line in _lines(path) if line.strip()]
+    where = f"{path}: "
+    if len(lines) < 3:
+        raise InputError(f"{where}an OpenQuake hazard curve file has a comment line, a header and a row per "
+                         f"site; this one has {len(lines)} line(s)")
+    comment = lines[0]
+    time_text = _meta(comment, "investigation_time")
+    imt_text = _meta(comment, "imt")
+    if imt_text is None:  # the file name says it too: hazard_curve-mean-PGA_12.csv
+        m = re.search(r"-(PGA|PGV|SA\([0-9.]+\))(?:_\d+)?\.csv$", os.path.basename(path), re.IGNORECASE)
+        imt_text = m.group(1) if m else None
+    if time_text is None:
+        raise InputError(f"{where}the first line has no investigation_time=...; without it the probabilities "
+                         "of exceedance cannot be turned into annual rates (export the curves with the "
+                         "OpenQuake engine, or give a two-column CSV of annual rates)")
+    if imt_text is None:
+        raise InputError(f"{where}the first line has no imt='...'; cannot tell which intensity measure the curve "
+                         "is for (export the curves with the OpenQuake engine, one file per IMT)")
+    try:
+        T = float(time_text)
+    except ValueError:
+        raise InputError(f"{where}investigation_time={time_text!r} is not a number") from None
+    if not (math.isfinite(T) and T > 0):
+        raise InputError(f"{where}investigation_time={time_text!r} must be a positive number of years")
+    im, period = parse_imt(imt_text, where)
+    kind = _meta(comment, "kind") or ""
+
+    header = [c.strip() for c in next(csv.reader([lines[1]]))]
+    poe_cols = [i for i, c in enumerate(header) if c.startswith("poe-")]
+    other = [c for i, c in enumerate(header) if i not in poe_cols]
+    unknown = [c for c in other if c not in ("custom_site_id", "lon", "lat", "depth")]
+    if unknown or "lon" not in other or "lat" not in other:
+        raise InputError(f"{where}header {','.join(header)!r}: expected [custom_site_id,]lon,lat,depth and then "
+                         f"poe-<IML> columns{'; unknown: ' + ', '.join(unknown) if unknown else ''}")
+    if len(poe_cols) < 2:
+        raise InputError(f"{where}only {len(poe_cols)} intensity level (poe-<IML> column); a hazard curve needs "
+                         "at least two")
+    try:
+        iml = np.array([float(header[i][4:]) for i in poe_cols])
+    except ValueError:
+        bad = next(header[i] for i in poe_cols if not _is_number(header[i][4:]))
+        raise InputError(f"{where}column {bad!r}: the level after 'poe-' is not a number") from None
+    if not (np.all(np.isfinite(iml)) and np.all(iml > 0) and np.all(np.diff(iml) > 0)):
+        raise InputError(f"{where}the levels poe-<IML> must be positive and increasing; found "
+                         f"{', '.join(f'{v:g}' for v in iml)}")
+    rows = list(csv.reader(lines[2:]))
+    sites, lon, lat, depth, poe = [], [], [], [], []
+    for n, row in enumerate(rows):
+        line_no = n + 3
+        if len(row) != len(header):
+            raise InputError(f"{where}line {line_no} has {len(row)} fields, the header {len(header)}")
+        try:
+            values = [float(row[i]) for i in poe_cols]
+            coords = {c: float(row[header.index(c)]) for c in ("lon", "lat", "depth") if c in header}
+        except ValueError:
+            raise InputError(f"{where}line {line_no}: a coordinate or a probability is not a number") from None
+        values = np.array(values)
+        if np.any(~np.isfinite(values) | (values < 0) | (values > 1)):
+            raise InputError(f"{where}line {line_no}: probabilities of exceedance must lie in [0, 1]")
+        label = row[header.index("custom_site_id")].strip() if "custom_site_id" in header else f"site-{n}"
+        sites.append(label)
+        lon.append(coords["lon"])
+        lat.append(coords["lat"])
+        depth.append(coords.get("depth", math.nan))
+        poe.append(values)
+    if len(set(sites)) != len(sites):
+        raise InputError(f"{where}site labels repeat ({', '.join(sorted({s for s in sites if sites.count(s) > 1}))})")
+    poe = np.array(poe)
+    unit, factor = OPENQUAKE_UNITS[im]
+    return HazardCurve(im=im, period=period, levels=iml * factor, rate=annual_rate(poe, T), sites=tuple(sites),
+                       lon=np.array(lon), lat=np.array(lat), depth=np.array(depth), investigation_time=T, poe=poe,
+                       source=path, format="openquake", imt=imt_text, file_units=unit, kind=kind)
+
+
+def _is_number(text):
+    try:
+        float(text)
+        return True
+    except ValueError:
+        return False
+
+
+_LEVEL_HEADER = re.compile(r"^\s*(?P<imt>PGA|PGV|S[Aa]\s*\([^)]*\))\s*(?:\[(?P<u1>[^\]]+)\]|\((?P<u2>[^)]+)\)|"
+                           r"[_ ]\s*(?P<u3>\S+))\s*$", re.IGNORECASE)
+_YEARS = re.compile(r"([0-9]*\.?[0-9]+)\s*-?\s*(?:y|yr|yrs|year|years)\b", re.IGNORECASE)
+
+
+def read_plain_csv(path):
+    """Read a plain two-column hazard curve: intensity with its unit, then annual rate (or PoE in T years).
+
+    Header examples: ``PGA [g],annual_rate [1/yr]``; ``SA(1.0) [m/s2],rate``; ``pga_g,poe in 50
+    years``; ``PGV [cm/s],annual rate of exceedance``. Units of the levels: g, m/s2, cm/s2 (gal)
+    for PGA and Sa; m/s, cm/s for PGV. Lines starting with ``#`` are comments.
+
+    Returns
+    -------
+    HazardCurve
+        One site, ``site-0``; levels in SI, rates [1/yr].
+    """
+    path = os.fspath(path)
+    where = f"{path}: "
+    rows = [(n + 1, row) for n, row in enumerate(csv.reader(_lines(path)))
+            if row and any(c.strip() for c in row) and not row[0].lstrip().startswith("#")]
+    example = "e.g. 'PGA [g],annual_rate [1/yr]' or 'SA(1.0) [g],poe in 50 years'"
+    if len(rows) < 3:
+        raise InputError(f"{where}a hazard curve needs a header ({example}) and at least two levels")
+    _, header = rows[0]
+    if len(header) != 2 or _is_number(header[0]):
+        raise InputError(f"{where}the first line must name two columns, the intensity with its unit and the annual "
+                         f"rate of exceedance ({example}); found {','.join(header)!r}")
+    m = _LEVEL_HEADER.match(header[0])
+    if not m:
+        raise InputError(f"{where}first column {header[0]!r}: name the intensity measure and its unit, e.g. "
+                         "'PGA [g]', 'SA(1.0) [g]', 'PGV [cm/s]'")
+    im, period = parse_imt(m.group("imt"), where)
+    unit = (m.group("u1") or m.group("u2") or m.group("u3")).strip()
+    key = unit.lower().replace(" ", "") if unit.lower().replace(" ", "") in LEVEL_UNITS else unit.lower()
+    if key not in LEVEL_UNITS or (im == "pgv") != (key in _VELOCITY_UNITS):
+        allowed = "m/s, cm/s" if im == "pgv" else "g, m/s2, cm/s2 (gal)"
+        raise InputError(f"{where}first column {header[0]!r}: unit {unit!r} unknown for {im.upper()}; use {allowed}")
+    second = header[1].strip().lower()
+    T = None
+    if "poe" in second or "probab" in second:
+        y = _YEARS.search(second)
+        if not y:
+            raise InputError(f"{where}second column {header[1]!r}: a probability of exceedance needs its time, "
+                             "e.g. 'poe in 50 years'")
+        T = float(y.group(1))
+        if not T > 0:
+            raise InputError(f"{where}second column {header[1]!r}: the time must be positive")
+    elif not any(w in second for w in ("rate", "afe", "frequency", "lambda", "1/yr", "per year")):
+        raise InputError(f"{where}second column {header[1]!r}: give the annual rate of exceedance "
+                         "('annual_rate [1/yr]') or a probability of exceedance with its time ('poe in 50 years')")
+    levels, values = [], []
+    for line_no, row in rows[1:]:
+        if len(row) != 2:
+            raise InputError(f"{where}line {line_no} has {len(row)} fields; give two: level, rate")
+        try:
+            levels.append(float(row[0]))
+            values.append(float(row[1]))
+        except ValueError:
+            raise InputError(f"{where}line {line_no}: {','.join(row)!r} is not two numbers") from None
+    levels, values = np.array(levels), np.array(values)
+    if not (np.all(np.isfinite(levels)) and np.all(levels > 0) and np.all(np.diff(levels) > 0)):
+        raise InputError(f"{where}the levels must be positive and increasing, one per line")
+    if T is None:
+        if np.any(~np.isfinite(values) | (values < 0)):
+            raise InputError(f"{where}annual rates must be non-negative numbers")
+        rate, poe = values, None
+    else:
+        if np.any(~np.isfinite(values) | (values < 0) | (values > 1)):
+            raise InputError(f"{where}probabilities of exceedance must lie in [0, 1]")
+        rate, poe = annual_rate(values, T), values[None, :]
+    return HazardCurve(im=im, period=period, levels=levels * LEVEL_UNITS[key], rate=rate[None, :], sites=("site-0",),
+                       lon=np.array([np.nan]), lat=np.array([np.nan]), depth=np.array([np.nan]),
+                       investigation_time=T, poe=poe, source=path, format="plain", imt=m.group("imt").strip(),
+                       file_units=unit)
+
+
+def usable_curve(hazard, site_index):
+    """(levels [SI], rates [1/yr]) of one site: the levels with a finite positive rate.
+
+    A probability of exceedance of 1 (infinite rate) at the lowest levels and of 0 at the highest
+    are left out: the curve runs from its first finite to its last positive rate. A rate that
+    grows with the level is refused (a hazard curve never rises).
+    """
+    rate = np.asarray(hazard.rate[site_index], float)
+    levels = np.asarray(hazard.levels, float)
+    site = hazard.sites[site_index]
+    rising = np.nonzero(np.diff(rate) > 1e-9 * np.maximum(rate[:-1], 1e-300))[0]
+    if rising.size:
+        i = int(rising[0])
+        raise InputError(f"{hazard.source}: site {site}: the rate of exceedance rises from {rate[i]:.4g} to "
+                         f"{rate[i + 1]:.4g} /yr between levels {i + 1} and {i + 2}; a hazard curve never rises "
+                         "with the level (is the file sorted?)")
+    keep = np.isfinite(rate) & (rate > 0)
+    if keep.sum() < 2:
+        raise InputError(f"{hazard.source}: site {site}: fewer than two levels with a probability of exceedance "
+                         "between 0 and 1; no curve to integrate")
+    return levels[keep], rate[keep]
+
+
+# --------------------------------------------------------------------------- the integral
+
+
+def _log_ndtr_diff(a, b):
+    """log(Phi(b) - Phi(a)) for a <= b, stable in both tails (-inf where b <= a)."""
+    a, b = np.broadcast_arrays(np.asarray(a, float), np.asarray(b, float))
+    upper = a > 0  # both in the upper tail: Phi(b) - Phi(a) = Phi(-a) - Phi(-b)
+    big = np.where(upper, log_ndtr(-a), log_ndtr(b))
+    small = np.where(upper, log_ndtr(-b), log_ndtr(a))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        out = np.asarray(big + np.log1p(-np.exp(small - big)), float)
+    return np.where(~(b > a) | np.isneginf(big), -np.inf, out)
+
+
+def segment_integral(x1, x2, x_ref, ln_h_ref, k, median, beta):
+    """Integral of P(DS | a) |dH/da| da over one power-law segment of a hazard curve [1/yr].
+
+    On the segment ``x1 <= ln a <= x2`` the hazard is ``ln H = ln_h_ref - k (ln a - x_ref)`` and the
+    fragility is lognormal, ``P = Phi((ln a - ln median) / beta)``. Integrating by parts and then the
+    Gaussian integral gives, with ``z = (x - ln median) / beta``::
+
+        H(x1) Phi(z1) - H(x2) Phi(z2) + H(median) exp(k^2 beta^2 / 2) [Phi(z2 + k beta) - Phi(z1 + k beta)]
+
+    (the last term evaluated in logs, so steep segments do not overflow). From 0 to infinity it is
+    Kennedy's ``H(median) exp(k^2 beta^2 / 2)``.
+
+    Parameters
+    ----------
+    x1, x2 : array_like
+        Ends of the segment, ln of the intensity in the fragility's units (``x1`` may be -inf,
+        ``x2`` +inf).
+    x_ref, ln_h_ref : array_like
+        A point of the segment's power law: ln intensity and ln H [ln(1/yr)].
+    k : array_like
+        Slope -d ln H / d ln a [1], >= 0.
+    median : array_like
+        Fragility median, units of the intensity; ``inf`` gives P = 0, ``0`` gives P = 1.
+    beta : array_like
+        Dispersion [1]; 0 is a step at the median.
+
+    Returns
+    -------
+    numpy.ndarray
+        [1/yr], broadcast over the arguments; NaN where ``median`` is NaN or ``beta`` is NaN for a
+        finite positive median.
+    """
+    x1, x2, x_ref, ln_h_ref, k, median, beta = np.broadcast_arrays(
+        *(np.asarray(v, float) for v in (x1, x2, x_ref, ln_h_ref, k, median, beta)))
+    out = np.full(x1.shape, np.nan)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        mu = np.log(median)
+
+        def ln_h(x):
+            return ln_h_ref - k * (x - x_ref)
+
+        def h(x):  # H at a segment's end (0 at +inf, inf at -inf for k > 0)
+            return np.where(np.isposinf(x), 0.0, np.where(np.isneginf(x), np.inf, np.exp(ln_h(x))))
+
+        flat = k == 0
+        never = np.isposinf(mu)  # P = 0
+        always = np.isneginf(mu)  # P = 1
+        step = np.isfinite(mu) & (beta == 0)
+        smooth = np.isfinite(mu) & (beta > 0)
+
+        # P = 1: every exceedance counts
+        out = np.where(always, h(x1) - h(x2), out)
+        out = np.where(never, 0.0, out)
+        # a step at the median: H(max(x1, mu)) - H(x2) where the median lies below x2
+        lo = np.maximum(x1, mu)
+        out = np.where(step, np.where(mu < x2, h(lo) - h(x2), 0.0), out)
+        # lognormal: the closed form
+        z1 = (x1 - mu) / beta
+        z2 = (x2 - mu) / beta
+        t1 = np.where(np.isneginf(x1), 0.0, np.exp(ln_h(x1) + log_ndtr(z1)))
+        t2 = np.where(np.isposinf(x2), 0.0, np.exp(ln_h(x2) + log_ndtr(z2)))
+        kb = k * beta
+        t3 = np.exp(ln_h(mu) + 0.5 * kb**2 + _log_ndtr_diff(z1 + kb, z2 + kb))
+        out = np.where(smooth, np.maximum(t1 - t2 + t3, 0.0), out)
+        out = np.where(flat & (smooth | step | never | always), 0.0, out)
+    return out
+
+
+@dataclass(frozen=True)
+class RiskParts:
+    """The risk integral of one hazard curve against fragilities, with the parts outside the curve.
+
+    Attributes (arrays broadcast over the fragilities given), all [1/yr] except the shares:
+    ``central``, ``lower``, ``upper`` (module docstring), ``inside`` (between the first and last
+    level), ``below`` (below the first level, first segment extended), ``beyond`` (beyond the last
+    level, last segment extended), ``h_last`` (H at the last level), ``p_last`` (P at the last
+    level [1]).
+    """
+
+    central: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    inside: np.ndarray
+    below: np.ndarray
+    beyond: np.ndarray
+    h_last: float
+    p_last: np.ndarray
+
+
+def _pieces(levels, rates):
+    x = np.log(np.asarray(levels, float))
+    ln_h = np.log(np.asarray(rates, float))
+    k = np.maximum(-np.diff(ln_h) / np.diff(x), 0.0)
+    return x, ln_h, k
+
+
+def risk_integral(levels, rates, median, beta):
+    """Mean annual frequency of a damage state: the risk integral over a tabulated hazard curve.
+
+    Parameters
+    ----------
+    levels : array_like
+        Intensity levels of the hazard curve, increasing, in the units of ``median`` (SI:
+        [m/s^2] for PGA and Sa).
+    rates : array_like
+        Annual rate of exceedance at each level [1/yr], positive, non-increasing.
+    median, beta : array_like
+        Lognormal fragility: median [units of ``levels``] (``inf``: never reached, ``0``:
+        always) and dispersion [1] (0: a step). Broadcast together.
+
+    Returns
+    -------
+    RiskParts
+        ``central`` = below + inside + beyond; ``lower`` = inside + P(a_L) H(a_L); ``upper`` =
+        below + inside + H(a_L).
+    """
+    x, ln_h, k = _pieces(levels, rates)
+    median, beta = np.broadcast_arrays(np.asarray(median, float), np.asarray(beta, float))
+    shape = median.shape
+    m = median[..., None]
+    b = beta[..., None]
+    inside = segment_integral(x[:-1], x[1:], x[:-1], ln_h[:-1], k, m, b).sum(axis=-1)
+    below = segment_integral(-np.inf, x[0], x[0], ln_h[0], k[0], median, beta)
+    beyond = segment_integral(x[-1], np.inf, x[-1], ln_h[-1], k[-1], median, beta)
+    h_last = float(np.exp(ln_h[-1]))
+    p_last = F.probability(np.exp(x[-1]), np.where(np.isnan(median), np.nan, median),
+                           np.where(np.isfinite(median) & (median > 0), beta, 1.0)).reshape(shape)
+    lower = inside + p_last * h_last
+    upper = below + inside + h_last
+    # a flat last segment never releases H(a_L): count it at P(a_L) at least
+    central = below + inside + np.maximum(beyond, p_last * h_last)
+    return RiskParts(central=central, lower=lower, upper=upper, inside=inside, below=below, beyond=beyond,
+                     h_last=h_last, p_last=p_last)
+
+
+def _integrand(grid, levels, rates, median, beta):
+    """P(DS | a) |dH/d ln a| on ``grid`` [1/yr per unit ln a], and H(a) on it (curve extended by its end segments)."""
+    x, ln_h, k = _pieces(levels, rates)
+    g = np.log(grid)
+    seg = np.clip(np.searchsorted(x, g, side="right") - 1, 0, len(k) - 1)
+    ln_hg = ln_h[seg] - k[seg] * (g - x[seg])
+    hg = np.exp(ln_hg)
+    p = F.probability(grid, median[..., None], np.where(np.isfinite(median) & (median > 0), beta, 1.0)[..., None])
+    return p * k[seg] * hg, hg, p
+
+
+def _shares(grid, density, below, total, shares=RISK_SHARES):
+    """Intensities below which the given shares of ``total`` accrue (NaN where the grid does not reach them)."""
+    g = np.log(grid)
+    steps = 0.5 * (density[..., 1:] + density[..., :-1]) * np.diff(g)
+    cum = np.concatenate([np.zeros(density.shape[:-1] + (1,)), np.cumsum(steps, axis=-1)], axis=-1)
+    cum = cum + below[..., None]
+    out = np.full(density.shape[:-1] + (len(shares),), np.nan)
+    for index in np.ndindex(density.shape[:-1]):
+        t = total[index]
+        if not (np.isfinite(t) and t > 0):
+            continue
+        frac = cum[index] / t
+        for j, s in enumerate(shares):
+            above = np.nonzero(frac >= s)[0]
+            if above.size and above[0] > 0:
+                i = above[0]
+                w = (s - frac[i - 1]) / (frac[i] - frac[i - 1])
+                out[index + (j,)] = math.exp(g[i - 1] + w * (g[i] - g[i - 1]))
+    return out
+
+
+# --------------------------------------------------------------------------- fragility files
+
+
+def open_fragility(path):
+    """Open a fragility file written by ``frustum fragility`` (or a report's ``fragility.nc``).
+
+    Returns
+    -------
+    xarray.Dataset
+        Loaded; ``source_file`` attribute set to ``path``.
+    """
+    from pipeline import dataset
+
+    path = os.fspath(path)
+    if not os.path.exists(path):
+        raise InputError(f"{path}: no such file; give the netCDF written by 'frustum fragility'")
+    try:
+        frag = dataset.open_results(path)
+    except (OSError, ValueError) as exc:
+        raise InputError(f"{path}: cannot be read as netCDF ({exc}); give the file 'frustum fragility' wrote") from None
+    missing = [name for name in ("median", "beta", "fit_status") if name not in frag.variables]
+    if missing or not {"state", "column", "model"} <= set(frag.dims):
+        raise InputError(f"{path}: not a fragility file (no {', '.join(missing) or 'state/column/model dims'}); "
+                         "give the netCDF written by 'frustum fragility'")
+    frag.attrs["source_file"] = path
+    return frag
+
+
+def fragility_im(frag):
+    """(im, period [s] or None, units) of a fragility Dataset.
+
+    The period of Sa is the attribute ``intensity_measure_period`` (written since issue 27) or, in
+    older files, read from the median's long name ``... (period 1 s)``.
+    """
+    im = str(frag.attrs.get("intensity_measure", "pga"))
+    units = str(frag["median"].attrs.get("units", frag.attrs.get("intensity_measure_units", "")))
+    period = frag.attrs.get("intensity_measure_period")
+    if period is None and im == "sa":
+        m = re.search(r"\(period ([0-9.eE+-]+) s\)", str(frag["median"].attrs.get("long_name", "")))
+        period = float(m.group(1)) if m else None
+    return im, (None if period is None else float(period)), units
+
+
+def check_im(frag, hazard):
+    """Refuse a hazard curve whose intensity measure is not the fragility's (PGA with PGA, Sa(T) with Sa(T))."""
+    im, period, units = fragility_im(frag)
+    where = frag.attrs.get("source_file", "the fragility")
+    needs = describe_im(im, period)
+    has = hazard.describe()
+    fix = (f"give a hazard curve of {needs} (OpenQuake: imt='{'SA(%g)' % period if im == 'sa' and period else im.upper()}'"
+           f") or fit the fragility against {hazard.im} ('frustum fragility --im {hazard.im}'"
+           + (f" on a study with sa_period = {hazard.period:g}" if hazard.im == "sa" else "") + ")")
+    if im not in SI_UNITS:
+        raise InputError(f"{where}: its fragility is against {im!r}, for which no hazard curve is read; fit it against "
+                         "pga or sa ('frustum fragility --im pga')")
+    if im != hazard.im:
+        raise InputError(f"{hazard.source}: the hazard curve is for {has} but the fragility {where} is against "
+                         f"{needs}; {fix}")
+    if im == "sa":
+        if period is None:
+            raise InputError(f"{where}: the fragility is against Sa but does not record its period; refit it with "
+                             "'frustum fragility --im sa' (which records intensity_measure_period)")
+        if not math.isclose(period, hazard.period, rel_tol=1e-6):
+            raise InputError(f"{hazard.source}: the hazard curve is for {has} but the fragility {where} is against "
+                             f"{needs}; {fix}")
+    if units != SI_UNITS[im]:
+        raise InputError(f"{where}: the fragility's median is in {units!r}, expected {SI_UNITS[im]!r} for {needs}")
+
+
+# --------------------------------------------------------------------------- the risk dataset
+
+
+def _flags(status, beyond_curve):
+    flag = np.full(status.shape, RISK_NO_FIT, np.int8)
+    flag[(status == F.FIT_OK) | (status == F.FIT_SEPARATED)] = RISK_OK
+    flag[status == F.FIT_NO_EXCEEDANCE] = RISK_NO_EXCEEDANCE
+    flag[status == F.FIT_ALL_EXCEED] = RISK_ALL_EXCEED
+    out = np.broadcast_to(flag, beyond_curve.shape).copy()
+    out[(out == RISK_OK) & beyond_curve] = RISK_MEDIAN_BEYOND
+    return out
+
+
+def _grid(hazard, medians, betas, n):
+    lo = min(usable_curve(hazard, s)[0][0] for s in range(len(hazard.sites))) / 2.0
+    hi_curve = max(usable_curve(hazard, s)[0][-1] for s in range(len(hazard.sites)))
+    ok = np.isfinite(medians) & (medians > 0)
+    reach = np.where(ok, medians * np.exp(2.5 * np.nan_to_num(betas, nan=0.0)), 0.0)
+    hi = min(max(hi_curve * 3.0, float(reach.max(initial=0.0))), hi_curve * 30.0)
+    return np.geomspace(lo, hi, n)
+
+
+def site_risk(frag, hazard, years=DEFAULT_YEARS, n_grid=301):
+    """The risk of every site, damage state, column and model of a fragility.
+
+    Parameters
+    ----------
+    frag : xarray.Dataset
+        Fragility from :func:`pipeline.fragility.fragility` or :func:`open_fragility`: ``median``
+        [m/s^2 for PGA and Sa], ``beta`` [1], ``fit_status``, and with a bootstrap
+        ``median_bootstrap``/``beta_bootstrap`` (the replicates).
+    hazard : HazardCurve
+        Same intensity measure as the fragility (:func:`check_im`), levels in SI.
+    years : float
+        Period of the probability stated [yr] (``probability_in_period``).
+    n_grid : int
+        Points of the intensity grid of the integrand (for plots and the shares).
+
+    Returns
+    -------
+    xarray.Dataset
+        Dims ``site``, ``state``, ``column``, ``model`` (labels), ``intensity`` and ``hazard_level``.
+        ``annual_frequency`` [1/yr] with ``_lower``/``_upper`` (bounds for the curve's end) and, with
+        bootstrap replicates, ``_band_lower``/``_band_upper`` at the fragility's confidence level;
+        the same for ``probability_in_period`` [1]; ``return_period`` [yr]; the shares below the
+        first and beyond the last level [1]; ``intensity_risk_05/50/95`` [IM units];
+        ``risk_flag``; ``risk_integrand`` [1/yr per unit ln IM], ``fragility_probability`` [1] and
+        ``hazard_rate_interpolated`` [1/yr] on ``intensity``; the curve as read, ``hazard_rate``
+        [1/yr] (and ``hazard_poe``) on ``hazard_level``.
+    """
+    years = float(years)
+    if not (math.isfinite(years) and years > 0):
+        raise InputError(f"years = {years!r}: give a positive number of years, e.g. 50")
+    check_im(frag, hazard)
+    im, period, units = fragility_im(frag)
+    status = frag["fit_status"].transpose("state", "column", "model").values.astype(int)
+    usable = (status == F.FIT_OK) | (status == F.FIT_SEPARATED)
+    median = np.where(usable, frag["median"].transpose("state", "column", "model").values, np.nan)
+    beta = np.where(usable, frag["beta"].transpose("state", "column", "model").values, np.nan)
+    replicates = "median_bootstrap" in frag.variables and frag.sizes.get("bootstrap", 0) > 0
+    if replicates:
+        med_b = frag["median_bootstrap"].transpose("bootstrap", "state", "column", "model").values
+        bet_b = frag["beta_bootstrap"].transpose("bootstrap", "state", "column", "model").values
+    confidence = float(frag.attrs.get("confidence_level", F.DEFAULT_CONFIDENCE))
+    grid = _grid(hazard, median, beta, n_grid)
+
+    nS = len(hazard.sites)
+    shape = (nS,) + median.shape
+    out = {name: np.full(shape, np.nan) for name in (
+        "annual_frequency", "annual_frequency_lower", "annual_frequency_upper", "annual_frequency_band_lower",
+        "annual_frequency_band_upper", "share_below_first_level", "share_beyond_last_level")}
+    shares = np.full(shape + (len(RISK_SHARES),), np.nan)
+    integrand = np.full(shape + (grid.size,), np.nan)
+    h_grid = np.full((nS, grid.size), np.nan)
+    beyond_curve = np.zeros(shape, bool)
+    curve_end = np.full(nS, np.nan)
+    for s in range(nS):
+        levels, rates = usable_curve(hazard, s)
+        curve_end[s] = levels[-1]
+        parts = risk_integral(levels, rates, median, beta)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            out["annual_frequency"][s] = parts.central
+            out["annual_frequency_lower"][s] = parts.lower
+            out["annual_frequency_upper"][s] = parts.upper
+            out["share_below_first_level"][s] = parts.below / parts.central
+            out["share_beyond_last_level"][s] = (parts.central - parts.below - parts.inside) / parts.central
+        beyond_curve[s] = np.isfinite(median) & (median > levels[-1])
+        dens, hg, _ = _integrand(grid, levels, rates, median, beta)
+        integrand[s] = dens
+        h_grid[s] = hg
+        shares[s] = _shares(grid, dens, parts.below, parts.central)
+        if replicates:
+            lam = risk_integral(levels, rates, med_b, bet_b).central  # (bootstrap, state, column, model)
+            lo, hi = _band(lam, confidence)
+            out["annual_frequency_band_lower"][s] = np.where(usable, lo, np.nan)
+            out["annual_frequency_band_upper"][s] = np.where(usable, hi, np.nan)
+    flag = _flags(status, beyond_curve)
+    _warn(hazard, frag, flag, median, curve_end, units)
+
+    dims = ("site", "state", "column", "model")
+    level = f"{100 * confidence:g} %"
+    ds = xr.Dataset(coords=_coords(frag, hazard, grid, years, im, units))
+    for name, values in out.items():
+        ds[name] = (dims, values)
+    for name in ("", "_lower", "_upper", "_band_lower", "_band_upper"):
+        ds[f"probability_in_period{name}"] = (dims, probability_in(out[f"annual_frequency{name}"], years))
+    with np.errstate(divide="ignore"):
+        ds["return_period"] = (dims, np.where(out["annual_frequency"] > 0, 1.0 / out["annual_frequency"], np.inf))
+    for j, share in enumerate(RISK_SHARES):
+        ds[f"intensity_risk_{round(100 * share):02d}"] = (dims, shares[..., j], {"units": units})
+    ds["risk_flag"] = (dims, flag)
+    ds["risk_integrand"] = (dims + ("intensity",), integrand)
+    ds["fragility_probability"] = (("state", "column", "model", "intensity"),
+                                   F.probability(grid, median[..., None],
+                                                 np.where(np.isfinite(median) & (median > 0), beta, 1.0)[..., None]))
+    ds["hazard_rate_interpolated"] = (("site", "intensity"), h_grid)
+    ds["hazard_rate"] = (("site", "hazard_level"), np.asarray(hazard.rate, float))
+    if hazard.poe is not None:
+        ds["hazard_poe"] = (("site", "hazard_level"), np.asarray(hazard.poe, float),
+                            {"comment": f"in the investigation time, {hazard.investigation_time:g} years"})
+    ds["hazard_curve_end"] = (("site",), curve_end, {"units": units})
+    fdims = ("state", "column", "model")
+    ds["fragility_median"] = (fdims, frag["median"].transpose(*fdims).values, {"units": units})
+    ds["fragility_beta"] = (fdims, frag["beta"].transpose(*fdims).values)
+    ds["fit_status"] = (fdims, frag["fit_status"].transpose(*fdims).values, dict(frag["fit_status"].attrs))
+    own = {name: dict(var.attrs) for name, var in ds.variables.items()}
+    annotate(ds)
+    for name, attrs in own.items():  # IM-dependent units stay the fragility's
+        ds[name].attrs = {**ds[name].attrs, **attrs}
+    for name in ("annual_frequency_band_lower", "annual_frequency_band_upper", "probability_in_period_band_lower",
+                 "probability_in_period_band_upper"):
+        ds[name].attrs["long_name"] += f" ({level})"
+        if not replicates:
+            ds[name].attrs["comment"] = ("NaN: the fragility file has no bootstrap replicates (median_bootstrap); "
+                                         "rerun 'frustum fragility --bootstrap N'")
+    ds.attrs.update(
+        title="Risk of damage states of free-standing columns at sites",
+        summary="Mean annual frequency of each damage state, column and model of a fragility at each site of a "
+                "hazard curve: lambda = integral P(DS | a) |dH/da| da, the hazard curve interpolated log-log, "
+                "each segment integrated in closed form against the lognormal fragility; the part beyond the "
+                "curve's last level bounded (annual_frequency_lower/upper).",
+        intensity_measure=im,
+        intensity_measure_units=units,
+        **({"intensity_measure_period": period} if period is not None else {}),
+        years=years,
+        hazard_file=os.path.basename(hazard.source),
+        hazard_format=hazard.format,
+        hazard_imt=hazard.imt,
+        hazard_level_units_in_file=hazard.file_units,
+        hazard_kind=hazard.kind,
+        **({"hazard_investigation_time": hazard.investigation_time} if hazard.investigation_time else {}),
+        fragility_file=os.path.basename(str(frag.attrs.get("source_file", ""))),
+        confidence_level=confidence,
+        bootstrap_replicates=int(frag.sizes.get("bootstrap", 0)) if replicates else 0,
+        method="Cornell C.A. (1968) Engineering seismic risk analysis, BSSA 58(5); closed form per power-law "
+               "segment (Kennedy R.P., Short S.A. (1994) UCRL-15910; Cornell C.A. et al. (2002) J. Struct. Eng. "
+               "128(4)); Poisson occurrence",
+        limits=LIMITS,
+    )
+    for key in ("results_study", "results_study_digest", "results_title"):
+        if key in frag.attrs:
+            ds.attrs[key] = str(frag.attrs[key])
+    append_history(ds, f"pipeline.risk hazard={os.path.basename(hazard.source)} years={years:g}")
+    return ds
+
+
+def _band(samples, confidence):
+    """Percentile interval over the first axis (no interpolation; NaN replicates left out, inf kept)."""
+    alpha = 0.5 * (1.0 - confidence)
+    out = np.full((2,) + samples.shape[1:], np.nan)
+    for index in np.ndindex(samples.shape[1:]):
+        v = samples[(slice(None),) + index]
+        v = v[~np.isnan(v)]
+        if v.size:
+            out[(slice(None),) + index] = np.quantile(v, [alpha, 1.0 - alpha], method="inverted_cdf")
+    out[~np.isfinite(out)] = np.nan
+    return out[0], out[1]
+
+
+def _coords(frag, hazard, grid, years, im, units):
+    acc = im in ("pga", "sa")
+    coords = {
+        "site": ("site", np.array(hazard.sites, dtype=object)),
+        "site_longitude": ("site", np.asarray(hazard.lon, float)),
+        "site_latitude": ("site", np.asarray(hazard.lat, float)),
+        "site_depth": ("site", np.asarray(hazard.depth, float)),
+        "state": ("state", frag["state"].values.astype(str).astype(object), {"long_name": "damage state"}),
+        "column": ("column", frag["column"].values.astype(str).astype(object)),
+        "model": ("model", frag["model"].values.astype(str).astype(object)),
+        "intensity": ("intensity", grid, {"units": units}),
+        "hazard_level": ("hazard_level", np.asarray(hazard.levels, float), {"units": units}),
+        "years": ((), years),
+    }
+    if acc:
+        coords["intensity_g"] = ("intensity", grid / G)
+        coords["hazard_level_g"] = ("hazard_level", np.asarray(hazard.levels, float) / G)
+    for name in ("state_measure", "state_threshold"):
+        if name in frag.coords:
+            coords[name] = ("state", frag[name].values, dict(frag[name].attrs))
+    for name in ("column_R", "column_r", "column_h", "slenderness", "theta_crit", "column_beta", "latitude",
+                 "longitude"):
+        if name in frag.coords and frag[name].dims == ("column",):
+            coords[name] = ("column", frag[name].values, dict(frag[name].attrs))
+    return coords
+
+
+def _warn(hazard, frag, flag, median, curve_end, units):
+    """One warning per site where the hazard curve ends before a fragility's median."""
+    factor, unit = (1.0 / G, "g") if units == "m s-2" else (1.0, units)
+    states, columns, models = (frag[d].values for d in ("state", "column", "model"))
+    for s, site in enumerate(hazard.sites):
+        cells = np.argwhere(flag[s] == RISK_MEDIAN_BEYOND)
+        if not cells.size:
+            continue
+        named = [f"{columns[c]} {models[m]} {states[i]} (median {median[i, c, m] * factor:.3g} {unit})"
+                 for i, c, m in cells[:3]]
+        more = f" and {len(cells) - 3} more" if len(cells) > 3 else ""
+        warnings.warn(f"{os.path.basename(hazard.source)}: the hazard curve of site {site} ends at "
+                      f"{curve_end[s] * factor:.3g} {unit}, below the fragility median of {', '.join(named)}{more}: "
+                      "most of that risk is extrapolated beyond the curve; see annual_frequency_lower/upper "
+                      "(risk_flag median_beyond_hazard_curve)", HazardWarning, stacklevel=2)
+
+
+# --------------------------------------------------------------------------- files
+
+
+#: Significant digits of the CSV (a hazard curve and a fragility carry no more).
+CSV_DIGITS = 4
+
+
+def risk_rows(risk):
+    """One dict per site, column, model and damage state: the spreadsheet's rows (units in the keys)."""
+    im = risk.attrs.get("intensity_measure", "pga")
+    acc = im in ("pga", "sa")
+    rows = []
+    years = float(risk["years"])
+    for site in risk["site"].values:
+        for c in risk["column"].values:
+            for m in risk["model"].values:
+                for state in risk["state"].values:
+                    cell = risk.sel(site=site, column=c, model=m, state=state)
+
+                    def v(name, cell=cell):
+                        return float(cell[name])
+
+                    row = {"site": str(site), "site_longitude": float(cell["site_longitude"]),
+                           "site_latitude": float(cell["site_latitude"]), "column": str(c), "model": str(m),
+                           "state": str(state)}
+                    if acc:
+                        row["fragility_median_g"] = v("fragility_median") / G
+                    row[f"fragility_median_{'m_s2' if acc else 'm_s'}"] = v("fragility_median")
+                    row["fragility_beta"] = v("fragility_beta")
+                    row["fit_status"] = F.FIT_STATUS.get(int(cell["fit_status"]), "?")
+                    row["annual_frequency_per_yr"] = v("annual_frequency")
+                    row["annual_frequency_lower_per_yr"] = v("annual_frequency_lower")
+                    row["annual_frequency_upper_per_yr"] = v("annual_frequency_upper")
+                    row["annual_frequency_band_lower_per_yr"] = v("annual_frequency_band_lower")
+                    row["annual_frequency_band_upper_per_yr"] = v("annual_frequency_band_upper")
+                    row["return_period_yr"] = v("return_period")
+                    for name in ("", "_lower", "_upper", "_band_lower", "_band_upper"):
+                        row[f"probability_in_{years:g}_yr{name}"] = v(f"probability_in_period{name}")
+                    row["share_beyond_last_level"] = v("share_beyond_last_level")
+                    for share in RISK_SHARES:
+                        key = f"intensity_risk_{round(100 * share):02d}"
+                        row[f"{key}_{'g' if acc else 'm_s'}"] = v(key) / (G if acc else 1.0)
+                    row["risk_flag"] = RISK_FLAGS[int(cell["risk_flag"])]
+                    rows.append(row)
+    return rows
+
+
+def _csv_value(value):
+    if isinstance(value, float):
+        if math.isnan(value):
+            return ""
+        if math.isinf(value):
+            return "inf" if value > 0 else "-inf"
+        return f"{value:.{CSV_DIGITS}g}"
+    return value
+
+
+def write_csv(risk, path):
+    """Write :func:`risk_rows` as CSV, atomically (temporary name, then rename); returns ``path``."""
+    from pipeline.atomic import atomic_open
+
+    rows = risk_rows(risk)
+    path = os.fspath(path)
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    with atomic_open(path, "w", encoding="utf-8", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        writer.writeheader()
+        for row in rows:
+            writer.writerow({k: _csv_value(v) for k, v in row.items()})
+    return path
+
+
+def write(risk, path):
+    """Write a risk Dataset as CF netCDF, atomically (:func:`pipeline.dataset.write_netcdf`)."""
+    return write_netcdf(risk, path)
+
+
+def one_in(p):
+    """A probability in plain words: ``"about 1 in 250"``, ``"about 6 in 10"``, ``"less than 1 in a million"``."""
+    if not np.isfinite(p):
+        return "unknown"
+    if p <= 0:
+        return "practically no"
+    if p < 1e-6:
+        return "less than 1 in a million"
+    if p >= 0.95:
+        return "almost certain (more than 19 in 20)"
+    if p >= 0.3:
+        return f"about {round(10 * p)} in 10"
+    n = 1.0 / p
+    digits = 2 if n >= 10 else 1
+    n = float(f"{n:.{digits}g}")
+    return f"about 1 in {n:,.0f}"
+
+
+__all__ = [
+    "DEFAULT_YEARS", "HazardCurve", "RiskParts", "RISK_FLAGS", "annual_rate", "probability_in", "parse_imt",
+    "read_hazard_curve", "read_openquake_csv", "read_plain_csv", "usable_curve", "segment_integral",
+    "risk_integral", "open_fragility", "fragility_im", "check_im", "site_risk", "risk_rows", "write", "write_csv",
+    "one_in", "describe_im",
+]
