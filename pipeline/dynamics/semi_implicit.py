@@ -60,44 +60,27 @@ N_Q = 14
 
 
 @njit(cache=True)
-def _cholesky6(a, out):
-    """Lower Cholesky factor of a symmetric positive definite 6 x 6 matrix."""
+def _cholesky6(a, b, out):
+    """Lower Cholesky factor ``out[b]`` of the symmetric positive definite 6 x 6 matrix ``a``."""
     for i in range(6):
         for j in range(i + 1):
             s = a[i, j]
             for k in range(j):
-                s -= out[i, k] * out[j, k]
+                s -= out[b, i, k] * out[b, j, k]
             if i == j:
-                out[i, i] = math.sqrt(s)
+                out[b, i, i] = math.sqrt(s)
             else:
-                out[i, j] = s / out[j, j]
+                out[b, i, j] = s / out[b, j, j]
         for j in range(i + 1, 6):
-            out[i, j] = 0.0
-
-
-@njit(cache=True)
-def _lower_solve(L, b):
-    """Solve L x = b in place (L lower triangular, 6 x 6)."""
-    for i in range(6):
-        s = b[i]
-        for k in range(i):
-            s -= L[i, k] * b[k]
-        b[i] = s / L[i, i]
-
-
-@njit(cache=True)
-def _upper_solve(L, b):
-    """Solve L^T x = b in place."""
-    for i in range(5, -1, -1):
-        s = b[i]
-        for k in range(i + 1, 6):
-            s -= L[k, i] * b[k]
-        b[i] = s / L[i, i]
+            out[b, i, j] = 0.0
 
 
 @njit(cache=True)
 def block_tridiagonal_solve(diag, off, rhs, fac, coup, tmp):
     """Solve a symmetric positive definite block-tridiagonal system in place.
+
+    Block Cholesky: ``L_b L_b^T = D_b - C_b C_b^T`` with ``C_b = O_b L_{b-1}^{-T}``, then
+    forward and back substitution.
 
     Parameters
     ----------
@@ -115,30 +98,33 @@ def block_tridiagonal_solve(diag, off, rhs, fac, coup, tmp):
     n = diag.shape[0]
     for b in range(n):
         if b == 0:
-            _cholesky6(diag[0], fac[0])
-            _lower_solve(fac[0], rhs[0])
-            continue
-        # coup[b] = off[b] L_{b-1}^{-T}: row by row, solve L_{b-1} x = off[b] row
-        for i in range(6):
-            for k in range(6):
-                tmp[0, k] = off[b, i, k]
-            _lower_solve(fac[b - 1], tmp[0])
-            for k in range(6):
-                coup[b, i, k] = tmp[0, k]
-        for i in range(6):
-            for j in range(i + 1):
-                s = diag[b, i, j]
+            _cholesky6(diag[0], 0, fac)
+        else:
+            # C_b: row i solves L_{b-1} x = O_b[i, :]
+            for i in range(6):
                 for k in range(6):
-                    s -= coup[b, i, k] * coup[b, j, k]
-                tmp[i, j] = s
-                tmp[j, i] = s
-        _cholesky6(tmp, fac[b])
-        for i in range(6):
+                    s = off[b, i, k]
+                    for m in range(k):
+                        s -= fac[b - 1, k, m] * coup[b, i, m]
+                    coup[b, i, k] = s / fac[b - 1, k, k]
+            for i in range(6):
+                for j in range(i + 1):
+                    s = diag[b, i, j]
+                    for k in range(6):
+                        s -= coup[b, i, k] * coup[b, j, k]
+                    tmp[i, j] = s
+                    tmp[j, i] = s
+            _cholesky6(tmp, b, fac)
+            for i in range(6):
+                s = rhs[b, i]
+                for k in range(6):
+                    s -= coup[b, i, k] * rhs[b - 1, k]
+                rhs[b, i] = s
+        for i in range(6):  # L_b w = rhs_b
             s = rhs[b, i]
-            for k in range(6):
-                s -= coup[b, i, k] * rhs[b - 1, k]
-            rhs[b, i] = s
-        _lower_solve(fac[b], rhs[b])
+            for k in range(i):
+                s -= fac[b, i, k] * rhs[b, k]
+            rhs[b, i] = s / fac[b, i, i]
     for b in range(n - 1, -1, -1):
         if b < n - 1:
             for i in range(6):
@@ -146,7 +132,11 @@ def block_tridiagonal_solve(diag, off, rhs, fac, coup, tmp):
                 for k in range(6):
                     s -= coup[b + 1, k, i] * rhs[b + 1, k]
                 rhs[b, i] = s
-        _upper_solve(fac[b], rhs[b])
+        for i in range(5, -1, -1):  # L_b^T x = w
+            s = rhs[b, i]
+            for k in range(i + 1, 6):
+                s -= fac[b, k, i] * rhs[b, k]
+            rhs[b, i] = s / fac[b, i, i]
 
 
 @njit(cache=True)
