@@ -376,10 +376,20 @@ def planar_restitution(column, settings, damping, amplitude=RELEASE_TILT):
     bottom = low + int(np.argmax(np.diff(tilt[low:]) > 0.0))
     top = bottom + int(np.argmax(np.diff(tilt[bottom:]) < 0.0))
     if top <= bottom or top >= len(tilt) - 1:
-        raise RuntimeError("the calibration's rocking found no rebound peak; check the joint parameters")
+        raise InputError(_unmeasurable(outline, settings, "the released column did not rock back up "
+                                                          "(no rebound peak)"))
     theta1 = _parabola_peak(tilt[top - 1:top + 2])
     drop = math.cos(alpha - theta0) - math.cos(alpha)
     return math.sqrt(max(0.0, math.cos(alpha - theta1) - math.cos(alpha)) / drop)
+
+
+def _unmeasurable(outline, settings, what):
+    """The message of a damping calibration that cannot measure a planar restitution."""
+    sink = outline.density * outline.volume * G / (settings.normal_stiffness * math.pi * outline.R ** 2)
+    return (f"normal_stiffness = {settings.normal_stiffness:g} Pa/m: the damping calibration could not measure a "
+            f"rocking restitution on this bed ({what}; the column sinks {1e3 * sink:.3g} mm under its weight): "
+            "give the joints' damping yourself, contact_damping [Pa s/m] (--contact-damping), or a stiffer bed "
+            "(1e9 Pa/m and stiffer calibrate for the paper's column)")
 
 
 def _parabola_peak(three):
@@ -411,9 +421,15 @@ def _calibrated(outline, settings_key, target):
         return planar_restitution(outline, settings, ratio * critical)
 
     e_most = e(MAX_DAMPING_RATIO)
+    if not 0.0 < e_most <= 1.0:
+        raise InputError(_unmeasurable(outline, settings, f"with critical damping it measured {e_most:.3g}"))
     if target <= e_most:
         return MAX_DAMPING_RATIO * critical, e_most
     e_none = e(0.0)
+    if not e_most <= e_none <= 1.0 + 1e-2:
+        # less damping must not lose more: the bed is too soft for a rocking measurement
+        raise InputError(_unmeasurable(outline, settings, f"undamped it measured {e_none:.3g}, critically "
+                                                          f"damped {e_most:.3g}"))
     if target >= e_none:
         return 0.0, e_none
     ratio = brentq(lambda z: e(z) - target, 0.0, MAX_DAMPING_RATIO, xtol=1e-5, rtol=1e-6)

@@ -90,6 +90,9 @@ def register(subparsers):
                         help="normal stiffness of the bed joints per unit area [Pa/m] (default: the base's)")
     joints.add_argument("--anathyrosis", type=float, default=0.0, metavar="RATIO",
                         help="inner/outer radius of the bed joints' contact ring [1] (default 0: full)")
+    joints.add_argument("--contact-damping", type=float, default=None, metavar="PA_S_M",
+                        help="normal dashpots of the joints per unit area [Pa s/m] (default: calibrated to the "
+                        "restitution, which needs a bed stiff enough to rock on)")
     joints.add_argument("--integrator", default="semi-implicit", choices=("semi-implicit", "dopri5", "dop853"),
                         help="semi-implicit: fixed steps, springs explicit, dashpots implicit (default, fast); "
                         "dopri5: the adaptive reference (--rtol, --atol; drum stacks take minutes)")
@@ -265,7 +268,8 @@ def _earthquake(args, column, models):
             friction=args.friction, tail=args.tail, rtol=_given(args.rtol, 1e-9), atol=_given(args.atol, 1e-12),
             output_step=args.output_step, normal_stiffness=_given(args.normal_stiffness, 1.0e10),
             joint_stiffness=args.joint_stiffness, joint_friction=args.joint_friction, anathyrosis=args.anathyrosis,
-            **({"integrator": args.integrator, "step": args.step} if model == "3d-compliant" else {}),
+            **({"integrator": args.integrator, "step": args.step, "contact_damping": args.contact_damping}
+               if model == "3d-compliant" else {}),
         )
         response = simulate(column, motion, excitation, settings, progress=_progress_line(model, settings))
         runs.append((response.histories, response.summary))
