@@ -353,6 +353,9 @@ CAPTIONS = (
      "(solid)."),
     ("median_2d_vs_3d", "Each point is a column: above the dashed line the 2D analysis needs stronger shaking than "
      "the 3D one to topple it (unconservative)."),
+    ("risk_", "Risk at the site. Top: how often shaking exceeds each PGA there (the hazard curve, dots as read, "
+     "dotted where extended beyond them). Middle: the probability of overturning at each PGA. Bottom: their "
+     "product, which shows the shaking levels that carry the risk; its area is the yearly rate of overturning."),
     ("trajectories", "Paths on the ground of chosen runs: the contact point on the rim (blue) and the centre of the "
      "base (orange). Planar rocking would draw a straight line; the rolling (wobbling) column circles."),
 )
@@ -372,7 +375,7 @@ def _values(results, name):
 
 def write_report(results, out_dir, pga_levels_g=DEFAULT_PGA_LEVELS_G, states=F.DEFAULT_STATES, bootstrap=200,
                  seed=0, confidence=F.DEFAULT_CONFIDENCE, title=None, trajectories=None, notes=None, focus=None,
-                 stripe_tables_max=4):
+                 stripe_tables_max=4, hazard=None, years=50.0):
     """Write the report folder of a study.
 
     Parameters
@@ -400,6 +403,12 @@ def write_report(results, out_dir, pga_levels_g=DEFAULT_PGA_LEVELS_G, states=F.D
     stripe_tables_max : int
         Per-stripe 2D/3D tables are written for at most this many columns
         (the bullet list covers every column).
+    hazard : pipeline.risk.HazardCurve, optional
+        A PGA hazard curve of the site(s): the report adds "Risk at the site" (the chance of
+        overturning in ``years``, :func:`pipeline.risk.site_risk`), ``risk.nc``, ``risk.csv`` and
+        a figure of the risk integrand.
+    years : float
+        Period of the probability stated with ``hazard`` [yr].
 
     Returns
     -------
@@ -410,16 +419,17 @@ def write_report(results, out_dir, pga_levels_g=DEFAULT_PGA_LEVELS_G, states=F.D
     dest = os.fspath(out_dir)
     with atomic_folder(dest) as tmp:
         out = _write_report_into(results, tmp, pga_levels_g, states, bootstrap, seed, confidence, title,
-                                 trajectories, notes, focus, stripe_tables_max)
+                                 trajectories, notes, focus, stripe_tables_max, hazard, years)
 
     def moved(path):
         return None if path is None else os.path.join(dest, os.path.relpath(path, tmp))
 
-    return {k: ([moved(p) for p in v] if k == "figures" else v if k == "frag" else moved(v)) for k, v in out.items()}
+    return {k: ([moved(p) for p in v] if k == "figures" else v if k in ("frag", "risk") else moved(v))
+            for k, v in out.items()}
 
 
 def _write_report_into(results, out_dir, pga_levels_g, states, bootstrap, seed, confidence, title, trajectories, notes,
-                       focus, stripe_tables_max):
+                       focus, stripe_tables_max, hazard=None, years=50.0):
     """:func:`write_report` into ``out_dir`` (a temporary folder); returns what it wrote there."""
     out_dir = os.fspath(out_dir)
     results = F._normalise(results, F._where(results))
@@ -493,6 +503,19 @@ def _write_report_into(results, out_dir, pga_levels_g, states, bootstrap, seed, 
         figs += P.plot_trajectories(trajectories, os.path.join(fig_dir, "trajectories"),
                                     title="Paths on the ground of chosen runs")[:1]
 
+    risk = risk_path = risk_csv = None
+    if hazard is not None:
+        from pipeline import risk as R
+        from pipeline.plotting_risk import plot_risk_stem
+
+        risk = R.site_risk(frag, hazard, years=years)
+        risk_path = R.write(risk, os.path.join(out_dir, "risk.nc"))
+        risk_csv = R.write_csv(risk, os.path.join(out_dir, "risk.csv"))
+        site = str(risk["site"].values[0])
+        figs += plot_risk_stem(risk, os.path.join(fig_dir, f"risk_{columns[0]}"), site=site, column=columns[0],
+                               title=f"Risk of overturning of column '{columns[0]}' at site {site}: hazard curve, "
+                               "fragility and risk integrand")[:1]
+
     rows = summary_rows(results, frag, pga_levels_g)
     csv_path = os.path.join(out_dir, "summary.csv")
     _write_csv(rows, csv_path)
@@ -500,12 +523,16 @@ def _write_report_into(results, out_dir, pga_levels_g, states, bootstrap, seed, 
     args = (results, frag, rows, comparison, pga_levels_g, figs, out_dir, title, notes, geo_path, stripe_tables_max)
     md_path = os.path.join(out_dir, "report.md")
     with _atomic_text(md_path) as fh:
-        fh.write(_markdown(*args))
+        fh.write(_markdown(*args, risk=(risk, hazard)))
     html_path = os.path.join(out_dir, "report.html")
     with _atomic_text(html_path) as fh:
-        fh.write(_html(_markdown(*args, image=_data_uri), title or results.attrs.get("title", "Study report")))
-    return {"report": md_path, "html": html_path, "csv": csv_path, "geojson": geo_path, "fragility": frag_path,
-            "figures": figs, "frag": frag}
+        fh.write(_html(_markdown(*args, image=_data_uri, risk=(risk, hazard)),
+                       title or results.attrs.get("title", "Study report")))
+    out = {"report": md_path, "html": html_path, "csv": csv_path, "geojson": geo_path, "fragility": frag_path,
+           "figures": figs, "frag": frag}
+    if risk is not None:
+        out.update(risk_nc=risk_path, risk_csv=risk_csv, risk=risk)
+    return out
 
 
 def _data_uri(path):
@@ -570,6 +597,119 @@ def _overturning_all_columns(frag, stem):
     return P._save(fig, stem)
 
 
+#: Site-and-column cells described in sentences under "Risk at the site" (the table has them all).
+RISK_SENTENCES_MAX = 8
+
+
+def _pct2(p):
+    """A small probability with two significant digits: ``0.059 %``, ``2.4 %``, ``< 0.0001 %``."""
+    if not np.isfinite(p):
+        return "n/a"
+    if 0.0 < p < 1e-6:
+        return "< 0.0001 %"
+    return f"{float(f'{100 * p:.2g}'):g} %"
+
+
+def _years(value):
+    """``2,100 years`` (two significant digits)."""
+    return f"{float(f'{value:.2g}'):,.0f} years"
+
+
+def _risk_section(risk, hazard, frag):
+    """The "Risk at the site" section: the chance of overturning in the period, in plain words."""
+    from pipeline import risk as R
+
+    years = float(risk["years"])
+    yrs = f"{years:g} years"
+    state = "overturning"
+    sites = [str(s) for s in risk["site"].values]
+    source = ("the OpenQuake engine's export" + (f" ({hazard.kind} curve)" if hazard.kind else "")
+              + f", probabilities of exceedance in {hazard.investigation_time:g} years turned into annual rates"
+              if hazard.format == "openquake" else "annual rates" if hazard.investigation_time is None
+              else f"probabilities of exceedance in {hazard.investigation_time:g} years turned into annual rates")
+    level = f"{100 * float(risk.attrs['confidence_level']):g} %"
+    lines = ["## Risk at the site", ""]
+    lines.append(f"The fragility above says how likely the column is to overturn *given* a shaking. The site's hazard "
+                 f"curve (`{os.path.basename(hazard.source)}`, {source}) says how often each shaking happens there. "
+                 "Together (the risk integral, docs/fragility.md) they give how likely the column is to overturn "
+                 f"at its site in the next {yrs}, assuming earthquakes occur at random in time (Poisson) and the "
+                 "column stands undamaged before each one.")
+    lines.append("")
+    lines.append(f"| site | column | model | chance of overturning in {yrs} | in words | on average once in | "
+                 f"bootstrap band ({level}) | 90 % of the risk from PGA between |")
+    lines.append("|---|---|---|---|---|---|---|---|")
+    sentences, notes = [], []
+    for site in sites:
+        for c in risk["column"].values:
+            for m in risk["model"].values:
+                cell = risk.sel(site=site, column=c, model=m, state=state)
+                p = float(cell["probability_in_period"])
+                flag = R.RISK_FLAGS[int(cell["risk_flag"])]
+                if flag in ("no_median_no_exceedance_observed", "no_median_every_run_exceeds", "no_fit"):
+                    lines.append(f"| {site} | {c} | {m.upper()} | n/a | {flag.replace('_', ' ')} | | | |")
+                    notes.append(_risk_no_median(risk, hazard, frag, site, str(c), str(m), flag, years))
+                    continue
+                lam = float(cell["annual_frequency"])
+                band = (f"{_pct2(float(cell['probability_in_period_band_lower']))} to "
+                        f"{_pct2(float(cell['probability_in_period_band_upper']))}"
+                        if np.isfinite(float(cell["probability_in_period_band_lower"])) else "n/a")
+                a05, a95 = (float(cell[f"intensity_risk_{q}"]) / G for q in ("05", "95"))
+                span = f"{_fmt(a05, 2)} and {_fmt(a95, 2)} g" if np.isfinite(a05) and np.isfinite(a95) else "n/a"
+                once = _years(1 / lam) if lam > 0 else "never"
+                mark = " (extrapolated)" if flag == "median_beyond_hazard_curve" else ""
+                lines.append(f"| {site} | {c} | {m.upper()} | {_pct2(p)}{mark} | {R.one_in(p)} | {once} | {band} | "
+                             f"{span} |")
+                if len(sentences) < RISK_SENTENCES_MAX:
+                    where = _site_where(cell)
+                    text = (f"- At site {site}{where}, column '{c}' ({MD.title(str(m))}): **{R.one_in(p)} chance of "
+                            f"overturning in {yrs}** ({_pct2(p)}" + (f"; bootstrap band {band}" if band != "n/a" else "")
+                            + f"), on average once in {once}.")
+                    if span != "n/a":
+                        text += f" 90 % of this risk comes from shaking with a PGA between {span}."
+                    if flag == "median_beyond_hazard_curve":
+                        lo, hi = (float(cell[f"probability_in_period_{b}"]) for b in ("lower", "upper"))
+                        text += (f" **Extrapolated:** the hazard curve stops at "
+                                 f"{_fmt(float(risk['hazard_curve_end'].sel(site=site)) / G)} g, below this column's "
+                                 f"median PGA of overturning ({_fmt(float(cell['fragility_median']) / G)} g); the "
+                                 f"number extends the curve beyond its last level, and whatever the curve does there "
+                                 f"the chance lies between {_pct2(lo)} and {_pct2(hi)}.")
+                    sentences.append(text)
+    lines.append("")
+    lines += sentences + notes
+    if sentences or notes:
+        lines.append("")
+    lines.append("Limits: the fragility's PGA is the peak of the horizontal acceleration vector of the record; hazard "
+                 "curves are usually for a component average (RotD50 or the geometric mean), some 10-20 % lower for "
+                 "the same shaking, and no conversion is applied, so these chances are somewhat low. The bootstrap "
+                 "band covers the records' scatter, not the hazard's uncertainty (use the engine's quantile curves "
+                 "for that). Every damage state, model and site is in `risk.csv` and `risk.nc`.")
+    lines.append("")
+    return lines
+
+
+def _site_where(cell):
+    lon, lat = float(cell["site_longitude"]), float(cell["site_latitude"])
+    if not (np.isfinite(lon) and np.isfinite(lat)):
+        return ""
+    return f" ({abs(lat):.3f}° {'N' if lat >= 0 else 'S'}, {abs(lon):.3f}° {'E' if lon >= 0 else 'W'})"
+
+
+def _risk_no_median(risk, hazard, frag, site, column, model, flag, years):
+    """The sentence for a column whose fragility has no median (nothing to integrate)."""
+    from pipeline import risk as R
+
+    if flag != "no_median_no_exceedance_observed" or "im_simulated_max" not in frag:
+        return (f"- At site {site}, column '{column}' ({model.upper()}): no fragility to integrate "
+                f"({flag.replace('_', ' ')}), so no risk is stated.")
+    top = float(frag["im_simulated_max"].sel(column=column, model=model))
+    index = [str(s) for s in risk["site"].values].index(site)
+    p_top = float(R.probability_in(R.hazard_rate_at(hazard, index, top), years))
+    return (f"- At site {site}, column '{column}' ({model.upper()}): no run overturned, up to a PGA of "
+            f"{_fmt(top / G)} g, so the fragility has no median and these runs cannot give the risk. For scale: "
+            f"shaking stronger than {_fmt(top / G)} g has {R.one_in(p_top)} chance ({_pct2(p_top)}) of happening there "
+            f"in {years:g} years; run stronger shaking to learn whether it would overturn the column.")
+
+
 def _extrapolated_mark(where):
     """`` (extrapolated)`` after a median that lies outside the PGA range simulated."""
     return " (extrapolated)" if where else ""
@@ -603,7 +743,7 @@ def _caveats(rows):
 
 
 def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, title, notes, geo_path,
-              stripe_tables_max=4, image=None):
+              stripe_tables_max=4, image=None, risk=(None, None)):
     """The report as Markdown; ``image(path)`` gives a figure's link (default: its path relative to the report)."""
     image = image or (lambda path: os.path.relpath(path, out_dir))
     n = results.sizes
@@ -700,6 +840,8 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
                  "by PGA (all stood below, all overturned above): the step is placed between the two.")
     lines.append("")
     lines += _caveats(rows)
+    if risk[0] is not None:
+        lines += _risk_section(risk[0], risk[1], frag)
 
     targets = results["scale"].attrs.get("units", "1") == "m s-2"  # every record scaled to the stripe's PGA
     if comparison:
@@ -791,6 +933,9 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
               "- `figures/`: every figure as PNG and PDF."]
     if geo_path:
         lines.append("- `columns.geojson`: the columns with their coordinates and results; opens in a GIS.")
+    if risk[0] is not None:
+        lines.append("- `risk.nc`, `risk.csv`: the risk at the site(s) of every column, model and damage state "
+                     "(mean annual frequency, probability in the period, bounds; netCDF and spreadsheet).")
     lines.append("")
     source = results.attrs.get("source_file") or results.attrs.get("study_file")
     if source:

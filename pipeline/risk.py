@@ -467,6 +467,18 @@ def usable_curve(hazard, site_index):
     return levels[keep], rate[keep]
 
 
+def hazard_rate_at(hazard, site_index, intensity):
+    """Annual rate of exceedance [1/yr] of a site's curve at ``intensity`` [SI], log-log interpolated.
+
+    Beyond the curve's ends its end segments' power laws are extended (as in :func:`risk_integral`).
+    """
+    levels, rates = usable_curve(hazard, site_index)
+    x, ln_h, k = _pieces(levels, rates)
+    g = np.log(np.asarray(intensity, float))
+    seg = np.clip(np.searchsorted(x, g, side="right") - 1, 0, len(k) - 1)
+    return np.exp(ln_h[seg] - k[seg] * (g - x[seg]))
+
+
 # --------------------------------------------------------------------------- the integral
 
 
@@ -936,8 +948,8 @@ def _warn(hazard, frag, flag, median, curve_end, units):
         more = f" and {len(cells) - 3} more" if len(cells) > 3 else ""
         warnings.warn(f"{os.path.basename(hazard.source)}: the hazard curve of site {site} ends at "
                       f"{curve_end[s] * factor:.3g} {unit}, below the fragility median of {', '.join(named)}{more}: "
-                      "most of that risk is extrapolated beyond the curve; see annual_frequency_lower/upper "
-                      "(risk_flag median_beyond_hazard_curve)", HazardWarning, stacklevel=2)
+                      "that risk rests partly on the curve extended beyond its last level; see "
+                      "annual_frequency_lower/upper (risk_flag median_beyond_hazard_curve)", HazardWarning, stacklevel=2)
 
 
 # --------------------------------------------------------------------------- files
@@ -1038,6 +1050,6 @@ def one_in(p):
 __all__ = [
     "DEFAULT_YEARS", "HazardCurve", "RiskParts", "RISK_FLAGS", "annual_rate", "probability_in", "parse_imt",
     "read_hazard_curve", "read_openquake_csv", "read_plain_csv", "usable_curve", "segment_integral",
-    "risk_integral", "open_fragility", "fragility_im", "check_im", "site_risk", "risk_rows", "write", "write_csv",
+    "risk_integral", "hazard_rate_at", "open_fragility", "fragility_im", "check_im", "site_risk", "risk_rows", "write", "write_csv",
     "one_in", "describe_im",
 ]

@@ -1,17 +1,22 @@
 """``frustum report``: a Markdown report, CSV, GeoJSON and figures of a study."""
 
 import argparse
+import math
 
 from pipeline.errors import InputError
 
 #: The files a report writes in its folder (besides figures/), checked against the inputs before computing.
 REPORT_FILES = ("report.md", "report.html", "summary.csv", "columns.geojson", "fragility.nc")
+#: The files ``--hazard`` adds.
+RISK_FILES = ("risk.nc", "risk.csv")
 
 _EXAMPLES = """\
 examples:
   frustum report out/quickstart.nc --out out/quickstart-report
   probabilities stated at 0.15, 0.3 and 0.45 g, 500 bootstrap replicates:
     frustum report out/quickstart.nc --out report --pga-levels 0.15,0.3,0.45 --bootstrap 500
+  with the chance of overturning in 50 years at the sites of an OpenQuake PGA hazard curve:
+    frustum report out/quickstart.nc --out report --hazard hazard_curve-mean-PGA_12.csv
 """
 
 
@@ -37,6 +42,11 @@ def register(subparsers):
                    help="bootstrap replicates over records (default 200)")
     p.add_argument("--seed", type=int, default=0, help="seed of the bootstrap (default 0)")
     p.add_argument("--title", default=None, help="report title (default: the study's title)")
+    p.add_argument("--hazard", default=None, metavar="CURVE.csv",
+                   help="PGA hazard curve of the site(s): OpenQuake engine CSV (IMLs in g) or 'PGA [g],annual_rate "
+                   "[1/yr]'; adds 'Risk at the site' (chance of overturning in --years), risk.nc and risk.csv")
+    p.add_argument("--years", type=float, default=50.0, metavar="T",
+                   help="period of the chance stated with --hazard [yr] (default 50)")
     p.set_defaults(handler=run)
 
 
@@ -53,11 +63,30 @@ def run(args):
     if not levels or any(not (v > 0) for v in levels):
         raise InputError(f"--pga-levels {args.pga_levels!r}: give positive PGA values in g, e.g. 0.1,0.2,0.3")
     check_fit_options(args)
-    check_output_folder(args.out, "--out", writes=REPORT_FILES, kinds={"fragility.nc": "fragility"},
-                        inputs=[("results file", args.results)])
+    hazard = None
+    inputs = [("results file", args.results)]
+    if args.hazard is not None:
+        from pipeline import risk as R
+
+        if not (math.isfinite(args.years) and args.years > 0):
+            raise InputError(f"--years {args.years:g}: give a positive number of years, e.g. 50")
+        inputs.append(("hazard curve", args.hazard))
+        hazard = R.read_hazard_curve(args.hazard)  # read and checked before any fitting
+        if hazard.im != "pga":
+            raise InputError(f"{args.hazard}: the hazard curve is for {hazard.describe()} but the report's fragility "
+                             "is against PGA; give a PGA hazard curve (OpenQuake: imt='PGA'), or use 'frustum "
+                             "fragility --im sa' and 'frustum risk' for Sa")
+        for i in range(len(hazard.sites)):
+            R.usable_curve(hazard, i)
+    elif args.years != 50.0:
+        raise InputError("--years is the period of the chance stated with --hazard; give --hazard CURVE.csv too")
+    writes = REPORT_FILES + (RISK_FILES if hazard is not None else ())
+    check_output_folder(args.out, "--out", writes=writes, kinds={"fragility.nc": "fragility", "risk.nc": "risk"},
+                        inputs=inputs)
     results = F.open_results(args.results)
     out = write_report(results, args.out, pga_levels_g=levels, states=parse_states(args.states),
-                       bootstrap=args.bootstrap, seed=args.seed, title=args.title)
+                       bootstrap=args.bootstrap, seed=args.seed, title=args.title, hazard=hazard, years=args.years)
     print(f"wrote {out['report']}, {out['html']}, {out['csv']}" + (f", {out['geojson']}" if out["geojson"] else "")
+          + (f", {out['risk_nc']}, {out['risk_csv']}" if out.get("risk_nc") else "")
           + f" and {len(out['figures'])} figure(s)")
     return 0

@@ -57,7 +57,7 @@ def example_openquake_text(investigation_time=50.0):
 
 def plain_text(levels_g, rates, header="PGA [g],annual_rate [1/yr]"):
     """A plain two-column curve."""
-    return header + "\n" + "".join(f"{a!r},{h!r}\n" for a, h in zip(levels_g, rates))
+    return header + "\n" + "".join(f"{float(a)!r},{float(h)!r}\n" for a, h in zip(levels_g, rates))
 
 
 def power_law_text(k0, k, median_ms2, levels=40, header="PGA [g],annual_rate [1/yr]"):
