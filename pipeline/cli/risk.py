@@ -118,7 +118,10 @@ def _print_summary(risk, state):
                 if lam <= 0:
                     print(f"{site} {c} {m} {state}: 0 /yr{'' if flag == 'ok' else '; ' + flag.replace('_', ' ')}")
                     continue
-                print(f"{site} {c} {m} {state}: {lam:.3g} /yr, once in {1 / lam:,.0f} yr on average; in {years:g} yr "
-                      f"{100 * p:.3g} % ({R.one_in(p)}; bounds for the curve's end {100 * lo:.3g}-{100 * hi:.3g} %{note})")
+                blo, bhi = (float(cell[f"probability_in_period_band_{b}"]) for b in ("lower", "upper"))
+                band = f"; bootstrap band {100 * blo:.2g}-{100 * bhi:.2g} %" if math.isfinite(blo) else ""
+                once = float(f"{1 / lam:.2g}")
+                print(f"{site} {c} {m} {state}: {lam:.3g} /yr, once in {once:,.0f} yr on average; in {years:g} yr "
+                      f"{100 * p:.2g} % ({R.one_in(p)}{band}; curve-end bounds {100 * lo:.2g}-{100 * hi:.2g} %{note})")
     if len(sites) > 10:
         print(f"... and {len(sites) - 10} more site(s): see the netCDF or --csv")
