@@ -439,7 +439,7 @@ def warm_up(models=("3d", "2d")):
 
 #: What the first run on a machine is told: compiling both models' kernels took 40-70 s on
 #: the project's 2-core machines; later runs load them from numba's cache in about 2 s.
-COMPILE_NOTICE = ("frustum: compiling the simulation kernels for this machine, once (about a minute); "
+COMPILE_NOTICE = ("frustum: compiling the simulation kernels for this machine, once (one to two minutes on two cores); "
                   "later runs load them from the cache")
 #: Without a readable cache index (another numba version), a load this long [s] is taken for a compile.
 COMPILE_NOTICE_AFTER = 10.0
