@@ -407,6 +407,31 @@ def open_results(path):
     return ds
 
 
+def open_results_file(path, made_by):
+    """:func:`open_results` of a user's path, with errors that name the file and the fix.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    made_by : str
+        The command that writes such a file (e.g. ``"frustum study run"``), named in the errors.
+
+    Raises
+    ------
+    InputError
+        The file is missing or cannot be read as netCDF.
+    """
+    from pipeline.errors import InputError
+
+    path = os.fspath(path)
+    if not os.path.exists(path):
+        raise InputError(f"{path}: no such file; give the netCDF written by '{made_by}'")
+    try:
+        return open_results(path)
+    except (OSError, ValueError) as exc:
+        raise InputError(f"{path}: cannot be read as netCDF ({exc}); give the file '{made_by}' wrote") from None
+
+
 #: The summary of one simulation (:class:`pipeline.simulate.Response`) a simulate file carries, one
 #: value per (column, record, model), by catalog name (:data:`VARIABLES`, :data:`FLAGS`): the study
 #: results' names, and a compliant run's restitution reached and joint damping. Per joint (dimension

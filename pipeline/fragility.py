@@ -299,12 +299,7 @@ def open_results(path):
         Loaded into memory; ``source_file`` attribute set to ``path``.
     """
     path = os.fspath(path)
-    if not os.path.exists(path):
-        raise InputError(f"{path}: no such file; give the netCDF written by 'frustum study run'")
-    try:
-        ds = dataset.open_results(path)
-    except (OSError, ValueError) as exc:
-        raise InputError(f"{path}: cannot be read as netCDF ({exc}); give the file 'frustum study run' wrote") from None
+    ds = dataset.open_results_file(path, "frustum study run")
     ds.attrs["source_file"] = path
     return _normalise(ds, path)
 

@@ -674,12 +674,7 @@ def open_fragility(path):
     from pipeline import dataset
 
     path = os.fspath(path)
-    if not os.path.exists(path):
-        raise InputError(f"{path}: no such file; give the netCDF written by 'frustum fragility'")
-    try:
-        frag = dataset.open_results(path)
-    except (OSError, ValueError) as exc:
-        raise InputError(f"{path}: cannot be read as netCDF ({exc}); give the file 'frustum fragility' wrote") from None
+    frag = dataset.open_results_file(path, "frustum fragility")
     missing = [name for name in ("median", "beta", "fit_status") if name not in frag.variables]
     if missing or not {"state", "column", "model"} <= set(frag.dims):
         raise InputError(f"{path}: not a fragility file (no {', '.join(missing) or 'state/column/model dims'}); "
