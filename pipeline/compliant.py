@@ -638,7 +638,7 @@ def simulate_compliant(column, motion, excitation, settings, histories=True, pro
     check_column(stack.column)
     if not isinstance(excitation, Excitation):
         raise InputError(f"excitation must be an Excitation, got {type(excitation).__name__}")
-    step = limit = math.nan
+    step, limit = None, math.nan
     if settings.integrator == "semi-implicit":  # an unstable step is refused before any computing
         probe = assemble(stack, settings, 0.0)
         probe_params = probe.params()
@@ -653,7 +653,7 @@ def simulate_compliant(column, motion, excitation, settings, histories=True, pro
     stride = max(1, int(math.ceil(settings.output_step / settings.monitor_step - 1e-9)))
     raw = _integrate(asm, params, y0, motion.duration + settings.tail, settings.output_step / stride, stride,
                      settings, histories, stack.column.critical_tilt,
-                     step=None if math.isnan(step) else step, progress=progress)
+                     step=step, progress=progress)
     summary = _summary(stack, asm, params, settings, raw, damping, restitution)
     summary.update(record_id=motion.record_id, angle=float(excitation.angle), scale=float(excitation.scale),
                    step=float(raw.step), step_limit=float(limit))

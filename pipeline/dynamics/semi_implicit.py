@@ -888,27 +888,18 @@ def stiffest_frequency(params, y):
         joint_matrix(mom, R[2], R[5], R[8], mats[j])
     diag = np.zeros((n, 6, 6))
     off = np.zeros((n, 6, 6))
-    # with h = 1 the assembled blocks are M + K; subtract M to get K
+    # with h = 1 the assembled blocks are M + K, without joints M alone: K is their difference
     assemble_system(y, bodies, mats, 1.0, work, diag, off)
+    mass = np.zeros((n, 6, 6))
+    assemble_system(y, bodies, np.zeros((n, 6, 6)), 1.0, work, mass, np.zeros((n, 6, 6)))
     K = np.zeros((6 * n, 6 * n))
     M = np.zeros((6 * n, 6 * n))
     for b in range(n):
-        mass = np.zeros((6, 6))
-        assemble_mass(bodies, work, b, mass)
-        M[6 * b:6 * b + 6, 6 * b:6 * b + 6] = mass
-        K[6 * b:6 * b + 6, 6 * b:6 * b + 6] = diag[b] - mass
+        M[6 * b:6 * b + 6, 6 * b:6 * b + 6] = mass[b]
+        K[6 * b:6 * b + 6, 6 * b:6 * b + 6] = diag[b] - mass[b]
         if b > 0:
             K[6 * b:6 * b + 6, 6 * (b - 1):6 * b] = off[b]
             K[6 * (b - 1):6 * b, 6 * b:6 * b + 6] = off[b].T
     values = eigh(0.5 * (K + K.T), M, eigvals_only=True)
     return math.sqrt(max(values.max(), 0.0))
 
-
-def assemble_mass(bodies, work, b, out):
-    """Mass matrix of body b in ground-frame velocities (6 x 6)."""
-    m, it, ia = bodies[b, sk.B_MASS], bodies[b, sk.B_IT], bodies[b, sk.B_IA]
-    R = work[b]
-    a = np.array([R[2], R[5], R[8]])
-    out[:, :] = 0.0
-    out[0, 0] = out[1, 1] = out[2, 2] = m
-    out[3:, 3:] = it * np.eye(3) + (ia - it) * np.outer(a, a)
