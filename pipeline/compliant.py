@@ -209,7 +209,7 @@ _STIFFNESS = (1e6, 1e14, "Pa/m", "normal stiffness of the joints per unit area")
 _RANGES = {  # name: (low, high, unit, what)
     "stiffness_ratio": (1e-3, 10.0, "", "shear/normal stiffness ratio of the joints"),
     "base_anathyrosis": (0.0, 0.95, "", "inner/outer radius of the base's contact ring (0: full disc)"),
-    "monitor_step": (1e-5, 1.0, "s", "sampling interval of the peak and contact statistics"),
+    "monitor_step": (1e-5, 1.0, "s", "sampling interval of the peak and contact statistics of the adaptive integrators"),
 }
 
 
@@ -528,7 +528,7 @@ def fixed_step(asm, params, y, settings):
 
 
 # The default step may exceed step_safety x the limit by this factor when that lets it divide
-# the monitor interval with fewer steps (e.g. 10 drums: 1/6 ms instead of 1/7 ms).
+# the sample interval with fewer steps.
 STEP_ROUNDING = 1.1
 
 
@@ -553,11 +553,12 @@ def numerics(settings):
 
 def _integrate(asm, params, y0, duration, monitor, stride, settings, histories, theta_commit=math.inf,
                step=None, progress=None):
-    """Run the kernel for ``duration`` [s], monitoring every ``monitor`` [s]; history every ``stride``.
+    """Run the kernel for ``duration`` [s], sampling every ``monitor`` [s]; history every ``stride``.
 
-    The integrator, its tolerances (adaptive) or step (fixed) come from ``settings``; ``step`` [s]
-    is the fixed step if already found (:func:`fixed_step`), shortened to divide ``monitor``
-    (:func:`steps_per_monitor`). ``progress(done, total)`` [s], if given, is called as the run
+    The integrator, its tolerances (adaptive) or step (fixed) come from ``settings``. The
+    adaptive ones take their statistics at the samples; the fixed-step one at every step (the
+    samples then give the histories only). ``step`` [s] is the fixed step if already found
+    (:func:`fixed_step`), shortened to divide ``monitor`` (:func:`steps_per_monitor`). ``progress(done, total)`` [s], if given, is called as the run
     goes on (the fixed-step integrator runs in pieces for it; the result is the same).
     """
     n_bodies = asm.n_bodies
@@ -650,7 +651,10 @@ def simulate_compliant(column, motion, excitation, settings, histories=True, pro
     asm = assemble(stack, settings, damping)
     params = asm.params(turned_record(motion, excitation), motion.dt / asm.time)
     y0 = rest_state(params, settings)
-    stride = max(1, int(math.ceil(settings.output_step / settings.monitor_step - 1e-9)))
+    if settings.integrator == "semi-implicit":  # its statistics come from every step: samples for histories only
+        stride = 1
+    else:
+        stride = max(1, int(math.ceil(settings.output_step / settings.monitor_step - 1e-9)))
     raw = _integrate(asm, params, y0, motion.duration + settings.tail, settings.output_step / stride, stride,
                      settings, histories, stack.column.critical_tilt,
                      step=step, progress=progress)

@@ -54,9 +54,10 @@ SAFETY = 0.5
 MAX_PASSES = 4
 
 # Per-point scratch columns (one row per contact point).
+# Q_PX, Q_PY: the pull of a patch running off an edge (part of Q_FX, Q_FY); Q_S: the overlap s.
 (Q_RX, Q_RY, Q_RZ, Q_FEL, Q_CN, Q_CT, Q_FX, Q_FY, Q_D, Q_ACTIVE, Q_CONTACT, Q_VTX, Q_VTY,
- Q_DDOT) = range(14)
-N_Q = 14
+ Q_DDOT, Q_PX, Q_PY, Q_S) = range(17)
+N_Q = 17
 
 
 @njit(cache=True)
@@ -402,17 +403,19 @@ def _joint_motion_of_bodies(vel, j, params, out):
 
 
 @njit(cache=True)
-def _point_forces(y, h, params, pts, frames, motion, fric_slip):
+def _point_forces(y, h, params, pts, frames, motion, fric_slip, mats, mom, kl, tmp3):
     """Geometry and explicit forces of every point at the step's start (step 1 of the module).
 
     Fills the point scratch ``pts`` (lever arm r and forces in the frame of the face below,
     elastic normal force, dashpot coefficients, penetration, contact and active flags), the
     joint frames and motions, and returns the friction the returns to the cone dissipate;
     ``fric_slip[j]`` gets the joint's area-weighted plastic slip of this step. Shear states
-    are returned onto the cone in y.
+    are returned onto the cone in y. As it goes, the joints' loads and dashpot matrices with
+    the active set at the step's start (what :func:`_joint_loads` gives, in one pass).
     """
     bodies, points, joint_start, joints, record, dt, work, mon = params
     n_bodies = bodies.shape[0]
+    _clear_loads(params, mom)
     sh = sk.NB * n_bodies
     friction = 0.0
     for j in range(n_bodies):
@@ -421,6 +424,7 @@ def _point_forces(y, h, params, pts, frames, motion, fric_slip):
         delta = joints[j, sk.J_DELTA]
         band = joints[j, sk.J_BAND]
         face = bodies[j - 1, sk.B_TOP_R] if j > 0 else math.inf
+        edge2 = (face * (1.0 + jl.EDGE_TOL)) ** 2  # within it a point is over the face (s = 1)
         decay = math.exp(-h / tau)
         F = frames[j]
         _joint_frame(y, j, params, F)
@@ -437,8 +441,9 @@ def _point_forces(y, h, params, pts, frames, motion, fric_slip):
                 rx = F[0] * px + F[1] * py + F[2] * pz
                 ry = F[3] * px + F[4] * py + F[5] * pz
                 xi_x, xi_y = rx + F[9], ry + F[10]
-                if j > 0:
-                    s, ds = jl.overlap(math.sqrt(xi_x * xi_x + xi_y * xi_y), face, band)
+                rr = xi_x * xi_x + xi_y * xi_y
+                if rr > edge2:
+                    s, ds = jl.overlap(math.sqrt(rr), face, band)
             if d <= 0.0 or s <= 0.0:
                 ux, uy = y[iu], y[iu + 1]
                 uu = ux * ux + uy * uy
@@ -459,9 +464,10 @@ def _point_forces(y, h, params, pts, frames, motion, fric_slip):
             k_area = ks * area
             cap = mu * f_el
             ux, uy = y[iu], y[iu + 1]
-            ur = math.sqrt(ux * ux + uy * uy)
+            uu = ux * ux + uy * uy
             c_t = 0.0
-            if k_area * ur > cap:  # on the cone: return the state to it, Coulomb's force
+            if k_area * k_area * uu > cap * cap:  # on the cone: return the state to it, Coulomb's force
+                ur = math.sqrt(uu)
                 scale = cap / (k_area * ur)
                 # Coulomb's mu f_el times the plastic slip: what the step's slip took from the
                 # bodies (the spring's overshoot past the cone, 1/2 k_s A slip^2, never came
@@ -475,13 +481,14 @@ def _point_forces(y, h, params, pts, frames, motion, fric_slip):
             else:  # sticking: the shear dashpot, with the share that keeps it within the cone
                 c_full = ks / kn * cn * area * s * engage
                 c_t = c_full * jl._viscous_share(k_area * ux, k_area * uy, c_full * vtx, c_full * vty, cap)
-            fx = -k_area * ux
-            fy = -k_area * uy
+            pull_x = pull_y = 0.0
             if ds != 0.0:  # the pull of a patch running off the edge below
                 rho = math.sqrt(xi_x * xi_x + xi_y * xi_y)
                 push = -0.5 * kn * area * d * d * ds / rho
-                fx += push * xi_x
-                fy += push * xi_y
+                pull_x, pull_y = push * xi_x, push * xi_y
+            fx = -k_area * ux + pull_x
+            fy = -k_area * uy + pull_y
+            pts[p, Q_PX], pts[p, Q_PY], pts[p, Q_S] = pull_x, pull_y, s
             pts[p, Q_RX], pts[p, Q_RY], pts[p, Q_RZ] = rx, ry, rz
             pts[p, Q_FEL] = f_el
             pts[p, Q_CN] = c_n
@@ -492,6 +499,8 @@ def _point_forces(y, h, params, pts, frames, motion, fric_slip):
             pts[p, Q_CONTACT] = 1.0
             # the clipped joint: active if the normal force at the current velocities pushes
             pts[p, Q_ACTIVE] = 1.0 if f_el + c_n * d_dot >= 0.0 else 0.0
+            _load_point(mom, pts, p)
+        _close_joint(y, j, params, mom, mats, kl, tmp3)
         fric_slip[j] = slip / joints[j, sk.J_AREA]
     return friction
 
@@ -513,71 +522,108 @@ def _rotate_joint_matrix(K, Rl, tmp, out):
                     out[3 * bj + k, 3 * bi + i] = v
 
 
+# Scratch ``mom``: the 20 moments of :func:`joint_matrix_z`, then the joint's force and torque
+# sums in the frame of the face below.
+MOM_SUMS = 20
+N_MOM = 26
+
+
+@njit(cache=True)
+def _load_point(mom, pts, p):
+    """Add point p's dashpot moments and explicit force and torque to its joint's sums in ``mom``
+    (of the beta moments, only those :func:`joint_matrix_z` reads)."""
+    active = pts[p, Q_ACTIVE] > 0.0
+    f_n = pts[p, Q_FEL] if active else 0.0
+    fx, fy = pts[p, Q_FX], pts[p, Q_FY]
+    rx, ry, rz = pts[p, Q_RX], pts[p, Q_RY], pts[p, Q_RZ]
+    alpha = pts[p, Q_CT]
+    beta = (pts[p, Q_CN] if active else 0.0) - alpha
+    if alpha != 0.0:
+        _weighted_moments(mom, 0, alpha, rx, ry, rz)
+    mom[10] += beta
+    mom[11] += beta * rx
+    mom[12] += beta * ry
+    mom[14] += beta * rx * rx
+    mom[15] += beta * ry * ry
+    mom[17] += beta * rx * ry
+    o = MOM_SUMS
+    mom[o] += fx
+    mom[o + 1] += fy
+    mom[o + 2] += f_n
+    mom[o + 3] += ry * f_n - rz * fy
+    mom[o + 4] += rz * fx - rx * f_n
+    mom[o + 5] += rx * fy - ry * fx
+
+
+@njit(cache=True)
+def _close_joint(y, j, params, mom, mats, kl, tmp3):
+    """Joint j's dashpot matrix (``mats[j]``) and its force on both bodies (scratch W_F, W_T) from
+    its sums in ``mom``; then clears ``mom`` for the next joint."""
+    work = params[6]
+    o = MOM_SUMS
+    sfx, sfy, sfz, stx, sty, stz = mom[o], mom[o + 1], mom[o + 2], mom[o + 3], mom[o + 4], mom[o + 5]
+    Ru = work[j]
+    if j == 0:
+        joint_matrix_z(mom, mats[0])
+        Fx, Fy, Fz, Tx, Ty, Tz = sfx, sfy, sfz, stx, sty, stz
+    else:
+        joint_matrix_z(mom, kl)
+        Rl = work[j - 1]
+        _rotate_joint_matrix(kl, Rl, tmp3, mats[j])
+        Fx = Rl[0] * sfx + Rl[1] * sfy + Rl[2] * sfz
+        Fy = Rl[3] * sfx + Rl[4] * sfy + Rl[5] * sfz
+        Fz = Rl[6] * sfx + Rl[7] * sfy + Rl[8] * sfz
+        Tx = Rl[0] * stx + Rl[1] * sty + Rl[2] * stz
+        Ty = Rl[3] * stx + Rl[4] * sty + Rl[5] * stz
+        Tz = Rl[6] * stx + Rl[7] * sty + Rl[8] * stz
+        up, lo = sk.NB * j, sk.NB * (j - 1)
+        ex = y[up + sk.X] - y[lo + sk.X]
+        ey = y[up + sk.Y] - y[lo + sk.Y]
+        ez = y[up + sk.Z] - y[lo + sk.Z]
+        # the reaction on the lower body, its moment about the lower centre
+        Rl[sk.W_F] -= Fx
+        Rl[sk.W_F + 1] -= Fy
+        Rl[sk.W_F + 2] -= Fz
+        Rl[sk.W_T] -= Tx + (ey * Fz - ez * Fy)
+        Rl[sk.W_T + 1] -= Ty + (ez * Fx - ex * Fz)
+        Rl[sk.W_T + 2] -= Tz + (ex * Fy - ey * Fx)
+    Ru[sk.W_F] += Fx
+    Ru[sk.W_F + 1] += Fy
+    Ru[sk.W_F + 2] += Fz
+    Ru[sk.W_T] += Tx
+    Ru[sk.W_T + 1] += Ty
+    Ru[sk.W_T + 2] += Tz
+    for k in range(N_MOM):
+        mom[k] = 0.0
+
+
+@njit(cache=True)
+def _clear_loads(params, mom):
+    """Zero the bodies' joint forces (scratch W_F, W_T) and the joint sums."""
+    work = params[6]
+    for b in range(work.shape[0]):
+        for k in range(6):
+            work[b, sk.W_F + k] = 0.0
+    for k in range(N_MOM):
+        mom[k] = 0.0
+
+
 @njit(cache=True)
 def _joint_loads(y, params, pts, mats, mom, kl, tmp3):
-    """Explicit joint forces on the bodies (scratch W_F, W_T) and each joint's dashpot matrix.
+    """Explicit joint forces on the bodies (scratch W_F, W_T) and each joint's dashpot matrix,
+    from the points' scratch as it stands (:func:`_point_forces` does the same as it goes).
 
     Summed per joint in the frame of the face below, point pairs next to each other, so that
     at rest the moments cancel exactly and the forces equal the static weights bit for bit
     (:func:`set_static_weights`).
     """
     bodies, points, joint_start, joints, record, dt, work, mon = params
-    n_bodies = bodies.shape[0]
-    for b in range(n_bodies):
-        for k in range(6):
-            work[b, sk.W_F + k] = 0.0
-    for j in range(n_bodies):
-        for k in range(20):
-            mom[k] = 0.0
-        sfx = sfy = sfz = 0.0
-        stx = sty = stz = 0.0
+    _clear_loads(params, mom)
+    for j in range(bodies.shape[0]):
         for p in range(joint_start[j], joint_start[j + 1]):
-            if pts[p, Q_CONTACT] == 0.0:
-                continue
-            active = pts[p, Q_ACTIVE] > 0.0
-            f_n = pts[p, Q_FEL] if active else 0.0
-            fx, fy = pts[p, Q_FX], pts[p, Q_FY]
-            rx, ry, rz = pts[p, Q_RX], pts[p, Q_RY], pts[p, Q_RZ]
-            alpha = pts[p, Q_CT]
-            beta = (pts[p, Q_CN] if active else 0.0) - alpha
-            _add_moments(mom, alpha, beta, rx, ry, rz)
-            sfx += fx
-            sfy += fy
-            sfz += f_n
-            stx += ry * f_n - rz * fy
-            sty += rz * fx - rx * f_n
-            stz += rx * fy - ry * fx
-        Ru = work[j]
-        if j == 0:
-            joint_matrix_z(mom, mats[0])
-            Fx, Fy, Fz, Tx, Ty, Tz = sfx, sfy, sfz, stx, sty, stz
-        else:
-            joint_matrix_z(mom, kl)
-            Rl = work[j - 1]
-            _rotate_joint_matrix(kl, Rl, tmp3, mats[j])
-            Fx = Rl[0] * sfx + Rl[1] * sfy + Rl[2] * sfz
-            Fy = Rl[3] * sfx + Rl[4] * sfy + Rl[5] * sfz
-            Fz = Rl[6] * sfx + Rl[7] * sfy + Rl[8] * sfz
-            Tx = Rl[0] * stx + Rl[1] * sty + Rl[2] * stz
-            Ty = Rl[3] * stx + Rl[4] * sty + Rl[5] * stz
-            Tz = Rl[6] * stx + Rl[7] * sty + Rl[8] * stz
-            o, lo = sk.NB * j, sk.NB * (j - 1)
-            ex = y[o + sk.X] - y[lo + sk.X]
-            ey = y[o + sk.Y] - y[lo + sk.Y]
-            ez = y[o + sk.Z] - y[lo + sk.Z]
-            # the reaction on the lower body, its moment about the lower centre
-            Rl[sk.W_F] -= Fx
-            Rl[sk.W_F + 1] -= Fy
-            Rl[sk.W_F + 2] -= Fz
-            Rl[sk.W_T] -= Tx + (ey * Fz - ez * Fy)
-            Rl[sk.W_T + 1] -= Ty + (ez * Fx - ex * Fz)
-            Rl[sk.W_T + 2] -= Tz + (ex * Fy - ey * Fx)
-        Ru[sk.W_F] += Fx
-        Ru[sk.W_F + 1] += Fy
-        Ru[sk.W_F + 2] += Fz
-        Ru[sk.W_T] += Tx
-        Ru[sk.W_T + 1] += Ty
-        Ru[sk.W_T + 2] += Tz
+            if pts[p, Q_CONTACT] != 0.0:
+                _load_point(mom, pts, p)
+        _close_joint(y, j, params, mom, mats, kl, tmp3)
 
 
 @njit(cache=True)
@@ -587,8 +633,7 @@ def set_static_weights(y, h, params, s):
     bodies, points, joint_start, joints, record, dt, work, mon = params
     pts, mats, mom, diag, off, fac, coup, tmp, vel, slip, impulse, frames, motion, kl = s
     sk._kinematics(y, bodies, work)
-    _point_forces(y, h, params, pts, frames, motion, slip)
-    _joint_loads(y, params, pts, mats, mom, kl, tmp)
+    _point_forces(y, h, params, pts, frames, motion, slip, mats, mom, kl, tmp)
     for b in range(bodies.shape[0]):
         bodies[b, sk.B_WEIGHT] = work[b, sk.W_F + 2]
 
@@ -678,19 +723,30 @@ def _implicit_excess(bodies, work, vel, impulse):
 
 @njit(cache=True)
 def step(t, y, h, params, s):
-    """Advance the state y (in place) from t by one step h; returns (solves, friction, damping, work).
+    """Advance the state y (in place) from t by one step h; returns the number of solves.
 
-    ``s`` is the scratch tuple of :func:`make_scratch`.
+    ``s`` is the scratch tuple of :func:`make_scratch`. The per-joint monitor of ``params`` is
+    filled from the step's forces, as :func:`pipeline.dynamics.stack.update_statistics` reads
+    it: the normal force as the step applied it at the new velocities (elastic and dashpot of
+    a pressed point, none of a clipped one) and its elastic part; the tangential resultant of
+    each point's shear spring and, sticking, its dashpot at the new velocities, held within
+    the point's cone ``mu f_el``, plus the pull off an edge (the implicit dashpot's share is
+    taken at the step's start, so in the step in which a point starts to slip its force at
+    the new velocities can pass the cone, until the next step's return; the joint law never
+    lets it, and the monitor does not either: the mobilised friction never exceeds mu);
+    centres of pressure and the area in contact. The elastic energy is left NaN: not a
+    quantity of the step (history rows and the energy budget evaluate the joint law).
     """
     bodies, points, joint_start, joints, record, dt, work, mon = params
     pts, mats, mom, diag, off, fac, coup, tmp, vel, slip, impulse, frames, motion, kl = s
     n_bodies = bodies.shape[0]
     ax, ay, az = ground_acceleration(t, record, dt)
     sk._kinematics(y, bodies, work)
-    friction = _point_forces(y, h, params, pts, frames, motion, slip)
+    friction = _point_forces(y, h, params, pts, frames, motion, slip, mats, mom, kl, tmp)
     solves = 0
     while True:
-        _joint_loads(y, params, pts, mats, mom, kl, tmp)
+        if solves > 0:  # the active set changed: the loads again
+            _joint_loads(y, params, pts, mats, mom, kl, tmp)
         assemble_system(y, bodies, mats, h, work, diag, off)
         _momentum(y, bodies, work, h, ax, ay, az, vel)
         impulse[:, :] = vel
@@ -699,21 +755,58 @@ def step(t, y, h, params, s):
         changed = _update_active_set(params, pts, vel, motion)
         if changed == 0 or solves >= MAX_PASSES:
             break
-    # bookings at the new velocities, then the shear states
+    # bookings at the new velocities, the monitor, then the shear states
     sh = sk.NB * n_bodies
     damping = 0.0
     for j in range(n_bodies):
+        mu = joints[j, sk.J_MU]
+        F = frames[j]
+        normal = normal_el = tx = ty = bx = by = cx = cy = area = 0.0
         for p in range(joint_start[j], joint_start[j + 1]):
             if pts[p, Q_CONTACT] == 0.0:
                 continue
             vtx, vty, d_dot = pts[p, Q_VTX], pts[p, Q_VTY], pts[p, Q_DDOT]
+            f_el, ct = pts[p, Q_FEL], pts[p, Q_CT]
+            f_n = 0.0
             if pts[p, Q_ACTIVE] > 0.0:
                 damping += h * pts[p, Q_CN] * d_dot * d_dot
+                f_n = f_el + pts[p, Q_CN] * d_dot
             else:  # clipped: the spring's energy goes without work as the point separates
-                damping -= h * pts[p, Q_FEL] * d_dot
-            damping += h * pts[p, Q_CT] * (vtx * vtx + vty * vty)
+                damping -= h * f_el * d_dot
+            damping += h * ct * (vtx * vtx + vty * vty)
             y[sh + 2 * p] += h * vtx
             y[sh + 2 * p + 1] += h * vty
+            # the monitor: shear spring and dashpot held within the point's cone (see above)
+            sx = pts[p, Q_FX] - pts[p, Q_PX] - ct * vtx
+            sy = pts[p, Q_FY] - pts[p, Q_PY] - ct * vty
+            cap = mu * f_el
+            st2 = sx * sx + sy * sy
+            if st2 > cap * cap:
+                scale = cap / math.sqrt(st2)
+                sx *= scale
+                sy *= scale
+            tx += sx + pts[p, Q_PX]
+            ty += sy + pts[p, Q_PY]
+            normal += f_n
+            normal_el += f_el
+            if f_n > 0.0:
+                bx += f_n * points[p, sk.P_X]
+                by += f_n * points[p, sk.P_Y]
+                cx += f_n * (pts[p, Q_RX] + F[9])
+                cy += f_n * (pts[p, Q_RY] + F[10])
+                area += points[p, sk.P_AREA] * pts[p, Q_S]
+        if normal > 0.0:
+            bx, by, cx, cy = bx / normal, by / normal, cx / normal, cy / normal
+        mon[j, sk.M_NORMAL] = normal
+        mon[j, sk.M_NORMAL_EL] = normal_el
+        mon[j, sk.M_TX] = tx
+        mon[j, sk.M_TY] = ty
+        mon[j, sk.M_COP_BX] = bx
+        mon[j, sk.M_COP_BY] = by
+        mon[j, sk.M_COP_X] = cx
+        mon[j, sk.M_COP_Y] = cy
+        mon[j, sk.M_AREA] = area / joints[j, sk.J_AREA]
+        mon[j, sk.M_ELASTIC] = math.nan
     damping += _implicit_excess(bodies, work, vel, impulse)
     power = 0.0
     for b in range(n_bodies):
@@ -755,7 +848,7 @@ def step(t, y, h, params, s):
 
 def make_scratch(n_bodies, n_points):
     """Scratch arrays of :func:`step` (one set per simulation)."""
-    return (np.zeros((n_points, N_Q)), np.zeros((n_bodies, 6, 6)), np.zeros(20),
+    return (np.zeros((n_points, N_Q)), np.zeros((n_bodies, 6, 6)), np.zeros(N_MOM),
             np.zeros((n_bodies, 6, 6)), np.zeros((n_bodies, 6, 6)),
             np.zeros((n_bodies, 6, 6)), np.zeros((n_bodies, 6, 6)), np.zeros((6, 6)), np.zeros((n_bodies, 6)),
             np.zeros(n_bodies), np.zeros((n_bodies, 6)), np.zeros((n_bodies, 12)), np.zeros((n_bodies, 9)),
@@ -794,7 +887,6 @@ def run(params, y, t_mon, start, stop, per_monitor, stride, theta_commit, hist_y
     n_bodies = bodies.shape[0]
     m = t_mon.shape[0]
     n_hist = hist_y.shape[0]
-    R = np.empty(9)
     if start == 0:
         summary[:] = 0.0
         summary[sk.S_OVERTURN_TIME] = math.nan
@@ -807,12 +899,12 @@ def run(params, y, t_mon, start, stop, per_monitor, stride, theta_commit, hist_y
         joint_stats[:, sk.JS_MIN_NORMAL] = math.inf
         joint_stats[:, sk.JS_MIN_AREA] = math.inf
         for b in range(n_bodies):
-            body_stats[b, sk.BS_ROTATION] = sk.tilt_and_rotation(y, b, R)[1]
+            body_stats[b, sk.BS_ROTATION] = sk.tilt_and_rotation(y, b)[1]
         summary[sk.S_ENERGY_START] = sk.energy(y, params)
-        sk._monitor(t_mon[0], y, params, theta_commit, summary, body_stats, joint_stats, joint_committed, True, R)
+        sk._monitor(t_mon[0], y, params, theta_commit, summary, body_stats, joint_stats, joint_committed, True)
         joint_committed[:, :] = joint_stats
         if n_hist > 0:
-            sk._history_row(t_mon[0], y, params, 0, hist_y, hist_diag, hist_body, body_stats, y0, R)
+            sk._history_row(t_mon[0], y, params, 0, hist_y, hist_diag, hist_body, body_stats, y0)
         start = 1
     h = (t_mon[1] - t_mon[0]) / per_monitor
     g_old = np.empty(2 * n_bodies)
@@ -838,6 +930,9 @@ def run(params, y, t_mon, start, stop, per_monitor, stride, theta_commit, hist_y
             if down >= 0:
                 t_down = t + frac * h
                 break
+            # the statistics of every step, from its own forces (no sampling between steps)
+            sk.update_statistics(t + h, y, params, theta_commit, summary, body_stats, joint_stats, joint_committed,
+                                 True)
         if down >= 0:
             b = down % n_bodies
             summary[sk.S_OVERTURN_TIME] = t_down
@@ -845,17 +940,18 @@ def run(params, y, t_mon, start, stop, per_monitor, stride, theta_commit, hist_y
             if down >= n_bodies:
                 summary[sk.S_STATUS] = sk.STATUS_COLLAPSED
             summary[sk.S_END_TIME] = t_down
-            sk._monitor(t_down, y, params, theta_commit, summary, body_stats, joint_stats, joint_committed, True, R)
+            sk._monitor(t_down, y, params, theta_commit, summary, body_stats, joint_stats, joint_committed, True)
             for kk in range(k, m):  # frozen from here on
                 if kk % stride == 0 and kk // stride < n_hist:
                     sk._monitor(t_mon[kk], y, params, theta_commit, summary, body_stats, joint_stats,
-                                joint_committed, False, R)
+                                joint_committed, False)
                     sk._history_row(t_mon[kk], y, params, kk // stride, hist_y, hist_diag, hist_body,
-                                    body_stats, y0, R)
+                                    body_stats, y0)
             return m
-        sk._monitor(t_mon[k], y, params, theta_commit, summary, body_stats, joint_stats, joint_committed, True, R)
-        if k % stride == 0 and k // stride < n_hist:
-            sk._history_row(t_mon[k], y, params, k // stride, hist_y, hist_diag, hist_body, body_stats, y0, R)
+        if k % stride == 0 and k // stride < n_hist:  # the joint law at the sample's state
+            sk._monitor(t_mon[k], y, params, theta_commit, summary, body_stats, joint_stats, joint_committed,
+                        False)
+            sk._history_row(t_mon[k], y, params, k // stride, hist_y, hist_diag, hist_body, body_stats, y0)
         summary[sk.S_END_TIME] = t_mon[k]
         k += 1
     return stop

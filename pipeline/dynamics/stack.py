@@ -430,17 +430,21 @@ def set_static_weights(y, params):
 
 
 @njit(cache=True)
-def tilt_and_rotation(y, b, R):
+def tilt_and_rotation(y, b):
     """Tilt of body b's axis from the vertical [rad] and its rotation about the vertical [rad].
 
     The rotation is phi + psi of the Z-X-Z Euler angles, ``atan2(R21 - R12, R11 + R22)``,
     defined at every tilt below pi; the tilt is ``atan2(|horizontal part of the axis|, R33)``,
-    accurate down to the smallest angles. ``R`` is scratch (9).
+    accurate down to the smallest angles. Both from the quaternion directly: with
+    ``a = qx^2 + qy^2`` and ``c = qw^2 + qz^2``, the axis's horizontal part is ``2 sqrt(a c)``
+    and ``R33 = c - a`` (over |q|^2, which cancels), and ``R21 - R12 = 4 qw qz``,
+    ``R11 + R22 = 2 (qw^2 - qz^2)`` (called every step: no rotation matrix).
     """
     o = NB * b
-    rotation_matrix(y[o + QW], y[o + QX], y[o + QY], y[o + QZ], R)
-    tilt = math.atan2(math.sqrt(R[2] * R[2] + R[5] * R[5]), R[8])
-    return tilt, math.atan2(R[3] - R[1], R[0] + R[4])
+    qw, qx, qy, qz = y[o + QW], y[o + QX], y[o + QY], y[o + QZ]
+    a = qx * qx + qy * qy
+    c = qw * qw + qz * qz
+    return math.atan2(2.0 * math.sqrt(a * c), c - a), math.atan2(2.0 * qw * qz, qw * qw - qz * qz)
 
 
 @njit(cache=True)
@@ -465,18 +469,30 @@ def _cop_radius(mon, j):
 
 
 @njit(cache=True)
-def _monitor(t, y, params, theta_commit, summary, body_stats, joint_stats, joint_committed, update, R):
+def _monitor(t, y, params, theta_commit, summary, body_stats, joint_stats, joint_committed, update):
     """Statistics of one monitor sample (if ``update``); returns the top body's tilt.
 
     Leaves the per-joint monitor of ``params`` filled for the history row.
     """
+    _kinematics(y, params[0], params[6])
+    _contacts(y, params, y, False, True)
+    return update_statistics(t, y, params, theta_commit, summary, body_stats, joint_stats, joint_committed,
+                             update)
+
+
+@njit(cache=True)
+def update_statistics(t, y, params, theta_commit, summary, body_stats, joint_stats, joint_committed, update):
+    """The statistics of :func:`_monitor` from the per-joint monitor of ``params`` as filled.
+
+    Reads the monitor's normal forces (whole and elastic), tangential resultant, centre of
+    pressure in the upper body's axes and area in contact; returns the top body's tilt. The
+    fixed-step integrator fills the monitor from its own step and calls this every step.
+    """
     bodies, points, joint_start, joints, record, dt, work, mon = params
     n_bodies = bodies.shape[0]
-    _kinematics(y, bodies, work)
-    _contacts(y, params, y, False, True)
     top = 0.0
     for b in range(n_bodies):
-        tilt, rot = tilt_and_rotation(y, b, R)
+        tilt, rot = tilt_and_rotation(y, b)
         if update:
             body_stats[b, BS_ROTATION] = _unwrap(body_stats[b, BS_ROTATION], rot)
             if tilt > body_stats[b, BS_PEAK]:
@@ -520,7 +536,7 @@ def _monitor(t, y, params, theta_commit, summary, body_stats, joint_stats, joint
 
 
 @njit(cache=True)
-def _history_row(t, y, params, k, hist_y, hist_diag, hist_body, body_stats, y0, R):
+def _history_row(t, y, params, k, hist_y, hist_diag, hist_body, body_stats, y0):
     """Write history row k from the state y and the filled per-joint monitor."""
     bodies, points, joint_start, joints, record, dt, work, mon = params
     n_bodies = bodies.shape[0]
@@ -544,7 +560,7 @@ def _history_row(t, y, params, k, hist_y, hist_diag, hist_body, body_stats, y0, 
     hist_diag[k, D_ON_RIM] = 1.0 if _on_rim(mon, joints, 0) else 0.0
     for b in range(n_bodies):
         o = NB * b
-        tilt, rot = tilt_and_rotation(y, b, R)
+        tilt, rot = tilt_and_rotation(y, b)
         hist_body[k, b, H_DX] = y[o + X] - y0[o + X]
         hist_body[k, b, H_DY] = y[o + Y] - y0[o + Y]
         hist_body[k, b, H_TILT] = tilt
@@ -597,7 +613,6 @@ def run(params, y0, t_mon, stride, t_breaks, rtol, atol, max_step, event_directi
     n = y0.shape[0]
     m = t_mon.shape[0]
     n_hist = hist_y.shape[0]
-    R = np.empty(9)
     summary[:] = 0.0
     summary[S_OVERTURN_TIME] = math.nan
     summary[S_OVERTURN_BODY] = -1.0
@@ -609,13 +624,13 @@ def run(params, y0, t_mon, stride, t_breaks, rtol, atol, max_step, event_directi
     joint_stats[:, JS_MIN_NORMAL] = math.inf
     joint_stats[:, JS_MIN_AREA] = math.inf
     for b in range(n_bodies):
-        body_stats[b, BS_ROTATION] = tilt_and_rotation(y0, b, R)[1]
+        body_stats[b, BS_ROTATION] = tilt_and_rotation(y0, b)[1]
     y = y0.copy()
     summary[S_ENERGY_START] = energy(y, params)
-    _monitor(t_mon[0], y, params, theta_commit, summary, body_stats, joint_stats, joint_committed, True, R)
+    _monitor(t_mon[0], y, params, theta_commit, summary, body_stats, joint_stats, joint_committed, True)
     joint_committed[:, :] = joint_stats
     if n_hist > 0:
-        _history_row(t_mon[0], y, params, 0, hist_y, hist_diag, hist_body, body_stats, y0, R)
+        _history_row(t_mon[0], y, params, 0, hist_y, hist_diag, hist_body, body_stats, y0)
     scratch = np.empty((CHUNK, n))
     t = t_mon[0]
     h = 0.0
@@ -639,10 +654,10 @@ def run(params, y0, t_mon, stride, t_breaks, rtol, atol, max_step, event_directi
         for r in range(res.out_next):
             k = i + r
             _monitor(t_mon[k], scratch[r], params, theta_commit, summary, body_stats, joint_stats,
-                     joint_committed, True, R)
+                     joint_committed, True)
             if k % stride == 0 and k // stride < n_hist:
                 _history_row(t_mon[k], scratch[r], params, k // stride, hist_y, hist_diag, hist_body,
-                             body_stats, y0, R)
+                             body_stats, y0)
         i += res.out_next
         y[:] = res.y
         t = res.t
@@ -656,13 +671,13 @@ def run(params, y0, t_mon, stride, t_breaks, rtol, atol, max_step, event_directi
             summary[S_OVERTURN_BODY] = b
             if res.event_index >= n_bodies:
                 summary[S_STATUS] = STATUS_COLLAPSED
-            _monitor(t, y, params, theta_commit, summary, body_stats, joint_stats, joint_committed, True, R)
+            _monitor(t, y, params, theta_commit, summary, body_stats, joint_stats, joint_committed, True)
             for k in range(i, m):  # frozen from here on
                 if k % stride == 0 and k // stride < n_hist:
                     _monitor(t_mon[k], y, params, theta_commit, summary, body_stats, joint_stats,
-                             joint_committed, False, R)
+                             joint_committed, False)
                     _history_row(t_mon[k], y, params, k // stride, hist_y, hist_diag, hist_body,
-                                 body_stats, y0, R)
+                                 body_stats, y0)
             break
     summary[S_END_TIME] = t
     summary[S_ENERGY_END] = energy(y, params)
