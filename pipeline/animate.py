@@ -32,6 +32,7 @@ import numpy as np
 
 from pipeline.atomic import atomic_path
 from pipeline.errors import InputError
+from pipeline.paths import MARKED
 
 #: Segments around the circumference of a drawn frustum.
 SEGMENTS = 32
@@ -370,11 +371,13 @@ def frame_times(time, fps, speed=1.0):
     return time[0] + step * np.arange(int(math.floor(n)) + 1)
 
 
-def check_animation_path(path, option="--out", inputs=()):
+def check_animation_path(path, option="--out", inputs=(), kind=MARKED):
     """The suffix of ``path`` (``.gif`` or ``.mp4``) if it can be written here; else an InputError saying why.
 
-    ``inputs`` ([(what, path)]) are files the command reads, which ``path`` may not name
-    (:func:`pipeline.paths.check_output_file`).
+    ``inputs`` ([(what, path)]) are files the command reads, which ``path`` may not name; an
+    existing file there is replaced only if this project wrote it (``kind``, see
+    :func:`pipeline.paths.check_output_file`: every animation carries the project's mark,
+    :func:`_writer`).
     """
     from pipeline.paths import check_output_file
 
@@ -387,21 +390,34 @@ def check_animation_path(path, option="--out", inputs=()):
         except ImportError:
             raise InputError(f"{option} {path}: MP4 needs the ffmpeg of imageio-ffmpeg (pip install -e '.[video]'); "
                              "or write a .gif") from None
-    check_output_file(path, option, inputs=inputs)
+    check_output_file(path, option, kind=kind, inputs=inputs)
     return suffix
 
 
 def _writer(path, fps):
-    """A matplotlib movie writer for the suffix of ``path``: .gif (Pillow) or .mp4 (ffmpeg of imageio-ffmpeg)."""
+    """A matplotlib movie writer for the suffix of ``path``: .gif (Pillow) or .mp4 (ffmpeg of imageio-ffmpeg).
+
+    Both mark the file as this project's (:func:`pipeline.paths.mark_text`): the GIF in a
+    comment extension, the MP4 in its ``comment`` metadata (in the ``moov`` box at the end).
+    """
     from matplotlib import animation
 
-    if check_animation_path(path) == ".gif":
-        return animation.PillowWriter(fps=fps)
+    from pipeline.paths import mark_text
+
+    if check_animation_path(path, kind=None) == ".gif":  # the file was checked by the command
+
+        class MarkedPillowWriter(animation.PillowWriter):
+            def finish(self):  # matplotlib's finish, with the comment Pillow writes into a GIF
+                self._frames[0].save(self.outfile, save_all=True, append_images=self._frames[1:],
+                                     duration=int(1000 / self.fps), loop=0, comment=mark_text())
+
+        return MarkedPillowWriter(fps=fps)
     import imageio_ffmpeg
     import matplotlib
 
     matplotlib.rcParams["animation.ffmpeg_path"] = imageio_ffmpeg.get_ffmpeg_exe()
-    return animation.FFMpegWriter(fps=fps, codec="libx264", extra_args=["-pix_fmt", "yuv420p"])
+    return animation.FFMpegWriter(fps=fps, codec="libx264", extra_args=["-pix_fmt", "yuv420p"],
+                                  metadata={"comment": mark_text()})
 
 
 def _figure(runs, dpi):

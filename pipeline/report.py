@@ -10,6 +10,12 @@
     DIR/fragility.nc         the fitted curves (pipeline.fragility)
     DIR/figures/*.png|pdf
 
+Each file says it was written by this project, so that a rerun may replace it
+and nothing else (:func:`pipeline.paths.check_output_folder`): the figures in
+their metadata, ``report.md`` in a closing HTML comment, ``report.html`` in a
+``generator`` meta tag, ``columns.geojson`` in a ``generator`` member, the
+netCDF files in their attributes; ``summary.csv`` by its header row.
+
 Every number in the report and the CSV is read from the results Dataset or
 from the fragility Dataset fitted to it here; nothing is typed in. The report
 says what the data support: a median beyond the strongest (or below the
@@ -30,6 +36,7 @@ from pipeline import model_descriptions as MD
 from pipeline import plotting_fragility as P
 from pipeline.atomic import atomic_folder, atomic_open
 from pipeline.errors import InputError
+from pipeline.paths import mark_text
 from pipeline.units import G
 
 #: PGA levels [g] at which the report states the probability of overturning.
@@ -331,7 +338,7 @@ def _write_geojson(rows, path):
     if not features:
         return None
     with _atomic_text(path) as fh:
-        json.dump({"type": "FeatureCollection", "features": features}, fh, indent=1)
+        json.dump({"type": "FeatureCollection", "generator": mark_text(), "features": features}, fh, indent=1)
     return path
 
 
@@ -523,7 +530,7 @@ def _write_report_into(results, out_dir, pga_levels_g, states, bootstrap, seed, 
     args = (results, frag, rows, comparison, pga_levels_g, figs, out_dir, title, notes, geo_path, stripe_tables_max)
     md_path = os.path.join(out_dir, "report.md")
     with _atomic_text(md_path) as fh:
-        fh.write(_markdown(*args, risk=(risk, hazard)))
+        fh.write(_markdown(*args, risk=(risk, hazard)) + f"\n<!-- {mark_text()} -->\n")
     html_path = os.path.join(out_dir, "report.html")
     with _atomic_text(html_path) as fh:
         fh.write(_html(_markdown(*args, image=_data_uri, risk=(risk, hazard)),
@@ -558,6 +565,7 @@ def _html(markdown_text, title):
 
     body = MarkdownIt("commonmark").enable("table").render(markdown_text)
     return (f"<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+            f"<meta name=\"generator\" content=\"{html.escape(mark_text())}\">\n"
             f"<title>{html.escape(title)}</title>\n<style>{_HTML_STYLE}</style>\n</head>\n<body>\n{body}</body>\n"
             "</html>\n")
 

@@ -5,10 +5,14 @@ import math
 
 from pipeline.errors import InputError
 
-#: The files a report writes in its folder (besides figures/), checked against the inputs before computing.
-REPORT_FILES = ("report.md", "report.html", "summary.csv", "columns.geojson", "fragility.nc")
+#: The files a report writes in its folder, checked against the inputs and the user's files before computing
+#: (the figures' names depend on the data: every existing figure there must be one a report wrote).
+REPORT_FILES = ("report.md", "report.html", "summary.csv", "columns.geojson", "fragility.nc", "figures/*.png",
+                "figures/*.pdf")
 #: The files ``--hazard`` adds.
 RISK_FILES = ("risk.nc", "risk.csv")
+#: How an existing file of each name is recognised as one a report wrote (others: the project's mark).
+REPORT_KINDS = {"fragility.nc": "fragility", "risk.nc": "risk", "summary.csv": "summary-csv", "risk.csv": "risk-csv"}
 
 _EXAMPLES = """\
 examples:
@@ -81,8 +85,7 @@ def run(args):
     elif args.years != 50.0:
         raise InputError("--years is the period of the chance stated with --hazard; give --hazard CURVE.csv too")
     writes = REPORT_FILES + (RISK_FILES if hazard is not None else ())
-    check_output_folder(args.out, "--out", writes=writes, kinds={"fragility.nc": "fragility", "risk.nc": "risk"},
-                        inputs=inputs)
+    check_output_folder(args.out, "--out", writes=writes, kinds=REPORT_KINDS, inputs=inputs)
     results = F.open_results(args.results)
     out = write_report(results, args.out, pga_levels_g=levels, states=parse_states(args.states),
                        bootstrap=args.bootstrap, seed=args.seed, title=args.title, hazard=hazard, years=args.years)

@@ -54,11 +54,11 @@ def run(args):
     outs = [("--out", args.out)] + [(o, p) for o, p in (("--csv", args.csv), ("--plot", args.plot)) if p]
     for i, (label, path) in enumerate(outs):  # two outputs on one path would leave only the last
         for other, path2 in outs[:i]:
-            if check_output_file(path, label) == check_output_file(path2, other):
+            if check_output_file(path, label, kind=None) == check_output_file(path2, other, kind=None):
                 raise InputError(f"{label} {path!r} is also given to {other}; give each output its own file name")
     check_output_file(args.out, "--out", kind="risk", inputs=inputs)
     if args.csv:
-        _check_csv(args.csv, inputs)
+        check_output_file(args.csv, "--csv", kind="risk-csv", inputs=inputs)  # its header row tells ours
     if args.plot:
         check_plot_file(args.plot, "--plot", inputs=inputs)
     frag = R.open_fragility(args.fragility)
@@ -78,24 +78,6 @@ def run(args):
     _print_summary(risk, args.state)
     print(f"wrote {', '.join(written)}")
     return 0
-
-
-def _check_csv(path, inputs):
-    """A CSV is written over an existing file only if it is a CSV this command wrote (its header says so)."""
-    import os
-
-    from pipeline.paths import check_output_file
-
-    full = check_output_file(path, "--csv", inputs=inputs)
-    if os.path.lexists(full):
-        try:
-            with open(full, encoding="utf-8") as fh:
-                first = fh.readline()
-        except (OSError, UnicodeError):
-            first = ""
-        if not first.startswith("site,site_longitude,site_latitude,column,model,state,"):
-            raise InputError(f"--csv {path!r} exists and is not a CSV written by 'frustum risk'; give a new file name "
-                             "(or move that file away)")
 
 
 def _print_summary(risk, state):

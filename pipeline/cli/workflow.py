@@ -152,8 +152,8 @@ def load_workflow(path):
             fail(f"steps[{i}].study", f"{study} does not exist")
         plot = resolve(step.get("plot"), f"steps[{i}].plot")
         if plot is not None:
-            try:  # a plot matplotlib cannot write is refused before any step computes
-                check_plot_file(plot, "")
+            try:  # a plot matplotlib cannot write is refused before any step computes (a user's file: below)
+                check_plot_file(plot, "", kind=None)
             except InputError as exc:
                 fail(f"steps[{i}].plot", str(exc).strip())
         out.append({"study": study, "output": resolve(step.get("output"), f"steps[{i}].output"), "plot": plot})
@@ -201,7 +201,8 @@ def _check_outputs(path, steps, log):
         if step["plot"]:
             check_output_file(step["plot"], f"{path}: field steps[{i}].plot", inputs=inputs)
             claim(step["plot"], f"steps[{i}].plot")
-    check_output_file(log, f"{path}: field log", inputs=inputs + [(f"output of {f}", p) for p, f in written.items()])
+    check_output_file(log, f"{path}: field log", kind=None,  # appended to, never replaced
+                      inputs=inputs + [(f"output of {f}", p) for p, f in written.items()])
 
 
 def up_to_date(study, motions, output):

@@ -9,6 +9,7 @@ byte-identical afterwards. Nothing here computes more than one 2-s record.
 
 import os
 import shutil
+from pathlib import Path
 
 import pytest
 from cli_files import TINY_STUDY, snapshot, unchanged
@@ -17,6 +18,7 @@ from pipeline.cli import main
 
 OUT = "--out"
 SIM = ["simulate", "--column", "0.5,0.4,4", "--record", "SYN-RICKER"]
+HAZARD = Path(__file__).parents[1] / "data" / "hazard" / "hazard_curve-mean-PGA_1.csv"
 
 
 # (id, argv with {placeholders} of the files fixture, exit status, fragments of the error line)
@@ -25,7 +27,7 @@ CATALOGUE = [
     ("fragility-over-its-results", ["fragility", "{results}", OUT, "{results}"], 2,
      ["--out", "is the results file this command reads", "give another file name"]),
     ("fragility-over-text", ["fragility", "{results}", OUT, "{notes}"], 2,
-     ["exists and is not a netCDF result written by frustum", "give a new file name"]),
+     ["exists and is not a netCDF result written by frustum", "give another file name or remove it"]),
     ("fragility-over-histories", ["fragility", "{results}", OUT, "{histories}"], 2,
      ["is a histories file of 'frustum simulate'"]),
     ("study-over-its-study-file", ["study", "run", "{study}", OUT, "{study}", "--serial"], 2,
@@ -54,6 +56,27 @@ CATALOGUE = [
     ("workflow-output-is-a-study", ["workflow", "run", "{wf_output_is_study}"], 2,
      ["field steps[0].output", "is the study file of steps[0] this command reads"]),
     ("workflow-log-is-a-study", ["workflow", "run", "{wf_log_is_study}"], 2, ["field log", "this command reads"]),
+    # figures, animations and reports over a user's file of the same suffix (a photo, notes)
+    ("simulate-plot-over-a-photo", SIM + [OUT, "{tmp}/h.nc", "--plot", "{photo_png}"], 2,
+     ["--plot", "photo.png' exists and was not written by frustum", "give another file name or remove it"]),
+    ("simulate-animate-over-a-photo", SIM + [OUT, "{tmp}/h.nc", "--animate", "{photo_gif}"], 2,
+     ["--animate", "photo.gif' exists and was not written by frustum", "give another file name or remove it"]),
+    ("animate-over-a-photo", ["animate", "{histories}", OUT, "{photo_gif}"], 2,
+     ["--out", "photo.gif' exists and was not written by frustum", "give another file name or remove it"]),
+    ("records-plot-over-a-photo", ["records", "plot", "SYN-RICKER", OUT, "{photo_png}"], 2,
+     ["--out", "photo.png' exists and was not written by frustum"]),
+    ("study-plot-over-a-photo", ["study", "run", "{study}", OUT, "{tmp}/s.nc", "--plot", "{photo_png}", "--serial"],
+     2, ["--plot", "photo.png' exists and was not written by frustum"]),
+    ("risk-plot-over-a-photo", ["risk", "{fragility}", "--hazard", "{hazard}", OUT, "{tmp}/r.nc", "--plot",
+                                "{photo_png}"], 2, ["--plot", "photo.png' exists and was not written by frustum"]),
+    ("workflow-plot-over-a-photo", ["workflow", "run", "{wf_plot_is_photo}"], 2,
+     ["field steps[0].plot", "photo.png' exists and was not written by frustum"]),
+    ("report-over-a-users-report-md", ["report", "{results}", OUT, "{notes_dir}", "--bootstrap", "0"], 2,
+     ["--out", "report.md exists and was not written by frustum", "give another folder or remove that file"]),
+    ("report-over-a-users-figure", ["report", "{results}", OUT, "{photos_dir}", "--bootstrap", "0"], 2,
+     ["--out", "figures/site.png exists and was not written by frustum", "give another folder"]),
+    ("report-over-a-users-csv", ["report", "{results}", OUT, "{table_dir}", "--bootstrap", "0"], 2,
+     ["summary.csv exists and is not a summary.csv written by 'frustum report'", "give another folder"]),
     # bad values of options
     ("simulate-output-step-0", SIM + [OUT, "{tmp}/h.nc", "--output-step", "0"], 2,
      ["--output-step 0.0", "positive number of seconds"]),
@@ -126,11 +149,23 @@ def files(tmp_path, results_nc, histories_nc, failed_results_nc):
     paths["report_dir"] = tmp_path / "report"
     paths["report_dir"].mkdir()
     shutil.copy(results_nc, paths["report_dir"] / "fragility.nc")
+    paths["photo_png"] = tmp_path / "photo.png"  # a user's own pictures, of the suffixes frustum writes
+    paths["photo_png"].write_bytes(b"\x89PNG\r\n\x1a\n a photo of the site\n")
+    paths["photo_gif"] = tmp_path / "photo.gif"
+    paths["photo_gif"].write_bytes(b"GIF89a a photo of the site\n")
+    paths["hazard"] = tmp_path / "hazard_curve-mean-PGA_1.csv"
+    shutil.copy(HAZARD, paths["hazard"])
+    for key, name, data in (("notes_dir", "report.md", b"# my notes\n"), ("photos_dir", "figures/site.png", b"\x89PNG"),
+                            ("table_dir", "summary.csv", b"column,height\nA,4\n")):
+        paths[key] = tmp_path / key
+        (paths[key] / name).parent.mkdir(parents=True)
+        (paths[key] / name).write_bytes(data)
     for name, log, steps in (
         ("wf_duplicate", "wf.log", ['study = "tiny.toml"\noutput = "out/a.nc"', 'study = "tiny.toml"\noutput = "out/a.nc"']),
         ("wf_output_is_study", "wf.log", ['study = "tiny.toml"\noutput = "tiny.toml"']),
         ("wf_log_is_study", "tiny.toml", ['study = "tiny.toml"\noutput = "out/a.nc"']),
         ("wf_log_unwritable", "/proc/frustum-test/wf.log", ['study = "tiny.toml"\noutput = "out/a.nc"']),
+        ("wf_plot_is_photo", "wf.log", ['study = "tiny.toml"\noutput = "out/a.nc"\nplot = "photo.png"']),
     ):
         paths[name] = tmp_path / f"{name}.toml"
         paths[name].write_text(f'log = "{log}"\n' + "".join(f"[[steps]]\n{s}\n" for s in steps), encoding="utf-8")
@@ -147,9 +182,7 @@ def test_bad_input(files, capsys, monkeypatch, argv, status, fragments):
 
         monkeypatch.setattr(sweep, "simulate", fails)
         monkeypatch.setattr(sweep, "prepare_kernels", lambda *a, **k: 0.0)
-    user = [p for k, p in files.items() if k != "tmp" and os.path.isfile(p)]
-    user += [files["report_dir"] / "fragility.nc"]
-    before = snapshot(*user)
+    before = snapshot(*[p for p in files["tmp"].rglob("*") if p.is_file()])
     listing = sorted(os.listdir(files["tmp"]))
 
     assert main([a.format(**files) for a in argv]) == status

@@ -12,7 +12,7 @@ import pytest
 from cli_files import TINY_STUDY, snapshot, unchanged
 
 from pipeline.cli import main
-from pipeline.paths import result_kind
+from pipeline.paths import result_kind, written_by_frustum
 
 
 def _err(capsys):
@@ -54,7 +54,8 @@ def test_fragility_refuses_to_write_over_a_users_file(results_nc, user_files, ca
     before = snapshot(*user_files.values())
     assert main(["fragility", str(results_nc), "--out", str(user_files[name])]) == 2
     err = _err(capsys)
-    assert "exists and is not a netCDF result written by frustum" in err and "give a new file name" in err
+    assert "exists and is not a netCDF result written by frustum" in err
+    assert "give another file name or remove it" in err
     assert unchanged(before)
 
 
@@ -205,6 +206,57 @@ def test_a_report_into_a_study_folder_keeps_the_folders_other_files(results_nc, 
     assert {"report.md", "report.html", "summary.csv", "fragility.nc", "figures"} <= set(os.listdir(out))
     assert "](figures/" in (out / "report.md").read_text()
     assert _no_partials(tmp_path) and _no_partials(out)
+    # every file it wrote says so, and a rerun replaces them
+    assert all(written_by_frustum(p) for p in [out / "report.md", out / "report.html", *(out / "figures").iterdir()])
+    assert main(["report", str(results_nc), "--out", str(out), "--bootstrap", "0", "--title", "again"]) == 0
+    assert "# again" in (out / "report.md").read_text()
+
+
+@pytest.mark.parametrize("name, data, words", [
+    ("report.md", b"# my own notes\n", "report.md exists and was not written by frustum"),
+    ("report.html", b"<html>my page</html>", "report.html exists and was not written by frustum"),
+    ("figures/site.pdf", b"%PDF-1.4 my drawing", "site.pdf exists and was not written by frustum"),
+    ("summary.csv", b"column,model\nA,3d\n", "summary.csv exists and is not a summary.csv written by 'frustum report'"),
+])
+def test_report_refuses_a_folder_holding_a_users_file_it_would_replace(results_nc, tmp_path, capsys, name, data,
+                                                                       words):
+    out = tmp_path / "mine"
+    (out / name).parent.mkdir(parents=True)
+    (out / name).write_bytes(data)
+    before = snapshot(out / name)
+    assert main(["report", str(results_nc), "--out", str(out), "--bootstrap", "0"]) == 2
+    err = _err(capsys)
+    assert f"--out {str(out)!r}: " in err and words in err and "give another folder or remove that file" in err
+    assert unchanged(before) and sorted(p.name for p in out.rglob("*")) == sorted(name.split("/"))
+
+
+# -- figures and animations: a user's file of the same suffix -----------------------------------------
+
+def test_a_plot_is_replaced_by_a_rerun_but_a_users_picture_is_not(tmp_path, capsys):
+    fig = tmp_path / "ricker.png"
+    assert main(["records", "plot", "SYN-RICKER", "--out", str(fig)]) == 0
+    assert written_by_frustum(fig)
+    assert main(["records", "plot", "SYN-RICKER", "--out", str(fig)]) == 0  # a rerun replaces its own figure
+    photo = tmp_path / "site.png"
+    photo.write_bytes(b"\x89PNG\r\n\x1a\n my photo of the site")
+    before = snapshot(photo)
+    assert main(["records", "plot", "SYN-RICKER", "--out", str(photo)]) == 2
+    err = _err(capsys)
+    assert f"--out {str(photo)!r} exists and was not written by frustum; give another file name or remove it" in err
+    assert unchanged(before)
+
+
+def test_an_animation_is_replaced_by_a_rerun_but_a_users_gif_is_not(histories_nc, tmp_path, capsys):
+    gif = tmp_path / "m.gif"
+    for _ in range(2):  # the second replaces the first
+        assert main(["animate", str(histories_nc), "--out", str(gif), "--fps", "1", "--dpi", "20"]) == 0
+    assert written_by_frustum(gif)
+    mine = tmp_path / "mine.gif"
+    mine.write_bytes(b"GIF89a my animation")
+    before = snapshot(mine)
+    assert main(["animate", str(histories_nc), "--out", str(mine), "--fps", "1", "--dpi", "20"]) == 2
+    assert f"--out {str(mine)!r} exists and was not written by frustum" in _err(capsys)
+    assert unchanged(before) and _no_partials(tmp_path)
 
 
 # -- animate -------------------------------------------------------------------------------------
