@@ -259,6 +259,8 @@ def _earthquake(args, column, models):
         raise InputError("--theta0 starts a free motion; an earthquake response starts at rest (drop --theta0)")
     excitation = Excitation(angle=args.angle, scale=args.scale, vertical=not args.no_vertical)
     motion = load_record(args)
+    _check_output_step(args.output_step, motion.duration + args.tail,
+                       f"record {motion.duration:g} s + --tail {args.tail:g} s", "--tail")
     _check_history_memory(len(models) * (motion.duration + args.tail), args.output_step,
                           "the record and --tail" + (" for each model" if len(models) > 1 else ""))
     runs = []
@@ -311,6 +313,7 @@ def _free(args, column):
                              output_step=args.output_step, contact_tilt=0.0, damping=args.damping)
     if not (math.isfinite(args.duration) and args.duration > 0):
         raise InputError(f"--duration {args.duration!r}: give a positive number of seconds")
+    _check_output_step(args.output_step, args.duration, "--duration", "--duration")
     _check_history_memory(args.duration, settings.output_step, "--duration")
     ds = simulate_free(column, initial, args.duration, settings, restitution=args.restitution)
     return ds, {"peak_theta": float(np.nanmax(ds.theta.values))}
@@ -319,6 +322,14 @@ def _free(args, column):
 def _given(value, default):
     """An option's value, or its default when not given (0 is a value: it is refused, not replaced)."""
     return default if value is None else value
+
+
+def _check_output_step(output_step, length, what, longer):
+    """Refuse a sampling interval longer than the run (``length`` [s]): the histories would be its first row alone."""
+    if output_step > length:
+        raise InputError(f"--output-step {output_step:g}: longer than the run ({what} = {length:g} s), whose "
+                         f"histories would keep its first instant alone; give at most {length:g} s, e.g. 0.01, "
+                         f"or a longer {longer}")
 
 
 def _check_history_memory(duration, output_step, what):
