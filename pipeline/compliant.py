@@ -527,25 +527,6 @@ def fixed_step(asm, params, y, settings):
     return numerics(settings)["step_safety"] * limit, limit
 
 
-# The default step may exceed step_safety x the limit by this factor when that lets it divide
-# the sample interval with fewer steps.
-STEP_ROUNDING = 1.1
-
-
-def steps_per_monitor(monitor, step, exact):
-    """Whole steps per monitor interval: the step is ``monitor / n`` [s].
-
-    A given step (``exact``) is never exceeded; the default one may be by
-    :data:`STEP_ROUNDING` at most (it stays below the stability limit: its safety is 0.5).
-    """
-    n = max(1, int(math.ceil(monitor / step - 1e-9)))
-    if not exact:
-        nearest = max(1, int(round(monitor / step)))
-        if monitor / nearest <= STEP_ROUNDING * step:
-            n = nearest
-    return n
-
-
 def numerics(settings):
     """The compliant model's numerical choices: :data:`NUMERICS` with the settings' overrides."""
     return {**NUMERICS, **dict(settings.numerics)}
@@ -556,9 +537,9 @@ def _integrate(asm, params, y0, duration, monitor, stride, settings, histories, 
     """Run the kernel for ``duration`` [s], sampling every ``monitor`` [s]; history every ``stride``.
 
     The integrator, its tolerances (adaptive) or step (fixed) come from ``settings``. The
-    adaptive ones take their statistics at the samples; the fixed-step one at every step (the
-    samples then give the histories only). ``step`` [s] is the fixed step if already found
-    (:func:`fixed_step`), shortened to divide ``monitor`` (:func:`steps_per_monitor`). ``progress(done, total)`` [s], if given, is called as the run
+    adaptive ones take their statistics at the samples; the fixed-step one at every step, its
+    samples (history rows) interpolated between steps, so the grid never changes its steps.
+    ``step`` [s] is the fixed step if already found (:func:`fixed_step`). ``progress(done, total)`` [s], if given, is called as the run
     goes on (the fixed-step integrator runs in pieces for it; the result is the same).
     """
     n_bodies = asm.n_bodies
@@ -575,20 +556,19 @@ def _integrate(asm, params, y0, duration, monitor, stride, settings, histories, 
         joint_stats=np.zeros((n_bodies, sk.N_JOINT_STATS)), joint_committed=np.zeros((n_bodies, sk.N_JOINT_STATS)),
         y0=y0, y_end=np.zeros_like(y0))
     if settings.integrator == "semi-implicit":
-        given = settings.step is not None
         if step is None:
             step = fixed_step(asm, params, y0, settings)[0]
-        per_monitor = steps_per_monitor(monitor, step, exact=given)
-        raw.step = monitor / per_monitor
+        raw.step = step
         y = y0.copy()
         scratch = si.make_scratch(n_bodies, asm.points.shape[0])
+        between = np.empty((2, y0.shape[0]))
         # pieces of about a second of motion (a progress line; the same result as one piece)
         piece = max(1, int(round(1.0 / monitor))) if progress is not None else m
         k = 0
         while k < m:
-            k = si.run(params, y, t_mon, k, min(m, max(k, 1) + piece), per_monitor, stride, theta_commit,
+            k = si.run(params, y, t_mon, k, min(m, max(k, 1) + piece), step / asm.time, stride, theta_commit,
                        raw.hist_y, raw.hist_diag, raw.hist_body, raw.summary, raw.body_stats, raw.joint_stats,
-                       raw.joint_committed, y0, scratch)
+                       raw.joint_committed, y0, between, scratch)
             if progress is not None:
                 progress(min(k, m - 1) * monitor, (m - 1) * monitor)
         raw.summary[sk.S_ENERGY_END] = sk.energy(y, params)

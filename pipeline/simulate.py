@@ -158,8 +158,8 @@ class ModelSettings:
     step : float or None
         Fixed step of the semi-implicit integrator [s]; None: ``step_safety``
         (``numerics``, default 0.5) times the stability limit ``2 / omega_max``
-        of the stiffest joint mode, then shortened to divide ``output_step``
-        (its statistics are taken at every step; ``monitor_step`` is the
+        of the stiffest joint mode (its statistics are taken at every step,
+        its history rows interpolated between steps; ``monitor_step`` is the
         adaptive integrators' sampling).
         A step above the stability limit is refused before computing.
     joint_stiffness, stiffness_ratio, contact_rings, contact_sectors, joint_friction, \

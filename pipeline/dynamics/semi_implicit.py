@@ -867,26 +867,58 @@ def _event_values(y, bodies, g):
         g[n + b] = -y[o + sk.Z]
 
 
-@njit(cache=True, nogil=True)
-def run(params, y, t_mon, start, stop, per_monitor, stride, theta_commit, hist_y, hist_diag, hist_body,
-        summary, body_stats, joint_stats, joint_committed, y0, scratch):
-    """Integrate over the monitor samples ``start`` to ``stop`` (exclusive) with fixed steps.
+@njit(cache=True)
+def _sample_rows(t_mon, k, stop, t_limit, t, h, y_prev, y, y_int, stride, params, theta_commit, hist_y, hist_diag,
+                 hist_body, summary, body_stats, joint_stats, joint_committed, y0):
+    """History rows of the samples from k on that lie at or before ``t_limit`` (and before
+    ``stop``), the state interpolated linearly between ``y_prev`` (at t - h) and ``y`` (at t)
+    (quaternions renormalised); returns the next sample to do. The joint law is evaluated at
+    the interpolated state, as the adaptive integrators' rows do at theirs."""
+    bodies = params[0]
+    n_hist = hist_y.shape[0]
+    while k < stop and t_mon[k] <= t_limit:
+        if k % stride == 0 and k // stride < n_hist:
+            f = (t_mon[k] - (t - h)) / h
+            for i in range(y.shape[0]):
+                y_int[i] = y_prev[i] + f * (y[i] - y_prev[i])
+            for b in range(bodies.shape[0]):
+                o = sk.NB * b
+                norm = 1.0 / math.sqrt(y_int[o + sk.QW] ** 2 + y_int[o + sk.QX] ** 2 + y_int[o + sk.QY] ** 2
+                                       + y_int[o + sk.QZ] ** 2)
+                for q in range(sk.QW, sk.QZ + 1):
+                    y_int[o + q] *= norm
+            sk._monitor(t_mon[k], y_int, params, theta_commit, summary, body_stats, joint_stats, joint_committed,
+                        False)
+            sk._history_row(t_mon[k], y_int, params, k // stride, hist_y, hist_diag, hist_body, body_stats, y0)
+        summary[sk.S_END_TIME] = t_mon[k]
+        k += 1
+    return k
 
-    ``y`` is the state at ``t_mon[start - 1]`` (or the initial state with ``start = 0``, when
-    the statistics are initialised) and is advanced in place; the step is
-    ``(t_mon[1] - t_mon[0]) / per_monitor``. The statistics, histories and summary are those of
-    :func:`pipeline.dynamics.stack.run` (same arrays, same meaning), so a long run can be done
-    in pieces (progress, interruption) with the same result as in one.
+
+@njit(cache=True, nogil=True)
+def run(params, y, t_mon, start, stop, h, stride, theta_commit, hist_y, hist_diag, hist_body,
+        summary, body_stats, joint_stats, joint_committed, y0, between, scratch):
+    """Integrate with fixed steps h until the samples ``start`` to ``stop`` (exclusive) are done.
+
+    The steps do not follow the samples: ``y`` is the state after ``summary[S_STEPS]`` steps
+    (at that many h; the initial state with ``start = 0``, when the statistics are initialised)
+    and is advanced in place. The statistics are taken at every step; the history rows every
+    ``stride`` samples, from the state interpolated between the two steps around the sample
+    (``between``: scratch (2, len(y)), the state before the last step and the interpolated one),
+    so that neither the output grid nor the pieces change the steps. The statistics, histories
+    and summary are those of :func:`pipeline.dynamics.stack.run` (same arrays, same meaning),
+    so a long run can be done in pieces (progress, interruption) with the same result as in one.
 
     Returns
     -------
     int
-        The next monitor sample to do: ``stop``, or ``len(t_mon)`` once the column is down.
+        The next sample to do: ``stop``, or ``len(t_mon)`` once the column is down.
     """
     bodies = params[0]
     n_bodies = bodies.shape[0]
     m = t_mon.shape[0]
     n_hist = hist_y.shape[0]
+    y_prev, y_int = between[0], between[1]
     if start == 0:
         summary[:] = 0.0
         summary[sk.S_OVERTURN_TIME] = math.nan
@@ -906,54 +938,52 @@ def run(params, y, t_mon, start, stop, per_monitor, stride, theta_commit, hist_y
         if n_hist > 0:
             sk._history_row(t_mon[0], y, params, 0, hist_y, hist_diag, hist_body, body_stats, y0)
         start = 1
-    h = (t_mon[1] - t_mon[0]) / per_monitor
     g_old = np.empty(2 * n_bodies)
     g_new = np.empty(2 * n_bodies)
+    _event_values(y, bodies, g_old)
     k = start
     while k < stop:
-        t0 = t_mon[k - 1]
-        _event_values(y, bodies, g_old)
+        t = summary[sk.S_STEPS] * h  # the time of y (a count of steps: no drift)
+        if t >= t_mon[k]:  # the last step passed sample k: its rows, interpolated
+            k = _sample_rows(t_mon, k, stop, t, t, h, y_prev, y, y_int, stride, params, theta_commit, hist_y,
+                             hist_diag, hist_body, summary, body_stats, joint_stats, joint_committed, y0)
+            continue
+        if t + h >= t_mon[k]:  # this step reaches sample k: keep the state before it
+            y_prev[:] = y
+        summary[sk.S_NFEV] += step(t, y, h, params, scratch)
+        summary[sk.S_STEPS] += 1
+        _event_values(y, bodies, g_new)
         down = -1
         frac = 1.0
-        for i in range(per_monitor):
-            t = t0 + i * h
-            summary[sk.S_NFEV] += step(t, y, h, params, scratch)
-            summary[sk.S_STEPS] += 1
-            _event_values(y, bodies, g_new)
-            for e in range(2 * n_bodies):
-                if g_new[e] >= 0.0 and g_old[e] < 0.0:
-                    f = -g_old[e] / (g_new[e] - g_old[e])  # linear: the crossing within the step
-                    if down < 0 or f < frac:
-                        down = e
-                        frac = f
-                g_old[e] = g_new[e]
-            if down >= 0:
-                t_down = t + frac * h
-                break
-            # the statistics of every step, from its own forces (no sampling between steps)
-            sk.update_statistics(t + h, y, params, theta_commit, summary, body_stats, joint_stats, joint_committed,
-                                 True)
-        if down >= 0:
+        for e in range(2 * n_bodies):
+            if g_new[e] >= 0.0 and g_old[e] < 0.0:
+                f = -g_old[e] / (g_new[e] - g_old[e])  # linear: the crossing within the step
+                if down < 0 or f < frac:
+                    down = e
+                    frac = f
+            g_old[e] = g_new[e]
+        if down >= 0:  # a body lies down or fell below the ground: the column is down
+            t_down = t + frac * h
             b = down % n_bodies
+            # the samples before the crossing, interpolated; from it on, frozen
+            k = _sample_rows(t_mon, k, m, t_down, t + h, h, y_prev, y, y_int, stride, params, theta_commit, hist_y,
+                             hist_diag, hist_body, summary, body_stats, joint_stats, joint_committed, y0)
             summary[sk.S_OVERTURN_TIME] = t_down
             summary[sk.S_OVERTURN_BODY] = b
             if down >= n_bodies:
                 summary[sk.S_STATUS] = sk.STATUS_COLLAPSED
             summary[sk.S_END_TIME] = t_down
             sk._monitor(t_down, y, params, theta_commit, summary, body_stats, joint_stats, joint_committed, True)
-            for kk in range(k, m):  # frozen from here on
+            for kk in range(k, m):
                 if kk % stride == 0 and kk // stride < n_hist:
                     sk._monitor(t_mon[kk], y, params, theta_commit, summary, body_stats, joint_stats,
                                 joint_committed, False)
                     sk._history_row(t_mon[kk], y, params, kk // stride, hist_y, hist_diag, hist_body,
                                     body_stats, y0)
             return m
-        if k % stride == 0 and k // stride < n_hist:  # the joint law at the sample's state
-            sk._monitor(t_mon[k], y, params, theta_commit, summary, body_stats, joint_stats, joint_committed,
-                        False)
-            sk._history_row(t_mon[k], y, params, k // stride, hist_y, hist_diag, hist_body, body_stats, y0)
-        summary[sk.S_END_TIME] = t_mon[k]
-        k += 1
+        # the statistics of every step, from its own forces (no sampling between steps)
+        sk.update_statistics(t + h, y, params, theta_commit, summary, body_stats, joint_stats, joint_committed,
+                             True)
     return stop
 
 

@@ -97,8 +97,10 @@ BODY_EXPONENT = 1.85
 # What the cached rows depend on: changing any of it starts a new cache (a new digest).
 # version: bumped when the models change under the same settings (2: the joint law's energy
 # booking and the rigid slip layer of 2026-11-23; rows of version 1 are not comparable; 3: the
-# semi-implicit integrator of the compliant models and the bed calibrated with it, 2026-11-25).
-DESIGN = dict(version=3, integrator="semi-implicit", stiffness=STIFFNESS, friction=FRICTION, joint_friction=None, angle=ANGLE,
+# semi-implicit integrator of the compliant models and the bed calibrated with it, 2026-11-25;
+# 4: its statistics at every step, its step exactly step_safety x the stability limit, the
+# samples interpolated between steps (the bed calibrated at that step), 2026-11-25).
+DESIGN = dict(version=4, integrator="semi-implicit", stiffness=STIFFNESS, friction=FRICTION, joint_friction=None, angle=ANGLE,
               vertical=VERTICAL, tail=TAIL, calibration="rigid_vs_compliant: calibrated_damping on the outline")
 
 
@@ -169,13 +171,12 @@ def bed(key):
 @lru_cache(maxsize=None)
 def default_step(key):
     """The semi-implicit integrator's default step for a column's stack [s] (what the stack runs)."""
-    from pipeline.compliant import assemble, fixed_step, rest_state, steps_per_monitor
+    from pipeline.compliant import assemble, fixed_step, rest_state
 
     base = ModelSettings(model="3d-compliant", normal_stiffness=STIFFNESS, friction=FRICTION)
     asm = assemble(drum_column(key), base, 0.0)
     params = asm.params()
-    step = fixed_step(asm, params, rest_state(params, base), base)[0]
-    return base.output_step / steps_per_monitor(base.output_step, step, exact=False)
+    return fixed_step(asm, params, rest_state(params, base), base)[0]
 
 
 def settings(model, damping, restitution, key=None):
@@ -205,24 +206,16 @@ def settings(model, damping, restitution, key=None):
 STACK_REVISION = 2
 # 3: the compliant models run the fixed-step semi-implicit integrator by default and the shared
 # bed is calibrated with it (issue 25, 2026-11-25): every model's rows are new (DESIGN version).
-# Changes of the compliant models' integration that leave the rigid rows (and the bed) valid:
-# 2: the semi-implicit integrator takes its statistics at every step from its own forces and its
-# step divides the output interval, not the 1 ms monitor (2026-11-25; the paper's monolith
-# 0.714 ms instead of 0.5, its stack 0.270 ms instead of 0.25, the Parthenon stack 0.244 ms instead of 0.25).
-COMPLIANT_REVISION = 2
 
 
 def digest(model=None):
     """Short digest of :data:`DESIGN` and the columns' geometry (names the cache files).
 
-    A stack's rows also depend on :data:`STACK_REVISION`, a compliant model's on
-    :data:`COMPLIANT_REVISION`, a band variant's on its band too.
+    A stack's rows also depend on :data:`STACK_REVISION`, a band variant's on its band too.
     """
     design = {**DESIGN, "columns": {k: repr(drum_column(k)) for k in COLUMN_KEYS}}
     if is_stack(model) and STACK_REVISION > 1:
         design["stack_revision"] = STACK_REVISION
-    if model is not None and model != "rigid" and COMPLIANT_REVISION > 1:
-        design["compliant_revision"] = COMPLIANT_REVISION
     if model in BAND_VARIANTS:
         design["edge_band"] = BAND_VARIANTS[model]
     if model in INTEGRATOR_VARIANTS:

@@ -85,6 +85,10 @@ def test_drum_file_summary_equals_simulate(tmp_path, summaries):
                  "--out", str(out)]) == 0
     (summary,) = summaries
     assert summary["joint_slip"][1:].max() > 1e-3  # the bed joints slid: the dislocations are not all 0
+    # issue 26: 1.43 with friction 0.7 when the dashpot's share counted; the step's statistics
+    # hold each point's shear force within its cone (mu = 0.7 on every joint here)
+    assert summary["joint_peak_mu_mob"].max() <= 0.7 * (1 + 1e-12)
+    assert summary["joint_peak_mu_mob"].max() > 0.5  # the joints did mobilise their friction
     _assert_file_holds(out, ["3d-compliant"], summaries)
     with xr.open_dataset(out) as ds:
         run = ds.sel(column=COLUMN, record="SYN-ONESINE", model="3d-compliant")
