@@ -137,14 +137,15 @@ def run_simulate(args):
     # everything that can be refused is refused before computing
     inputs = record_inputs(args.record)
     check_output_file(args.out, "--out", kind="histories", inputs=inputs)
-    if args.plot:
-        check_plot_file(args.plot, "--plot", inputs=inputs)
+    models = _models(args.model)
+    if args.plot:  # every file it will write: one per model when there are several
+        for path in [args.plot] if len(models) == 1 else [_suffixed(args.plot, m) for m in models]:
+            check_plot_file(path, "--plot", inputs=inputs)
     _check_sampling(args)
     for name in ("rtol", "atol"):
         if getattr(args, name) is not None:
             check_tolerance(name, getattr(args, name), f"--{name}")
     column = _drum_column(args, Column.parse(args.column, density=args.density))
-    models = _models(args.model)
     if args.animate:
         from pipeline.animate import check_animation_path
 

@@ -59,6 +59,9 @@ CATALOGUE = [
     # figures, animations and reports over a user's file of the same suffix (a photo, notes)
     ("simulate-plot-over-a-photo", SIM + [OUT, "{tmp}/h.nc", "--plot", "{photo_png}"], 2,
      ["--plot", "photo.png' exists and was not written by frustum", "give another file name or remove it"]),
+    ("simulate-plot-of-two-models-over-a-photo", SIM + [OUT, "{tmp}/h.nc", "--model", "3d,2d", "--plot",
+                                                  "{tmp}/site.png"], 2,
+     ["--plot", "site_2d.png' exists and was not written by frustum"]),
     ("simulate-animate-over-a-photo", SIM + [OUT, "{tmp}/h.nc", "--animate", "{photo_gif}"], 2,
      ["--animate", "photo.gif' exists and was not written by frustum", "give another file name or remove it"]),
     ("animate-over-a-photo", ["animate", "{histories}", OUT, "{photo_gif}"], 2,
@@ -157,6 +160,8 @@ def files(tmp_path, results_nc, histories_nc, failed_results_nc):
     shutil.copy(results_nc, paths["report_dir"] / "fragility.nc")
     paths["photo_png"] = tmp_path / "photo.png"  # a user's own pictures, of the suffixes frustum writes
     paths["photo_png"].write_bytes(b"\x89PNG\r\n\x1a\n a photo of the site\n")
+    paths["photo_2d"] = tmp_path / "site_2d.png"  # where --model 3d,2d --plot site.png draws the 2D model
+    paths["photo_2d"].write_bytes(b"\x89PNG\r\n\x1a\n a photo of the 2D rocking block\n")
     paths["photo_gif"] = tmp_path / "photo.gif"
     paths["photo_gif"].write_bytes(b"GIF89a a photo of the site\n")
     paths["hazard"] = tmp_path / "hazard_curve-mean-PGA_1.csv"
