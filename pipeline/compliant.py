@@ -22,11 +22,6 @@ from pipeline.errors import InputError
 from pipeline.geometry import Column
 from pipeline.units import G
 
-# Joint defaults for marble and limestone drums (docs/model.md, "Joint parameters").
-NORMAL_STIFFNESS = 1.0e10  # k_n [Pa/m]
-STIFFNESS_RATIO = 0.5  # k_s / k_n [1]
-CONTACT_RINGS = 3  # Gauss-Lobatto nodes in radius (centre dropped): rings at R/2 and R
-CONTACT_SECTORS = 24  # points per ring
 # Numerical choices of the joint law that are not measured physics, overridable through
 # ``ModelSettings.numerics`` by studies that show what they move:
 # edge_band: width of the band past a face's edge over which a point's support runs off

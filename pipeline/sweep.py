@@ -444,8 +444,11 @@ COMPILE_NOTICE = ("frustum: compiling the simulation kernels for this machine, o
 #: Without a readable cache index (another numba version), a load this long [s] is taken for a compile.
 COMPILE_NOTICE_AFTER = 10.0
 
-# the compiled entry points of each model (their cache holds what they inline)
-_ENTRY_POINTS = {"3d": ("run_frustum", "diagnostics_rows"), "2d": ("run_rocking", "diagnostics_rows")}
+# the compiled entry points of each model, as (module, function) (their cache holds what they
+# inline); the compliant model's is its default integrator's run
+_ENTRY_POINTS = {"3d": (("pipeline.dynamics.hybrid", "run_frustum"), ("pipeline.dynamics.hybrid", "diagnostics_rows")),
+                 "2d": (("pipeline.dynamics.hybrid", "run_rocking"), ("pipeline.dynamics.hybrid", "diagnostics_rows")),
+                 "3d-compliant": (("pipeline.dynamics.semi_implicit", "run"),)}
 
 
 def kernels_cached(models):
@@ -454,11 +457,11 @@ def kernels_cached(models):
     Reads the cache index of each model's entry points (numba's
     ``FunctionCache``; an index of a changed source counts as missing).
     """
-    from pipeline.dynamics import hybrid
+    import importlib
 
     try:
-        return all(bool(getattr(hybrid, name)._cache._cache_file._load_index())
-                   for model in models for name in _ENTRY_POINTS.get(model, ()))
+        return all(bool(getattr(importlib.import_module(module), name)._cache._cache_file._load_index())
+                   for model in models for module, name in _ENTRY_POINTS[model])
     except (AttributeError, OSError, EOFError, ValueError):
         return None
 

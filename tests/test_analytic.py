@@ -26,11 +26,7 @@ from pipeline.dynamics import derivation as d
 from pipeline.dynamics import frustum as fk
 from pipeline.geometry import Column
 from pipeline.simulate import InitialState, simulate_free
-
-try:  # the settings class of simulate_free (renamed while the integrator evolves)
-    from pipeline.simulate import ModelSettings as _Settings
-except ImportError:  # pragma: no cover
-    from pipeline.simulate import SolverSettings as _Settings
+from pipeline.simulate import ModelSettings as _Settings
 from pipeline.units import G
 
 FIG4 = Column(R=0.5, r=0.4, h=4.0)  # the paper's Figure 4 column

@@ -48,7 +48,6 @@ from numba import njit
 PHI, THETA, PSI, DPHI, DTHETA, OMEGA, XP, YP, WORK, DISSIPATED = range(10)
 FRICTION, SLIP_SPEED, SLIP_DIR, ZC, VX, VY, VZ = range(10, 17)
 N_STATE = 17
-N_ROLLING = 10  # the slots rolling integrates
 
 # Indices into the options array (the fourth element of ``params``): the
 # contact transition tilt, the tilt at which the column lies down, the viscous

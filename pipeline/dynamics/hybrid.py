@@ -56,7 +56,6 @@ from pipeline.dynamics import rocking as rk
 from pipeline.dynamics.integrator import dop853_monitored
 
 PHASE_REST, PHASE_ROLLING, PHASE_OVERTURNED, PHASE_SLIDING, PHASE_SLIPPING, PHASE_FLIGHT = range(6)
-PHASE_NAMES = ("rest", "rolling", "overturned", "sliding", "slipping", "flight")
 
 # Indices of the summary array filled by the runs.
 (
@@ -93,7 +92,6 @@ MAX_STEPS = 50_000_000
 # instead of looping: a safety net, never reached in the tests.
 MAX_STALLS = 100
 STATUS_STALLED = -11
-STATUS_PAINLEVE = -12  # slip with no consistent normal force (never met for mu < 1)
 
 EV_LAND, EV_LIE, EV_TURN, EV_LIFT, EV_SLIP, EV_STICK, EV_MODE, EV_PIVOT = range(8)
 # landing/touch-down falling, lying down rising, turning point of theta both

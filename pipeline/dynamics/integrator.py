@@ -368,16 +368,6 @@ def no_monitor(t, y, params, g):
     """Step monitor for problems that watch nothing (does nothing)."""
 
 
-@njit(cache=True)
-def _rms_norm(x, scale):
-    """RMS norm of ``x / scale`` (scipy's ``norm``)."""
-    s = 0.0
-    for i in range(x.shape[0]):
-        v = x[i] / scale[i]
-        s += v * v
-    return np.sqrt(s / x.shape[0])
-
-
 @njit(inline="always")
 def _select_initial_step(rhs, params, t0, y0, f0, t_end, max_step, rtol, atol, y1, f1, error_order=7):
     """First step size by Hairer's rule, as scipy's ``select_initial_step``.

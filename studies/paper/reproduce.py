@@ -36,12 +36,8 @@ import numpy as np  # noqa: E402
 from pipeline import analytic as an  # noqa: E402
 from pipeline.geometry import Column  # noqa: E402
 from pipeline.simulate import InitialState, simulate_free  # noqa: E402
+from pipeline.simulate import ModelSettings as _Settings  # noqa: E402
 from pipeline.units import G  # noqa: E402
-
-try:  # the settings class of simulate_free (renamed while the integrator evolves)
-    from pipeline.simulate import ModelSettings as _Settings
-except ImportError:  # pragma: no cover
-    from pipeline.simulate import SolverSettings as _Settings
 
 COLUMN = Column(R=0.5, r=0.4, h=4.0, name="Figure 4 column")
 THETA0 = math.pi / 18
