@@ -879,14 +879,17 @@ def _sample_rows(t_mon, k, stop, t_limit, t, h, y_prev, y, y_int, stride, params
     while k < stop and t_mon[k] <= t_limit:
         if k % stride == 0 and k // stride < n_hist:
             f = (t_mon[k] - (t - h)) / h
-            for i in range(y.shape[0]):
-                y_int[i] = y_prev[i] + f * (y[i] - y_prev[i])
-            for b in range(bodies.shape[0]):
-                o = sk.NB * b
-                norm = 1.0 / math.sqrt(y_int[o + sk.QW] ** 2 + y_int[o + sk.QX] ** 2 + y_int[o + sk.QY] ** 2
-                                       + y_int[o + sk.QZ] ** 2)
-                for q in range(sk.QW, sk.QZ + 1):
-                    y_int[o + q] *= norm
+            if f >= 1.0:  # the sample is the step's end: its state exactly
+                y_int[:] = y
+            else:
+                for i in range(y.shape[0]):
+                    y_int[i] = y_prev[i] + f * (y[i] - y_prev[i])
+                for b in range(bodies.shape[0]):
+                    o = sk.NB * b
+                    norm = 1.0 / math.sqrt(y_int[o + sk.QW] ** 2 + y_int[o + sk.QX] ** 2 + y_int[o + sk.QY] ** 2
+                                           + y_int[o + sk.QZ] ** 2)
+                    for q in range(sk.QW, sk.QZ + 1):
+                        y_int[o + q] *= norm
             sk._monitor(t_mon[k], y_int, params, theta_commit, summary, body_stats, joint_stats, joint_committed,
                         False)
             sk._history_row(t_mon[k], y_int, params, k // stride, hist_y, hist_diag, hist_body, body_stats, y0)
