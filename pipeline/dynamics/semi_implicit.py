@@ -923,23 +923,8 @@ def run(params, y, t_mon, start, stop, h, stride, theta_commit, hist_y, hist_dia
     n_hist = hist_y.shape[0]
     y_prev, y_int = between[0], between[1]
     if start == 0:
-        summary[:] = 0.0
-        summary[sk.S_OVERTURN_TIME] = math.nan
-        summary[sk.S_OVERTURN_BODY] = -1.0
-        body_stats[:, :] = 0.0
-        joint_stats[:, :] = 0.0
-        joint_stats[:, sk.JS_UPLIFT_TIME] = math.nan
-        joint_stats[:, sk.JS_SLIDE_TIME] = math.nan
-        joint_stats[:, sk.JS_FLIGHT_TIME] = math.nan
-        joint_stats[:, sk.JS_MIN_NORMAL] = math.inf
-        joint_stats[:, sk.JS_MIN_AREA] = math.inf
-        for b in range(n_bodies):
-            body_stats[b, sk.BS_ROTATION] = sk.tilt_and_rotation(y, b)[1]
-        summary[sk.S_ENERGY_START] = sk.energy(y, params)
-        sk._monitor(t_mon[0], y, params, theta_commit, summary, body_stats, joint_stats, joint_committed, True)
-        joint_committed[:, :] = joint_stats
-        if n_hist > 0:
-            sk._history_row(t_mon[0], y, params, 0, hist_y, hist_diag, hist_body, body_stats, y0)
+        sk.start_statistics(t_mon[0], y, params, theta_commit, hist_y, hist_diag, hist_body, summary, body_stats,
+                            joint_stats, joint_committed)
         start = 1
     g_old = np.empty(2 * n_bodies)
     g_new = np.empty(2 * n_bodies)

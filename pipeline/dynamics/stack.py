@@ -568,6 +568,30 @@ def _history_row(t, y, params, k, hist_y, hist_diag, hist_body, body_stats, y0):
     hist_diag[k, D_ENERGY] = energy(y, params)  # last: it reuses the monitor
 
 
+@njit(cache=True)
+def start_statistics(t0, y0, params, theta_commit, hist_y, hist_diag, hist_body, summary, body_stats, joint_stats,
+                     joint_committed):
+    """Initialise the summary and statistics of a run from its initial state y0 at t0, and its
+    first history row (if any): what every integrator of this state layout does first."""
+    summary[:] = 0.0
+    summary[S_OVERTURN_TIME] = math.nan
+    summary[S_OVERTURN_BODY] = -1.0
+    body_stats[:, :] = 0.0
+    joint_stats[:, :] = 0.0
+    joint_stats[:, JS_UPLIFT_TIME] = math.nan
+    joint_stats[:, JS_SLIDE_TIME] = math.nan
+    joint_stats[:, JS_FLIGHT_TIME] = math.nan
+    joint_stats[:, JS_MIN_NORMAL] = math.inf
+    joint_stats[:, JS_MIN_AREA] = math.inf
+    for b in range(params[0].shape[0]):
+        body_stats[b, BS_ROTATION] = tilt_and_rotation(y0, b)[1]
+    summary[S_ENERGY_START] = energy(y0, params)
+    _monitor(t0, y0, params, theta_commit, summary, body_stats, joint_stats, joint_committed, True)
+    joint_committed[:, :] = joint_stats
+    if hist_y.shape[0] > 0:
+        _history_row(t0, y0, params, 0, hist_y, hist_diag, hist_body, body_stats, y0)
+
+
 @njit(cache=True, nogil=True)
 def run(params, y0, t_mon, stride, t_breaks, rtol, atol, max_step, event_direction, theta_commit,
         hist_y, hist_diag, hist_body, summary, body_stats, joint_stats, joint_committed, y_end,
@@ -613,24 +637,9 @@ def run(params, y0, t_mon, stride, t_breaks, rtol, atol, max_step, event_directi
     n = y0.shape[0]
     m = t_mon.shape[0]
     n_hist = hist_y.shape[0]
-    summary[:] = 0.0
-    summary[S_OVERTURN_TIME] = math.nan
-    summary[S_OVERTURN_BODY] = -1.0
-    body_stats[:, :] = 0.0
-    joint_stats[:, :] = 0.0
-    joint_stats[:, JS_UPLIFT_TIME] = math.nan
-    joint_stats[:, JS_SLIDE_TIME] = math.nan
-    joint_stats[:, JS_FLIGHT_TIME] = math.nan
-    joint_stats[:, JS_MIN_NORMAL] = math.inf
-    joint_stats[:, JS_MIN_AREA] = math.inf
-    for b in range(n_bodies):
-        body_stats[b, BS_ROTATION] = tilt_and_rotation(y0, b)[1]
     y = y0.copy()
-    summary[S_ENERGY_START] = energy(y, params)
-    _monitor(t_mon[0], y, params, theta_commit, summary, body_stats, joint_stats, joint_committed, True)
-    joint_committed[:, :] = joint_stats
-    if n_hist > 0:
-        _history_row(t_mon[0], y, params, 0, hist_y, hist_diag, hist_body, body_stats, y0)
+    start_statistics(t_mon[0], y, params, theta_commit, hist_y, hist_diag, hist_body, summary, body_stats,
+                     joint_stats, joint_committed)
     scratch = np.empty((CHUNK, n))
     t = t_mon[0]
     h = 0.0
