@@ -730,12 +730,13 @@ def step(t, y, h, params, s):
     it: the normal force as the step applied it at the new velocities (elastic and dashpot of
     a pressed point, none of a clipped one) and its elastic part; the tangential resultant of
     each point's shear spring and, sticking, its dashpot at the new velocities, held within
-    the point's cone ``mu f_el``, plus the pull off an edge (the implicit dashpot's share is
-    taken at the step's start, so in the step in which a point starts to slip its force at
-    the new velocities can pass the cone, until the next step's return; the joint law never
-    lets it, and the monitor does not either: the mobilised friction never exceeds mu);
-    centres of pressure and the area in contact. The elastic energy is left NaN: not a
-    quantity of the step (history rows and the energy budget evaluate the joint law).
+    the point's cone ``mu f_el`` (the implicit dashpot's share is taken at the step's start,
+    so in the step in which a point starts to slip its force at the new velocities can pass
+    the cone, until the next step's return; the joint law never lets it, and the monitor does
+    not either: the mobilised friction never exceeds mu; the pull of a patch running off an
+    edge is not friction and is left out, as in the adaptive model's monitor); centres of
+    pressure and the area in contact. The elastic energy is left NaN: not a quantity of the
+    step (history rows and the energy budget evaluate the joint law).
     """
     bodies, points, joint_start, joints, record, dt, work, mon = params
     pts, mats, mom, diag, off, fac, coup, tmp, vel, slip, impulse, frames, motion, kl = s
@@ -785,8 +786,8 @@ def step(t, y, h, params, s):
                 scale = cap / math.sqrt(st2)
                 sx *= scale
                 sy *= scale
-            tx += sx + pts[p, Q_PX]
-            ty += sy + pts[p, Q_PY]
+            tx += sx
+            ty += sy
             normal += f_n
             normal_el += f_el
             if f_n > 0.0:

@@ -66,7 +66,9 @@ N_WORK = 18
 # Columns of the per-joint monitor (params[7]).
 # M_NORMAL_EL: the elastic part of the normal force, which the friction cap uses: the mobilised
 # friction |F_t| / N_el never exceeds mu (the dashpot's part of N would let a separating
-# joint's ratio pass it).
+# joint's ratio pass it). M_TX, M_TY: the resultant of the points' friction forces (shear
+# spring and dashpot, each within its cone), not of the pull of a patch running off an edge,
+# which is the band's normal reaction, not friction.
 (M_NORMAL, M_TX, M_TY, M_COP_BX, M_COP_BY, M_COP_X, M_COP_Y, M_AREA, M_ELASTIC, M_NORMAL_EL) = range(10)
 N_MON = 10
 
@@ -267,6 +269,7 @@ def _contacts(y, params, dydt, rates, monitor):
             c_shear = ks / kn * cn * area * s * min(1.0, d / joints[j, J_DELTA])
             dux, duy, fx, fy, e_shear, p_fric, p_visc, lam = jl.shear_law(
                 ux, uy, vtx, vty, cap, cap_rate, ks * area, c_shear, tau, joints[j, J_UFLOOR])
+            friction_x, friction_y = fx, fy  # within the point's cone: what the monitor sums
             # the pull of a patch running off the edge of the face below (from 1/2 k A s d^2)
             if ds != 0.0 and d > 0.0:
                 rho = math.sqrt(xi_x * xi_x + xi_y * xi_y)
@@ -282,8 +285,8 @@ def _contacts(y, params, dydt, rates, monitor):
             if monitor:
                 mon[j, M_NORMAL] += f_n
                 mon[j, M_NORMAL_EL] += f_el
-                mon[j, M_TX] += fx
-                mon[j, M_TY] += fy
+                mon[j, M_TX] += friction_x
+                mon[j, M_TY] += friction_y
                 mon[j, M_COP_BX] += f_n * points[p, P_X]
                 mon[j, M_COP_BY] += f_n * points[p, P_Y]
                 mon[j, M_COP_X] += f_n * xi_x
