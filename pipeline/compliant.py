@@ -534,8 +534,9 @@ def _integrate(asm, params, y0, duration, monitor, stride, settings, histories, 
     The integrator, its tolerances (adaptive) or step (fixed) come from ``settings``. The
     adaptive ones take their statistics at the samples; the fixed-step one at every step, its
     samples (history rows) interpolated between steps, so the grid never changes its steps.
-    ``step`` [s] is the fixed step if already found (:func:`fixed_step`). ``progress(done, total)`` [s], if given, is called as the run
-    goes on (the fixed-step integrator runs in pieces for it; the result is the same).
+    ``step`` [s] is the fixed step if already found (:func:`fixed_step`).
+    ``progress(done, total)`` [s], if given, is called as the run goes on (the fixed-step
+    integrator runs in pieces for it; the result is the same).
     """
     n_bodies = asm.n_bodies
     dtau = monitor / asm.time
