@@ -415,7 +415,7 @@ def _point_forces(y, h, params, pts, frames, motion, fric_slip, mats, mom, kl, t
     """
     bodies, points, joint_start, joints, record, dt, work, mon = params
     n_bodies = bodies.shape[0]
-    _clear_loads(params, mom)
+    _clear_loads(params)
     sh = sk.NB * n_bodies
     friction = 0.0
     for j in range(n_bodies):
@@ -426,21 +426,28 @@ def _point_forces(y, h, params, pts, frames, motion, fric_slip, mats, mom, kl, t
         face = bodies[j - 1, sk.B_TOP_R] if j > 0 else math.inf
         edge2 = (face * (1.0 + jl.EDGE_TOL)) ** 2  # within it a point is over the face (s = 1)
         decay = math.exp(-h / tau)
+        shear_dashpot = ks / kn * cn  # [per area] the normal dashpot's ratio to the stiffness
         F = frames[j]
         _joint_frame(y, j, params, F)
         mo = motion[j]
         _joint_motion_of_state(y, j, params, mo)
+        # the frame and motion in locals: the stores into pts below would make the compiler
+        # read them again from memory at every point
+        p00, p01, p02, p10, p11, p12, p20, p21, p22 = F[0], F[1], F[2], F[3], F[4], F[5], F[6], F[7], F[8]
+        qx, qy, qz = F[9], F[10], F[11]
+        vx_rel, vy_rel, vz_rel, wx_rel, wy_rel, wz_rel = mo[0], mo[1], mo[2], mo[3], mo[4], mo[5]
         slip = 0.0
+        sums = NO_SUMS
         for p in range(joint_start[j], joint_start[j + 1]):
             iu = sh + 2 * p
             px, py, pz = points[p, sk.P_X], points[p, sk.P_Y], points[p, sk.P_Z]
-            rz = F[6] * px + F[7] * py + F[8] * pz
-            d = -(rz + F[11])
+            rz = p20 * px + p21 * py + p22 * pz
+            d = -(rz + qz)
             s, ds = 1.0, 0.0
             if d > 0.0:
-                rx = F[0] * px + F[1] * py + F[2] * pz
-                ry = F[3] * px + F[4] * py + F[5] * pz
-                xi_x, xi_y = rx + F[9], ry + F[10]
+                rx = p00 * px + p01 * py + p02 * pz
+                ry = p10 * px + p11 * py + p12 * pz
+                xi_x, xi_y = rx + qx, ry + qy
                 rr = xi_x * xi_x + xi_y * xi_y
                 if rr > edge2:
                     s, ds = jl.overlap(math.sqrt(rr), face, band)
@@ -454,9 +461,9 @@ def _point_forces(y, h, params, pts, frames, motion, fric_slip, mats, mom, kl, t
                 pts[p, Q_CONTACT] = 0.0
                 pts[p, Q_ACTIVE] = 0.0
                 continue
-            vtx = mo[0] + mo[4] * rz - mo[5] * ry
-            vty = mo[1] + mo[5] * rx - mo[3] * rz
-            d_dot = -(mo[2] + mo[3] * ry - mo[4] * rx)
+            vtx = vx_rel + wy_rel * rz - wz_rel * ry
+            vty = vy_rel + wz_rel * rx - wx_rel * rz
+            d_dot = -(vz_rel + wx_rel * ry - wy_rel * rx)
             area = points[p, sk.P_AREA]
             f_el = area * s * kn * d
             engage = min(1.0, d / delta)
@@ -479,7 +486,7 @@ def _point_forces(y, h, params, pts, frames, motion, fric_slip, mats, mom, kl, t
                 y[iu] = ux
                 y[iu + 1] = uy
             else:  # sticking: the shear dashpot, with the share that keeps it within the cone
-                c_full = ks / kn * cn * area * s * engage
+                c_full = shear_dashpot * area * s * engage
                 c_t = c_full * jl._viscous_share(k_area * ux, k_area * uy, c_full * vtx, c_full * vty, cap)
             pull_x = pull_y = 0.0
             if ds != 0.0:  # the pull of a patch running off the edge below
@@ -499,8 +506,8 @@ def _point_forces(y, h, params, pts, frames, motion, fric_slip, mats, mom, kl, t
             pts[p, Q_CONTACT] = 1.0
             # the clipped joint: active if the normal force at the current velocities pushes
             pts[p, Q_ACTIVE] = 1.0 if f_el + c_n * d_dot >= 0.0 else 0.0
-            _load_point(mom, pts, p)
-        _close_joint(y, j, params, mom, mats, kl, tmp3)
+            sums = _load_point(sums, pts, p)
+        _close_joint(y, j, params, sums, mom, mats, kl, tmp3)
         fric_slip[j] = slip / joints[j, sk.J_AREA]
     return friction
 
@@ -522,16 +529,20 @@ def _rotate_joint_matrix(K, Rl, tmp, out):
                     out[3 * bj + k, 3 * bi + i] = v
 
 
-# Scratch ``mom``: the 20 moments of :func:`joint_matrix_z`, then the joint's force and torque
-# sums in the frame of the face below.
-MOM_SUMS = 20
-N_MOM = 26
+# A joint's running sums as one tuple, kept in registers through the loop over its points (sums
+# in an array would go through memory at every point): the ten alpha moments of
+# :func:`_weighted_moments`, the six beta moments :func:`joint_matrix_z` reads (beta, beta rx,
+# beta ry, beta rx^2, beta ry^2, beta rx ry), then the force and torque in the frame of the face below.
+N_SUMS = 22
+NO_SUMS = (0.0,) * N_SUMS
 
 
 @njit(cache=True)
-def _load_point(mom, pts, p):
-    """Add point p's dashpot moments and explicit force and torque to its joint's sums in ``mom``
-    (of the beta moments, only those :func:`joint_matrix_z` reads)."""
+def _load_point(sums, pts, p):
+    """The joint's running ``sums`` (:data:`N_SUMS`) with point p's dashpot moments and explicit
+    force and torque added, in the order of :func:`_weighted_moments`."""
+    (a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, b0, b1, b2, b3, b4, b5,
+     sfx, sfy, sfz, stx, sty, stz) = sums
     active = pts[p, Q_ACTIVE] > 0.0
     f_n = pts[p, Q_FEL] if active else 0.0
     fx, fy = pts[p, Q_FX], pts[p, Q_FY]
@@ -539,29 +550,42 @@ def _load_point(mom, pts, p):
     alpha = pts[p, Q_CT]
     beta = (pts[p, Q_CN] if active else 0.0) - alpha
     if alpha != 0.0:
-        _weighted_moments(mom, 0, alpha, rx, ry, rz)
-    mom[10] += beta
-    mom[11] += beta * rx
-    mom[12] += beta * ry
-    mom[14] += beta * rx * rx
-    mom[15] += beta * ry * ry
-    mom[17] += beta * rx * ry
-    o = MOM_SUMS
-    mom[o] += fx
-    mom[o + 1] += fy
-    mom[o + 2] += f_n
-    mom[o + 3] += ry * f_n - rz * fy
-    mom[o + 4] += rz * fx - rx * f_n
-    mom[o + 5] += rx * fy - ry * fx
+        a0 += alpha
+        a1 += alpha * rx
+        a2 += alpha * ry
+        a3 += alpha * rz
+        a4 += alpha * rx * rx
+        a5 += alpha * ry * ry
+        a6 += alpha * rz * rz
+        a7 += alpha * rx * ry
+        a8 += alpha * rx * rz
+        a9 += alpha * ry * rz
+    b0 += beta
+    b1 += beta * rx
+    b2 += beta * ry
+    b3 += beta * rx * rx
+    b4 += beta * ry * ry
+    b5 += beta * rx * ry
+    sfx += fx
+    sfy += fy
+    sfz += f_n
+    stx += ry * f_n - rz * fy
+    sty += rz * fx - rx * f_n
+    stz += rx * fy - ry * fx
+    return (a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, b0, b1, b2, b3, b4, b5,
+            sfx, sfy, sfz, stx, sty, stz)
 
 
 @njit(cache=True)
-def _close_joint(y, j, params, mom, mats, kl, tmp3):
+def _close_joint(y, j, params, sums, mom, mats, kl, tmp3):
     """Joint j's dashpot matrix (``mats[j]``) and its force on both bodies (scratch W_F, W_T) from
-    its sums in ``mom``; then clears ``mom`` for the next joint."""
+    its running ``sums`` (:func:`_load_point`); ``mom`` is scratch for the 20 moments."""
     work = params[6]
-    o = MOM_SUMS
-    sfx, sfy, sfz, stx, sty, stz = mom[o], mom[o + 1], mom[o + 2], mom[o + 3], mom[o + 4], mom[o + 5]
+    for k in range(10):
+        mom[k] = sums[k]
+    mom[10], mom[11], mom[12], mom[13] = sums[10], sums[11], sums[12], 0.0
+    mom[14], mom[15], mom[16], mom[17], mom[18], mom[19] = sums[13], sums[14], 0.0, sums[15], 0.0, 0.0
+    sfx, sfy, sfz, stx, sty, stz = sums[16], sums[17], sums[18], sums[19], sums[20], sums[21]
     Ru = work[j]
     if j == 0:
         joint_matrix_z(mom, mats[0])
@@ -593,19 +617,15 @@ def _close_joint(y, j, params, mom, mats, kl, tmp3):
     Ru[sk.W_T] += Tx
     Ru[sk.W_T + 1] += Ty
     Ru[sk.W_T + 2] += Tz
-    for k in range(N_MOM):
-        mom[k] = 0.0
 
 
 @njit(cache=True)
-def _clear_loads(params, mom):
-    """Zero the bodies' joint forces (scratch W_F, W_T) and the joint sums."""
+def _clear_loads(params):
+    """Zero the bodies' joint forces (scratch W_F, W_T)."""
     work = params[6]
     for b in range(work.shape[0]):
         for k in range(6):
             work[b, sk.W_F + k] = 0.0
-    for k in range(N_MOM):
-        mom[k] = 0.0
 
 
 @njit(cache=True)
@@ -618,12 +638,13 @@ def _joint_loads(y, params, pts, mats, mom, kl, tmp3):
     (:func:`set_static_weights`).
     """
     bodies, points, joint_start, joints, record, dt, work, mon = params
-    _clear_loads(params, mom)
+    _clear_loads(params)
     for j in range(bodies.shape[0]):
+        sums = NO_SUMS
         for p in range(joint_start[j], joint_start[j + 1]):
             if pts[p, Q_CONTACT] != 0.0:
-                _load_point(mom, pts, p)
-        _close_joint(y, j, params, mom, mats, kl, tmp3)
+                sums = _load_point(sums, pts, p)
+        _close_joint(y, j, params, sums, mom, mats, kl, tmp3)
 
 
 @njit(cache=True)
@@ -676,13 +697,14 @@ def _update_active_set(params, pts, vel, motion):
     for j in range(bodies.shape[0]):
         mo = motion[j]
         _joint_motion_of_bodies(vel, j, params, mo)
+        vx_rel, vy_rel, vz_rel, wx_rel, wy_rel, wz_rel = mo[0], mo[1], mo[2], mo[3], mo[4], mo[5]  # (see _point_forces)
         for p in range(joint_start[j], joint_start[j + 1]):
             if pts[p, Q_CONTACT] == 0.0:
                 continue
             rx, ry, rz = pts[p, Q_RX], pts[p, Q_RY], pts[p, Q_RZ]
-            d_dot = -(mo[2] + mo[3] * ry - mo[4] * rx)
-            pts[p, Q_VTX] = mo[0] + mo[4] * rz - mo[5] * ry
-            pts[p, Q_VTY] = mo[1] + mo[5] * rx - mo[3] * rz
+            d_dot = -(vz_rel + wx_rel * ry - wy_rel * rx)
+            pts[p, Q_VTX] = vx_rel + wy_rel * rz - wz_rel * ry
+            pts[p, Q_VTY] = vy_rel + wz_rel * rx - wx_rel * rz
             pts[p, Q_DDOT] = d_dot
             push = pts[p, Q_FEL] + pts[p, Q_CN] * d_dot >= 0.0
             if push != (pts[p, Q_ACTIVE] > 0.0):
@@ -849,7 +871,7 @@ def step(t, y, h, params, s):
 
 def make_scratch(n_bodies, n_points):
     """Scratch arrays of :func:`step` (one set per simulation)."""
-    return (np.zeros((n_points, N_Q)), np.zeros((n_bodies, 6, 6)), np.zeros(N_MOM),
+    return (np.zeros((n_points, N_Q)), np.zeros((n_bodies, 6, 6)), np.zeros(20),
             np.zeros((n_bodies, 6, 6)), np.zeros((n_bodies, 6, 6)),
             np.zeros((n_bodies, 6, 6)), np.zeros((n_bodies, 6, 6)), np.zeros((6, 6)), np.zeros((n_bodies, 6)),
             np.zeros(n_bodies), np.zeros((n_bodies, 6)), np.zeros((n_bodies, 12)), np.zeros((n_bodies, 9)),
