@@ -21,7 +21,7 @@ from obspy import Stream
 
 from pipeline.errors import InputError
 from pipeline.groundmotion.options import how_to_give
-from pipeline.groundmotion.record import log_step
+from pipeline.groundmotion.provenance import log_step
 
 __all__ = ["select_components"]
 

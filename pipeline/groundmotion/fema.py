@@ -21,7 +21,8 @@ import numpy as np
 from obspy import Stream, Trace
 
 from pipeline.errors import InputError
-from pipeline.groundmotion.record import GroundMotion, log_step
+from pipeline.groundmotion.provenance import log_step
+from pipeline.groundmotion.record import GroundMotion
 from pipeline.units import G
 
 __all__ = ["FEMA_SETS", "fema_record_ids", "load_fema"]

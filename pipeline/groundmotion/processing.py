@@ -16,7 +16,7 @@ import math
 
 from pipeline.errors import InputError
 from pipeline.groundmotion import intensity as im
-from pipeline.groundmotion.record import log_step
+from pipeline.groundmotion.provenance import log_step
 
 __all__ = ["baseline_correct", "taper", "bandpass", "resample", "trim_arias", "rotate", "scale", "scale_to", "apply", "STEPS"]
 

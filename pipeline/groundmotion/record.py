@@ -16,12 +16,12 @@ import math
 import numpy as np
 from obspy import Stream, Trace
 
-from pipeline import __version__
 from pipeline.errors import InputError
 from pipeline.groundmotion.options import how_to_give
+from pipeline.groundmotion.provenance import log_step
 from pipeline.units import deg_to_rad
 
-__all__ = ["GroundMotion", "COMPONENTS", "log_step"]
+__all__ = ["GroundMotion", "COMPONENTS"]
 
 #: Component names in stream order.
 COMPONENTS = ("x", "y", "z")
@@ -29,11 +29,6 @@ COMPONENTS = ("x", "y", "z")
 # Relative tolerance on time steps of different components: they come from
 # sampling rates stored as floats (1/dt), so exact equality is too strict.
 _DT_RTOL = 1e-9
-
-
-def log_step(trace, text):
-    """Append a processing line (``frustum <version>: text``) to a trace."""
-    trace.stats.setdefault("processing", []).append(f"frustum {__version__}: {text}")
 
 
 class GroundMotion:

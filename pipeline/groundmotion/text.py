@@ -24,7 +24,8 @@ from obspy import Stream, Trace
 from pipeline.errors import InputError
 from pipeline.groundmotion.components import select_components
 from pipeline.groundmotion.options import how_to_give
-from pipeline.groundmotion.record import GroundMotion, log_step
+from pipeline.groundmotion.provenance import log_step
+from pipeline.groundmotion.record import GroundMotion
 from pipeline.groundmotion.units import to_ms2_factor
 
 __all__ = ["read_text", "is_plain_numbers", "TEXT_SUFFIXES"]
