@@ -9,6 +9,7 @@ model (:mod:`pipeline.compliant`) runs it; one drum is the monolith.
 import math
 from dataclasses import dataclass
 
+from pipeline.columns import named_columns
 from pipeline.errors import InputError
 from pipeline.geometry import Column
 from pipeline.units import MARBLE_DENSITY
@@ -168,8 +169,6 @@ def named_drum_column(key):
     Entries with ``drums`` (a number of equal drums) or ``drum_heights`` [m], and optionally
     ``capital_side`` and ``capital_height`` [m]; other entries give the monolith.
     """
-    from pipeline.study import named_columns
-
     presets = named_columns()
     if key not in presets:
         raise InputError(f"{key!r} is not a named column; known: {', '.join(sorted(presets))}")

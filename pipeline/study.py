@@ -61,16 +61,17 @@ import math
 import tomllib
 from collections import Counter
 from dataclasses import dataclass
-from importlib import resources
 from pathlib import Path
 
+from pipeline.columns import named_columns
+from pipeline.drums import Capital, DrumColumn
 from pipeline.errors import InputError
 from pipeline.geometry import Column
 from pipeline.limits import check_tolerance
 from pipeline.simulate import MODELS, ModelSettings, check_column
 from pipeline.units import G
 
-__all__ = ["Study", "RecordSpec", "ColumnInfo", "Intensity", "load_study", "load_motions", "parse_study", "named_columns"]
+__all__ = ["Study", "RecordSpec", "ColumnInfo", "Intensity", "load_study", "load_motions", "parse_study"]
 
 _TOP = {"title", "summary", "output", "models", "columns", "column_grid", "records", "excitation", "options",
         "execution"}
@@ -289,12 +290,6 @@ class Study:
     def settings(self, model):
         """:class:`pipeline.simulate.ModelSettings` of one model."""
         return ModelSettings(model=model, **dict(self.options))
-
-
-def named_columns():
-    """The named real columns of ``pipeline/data/columns.toml`` (id -> dict)."""
-    text = resources.files("pipeline").joinpath("data/columns.toml").read_text(encoding="utf-8")
-    return tomllib.loads(text)
 
 
 def load_study(path, load_records=True):
@@ -553,8 +548,6 @@ def _drum_column(ck, entry, info, preset, field):
     replaces the capital and ``capital = false`` removes it.
     """
     from dataclasses import replace
-
-    from pipeline.drums import Capital, DrumColumn
 
     given = {k: entry[k] for k in _DRUMS if k in entry}
     if "drums" in given and "drum_heights" in given:

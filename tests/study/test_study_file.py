@@ -6,8 +6,9 @@ import re
 import pytest
 
 from pipeline.cli import main
+from pipeline.columns import named_columns
 from pipeline.errors import InputError
-from pipeline.study import load_study, named_columns
+from pipeline.study import load_study
 
 from conftest import SMALL_STUDY  # noqa: E402  (tests/study is on sys.path under pytest)
 
