@@ -31,7 +31,8 @@ def main(argv=None):
     from pipeline.dataset import histories_file, write_netcdf
     from pipeline.geometry import Column
     from pipeline.groundmotion import load
-    from pipeline.simulate import Excitation, ModelSettings, simulate
+    from pipeline.settings import Excitation, ModelSettings
+    from pipeline.simulate import simulate
 
     motion = load(args.record)
     column = Column(0.5, 0.4, 4.0)

@@ -37,7 +37,8 @@ PAPER = (0.5, 0.4, 4.0)
 
 
 def _simulate(column, motion, scale=1.0, angle=0.0, **options):
-    from pipeline.simulate import Excitation, ModelSettings, simulate
+    from pipeline.settings import Excitation, ModelSettings
+    from pipeline.simulate import simulate
 
     settings = ModelSettings(**{"model": "3d-compliant", **options})
     t0 = time.perf_counter()
@@ -138,7 +139,7 @@ def bench_drums(reference=(1, 4), counts=(1, 4, 10), repeat=3):
     from pipeline.geometry import Column
     from pipeline.groundmotion import load
 
-    from pipeline.simulate import ModelSettings
+    from pipeline.settings import ModelSettings
 
     column, motion = Column(*PAPER), load("FEMA-FF-01")
     tail = ModelSettings().tail  # [s] of free motion after the record

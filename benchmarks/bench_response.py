@@ -36,7 +36,8 @@ def _problem(scale, rtol):
     from pipeline.dynamics import hybrid as hy
     from pipeline.geometry import Column
     from pipeline.groundmotion import load
-    from pipeline.simulate import ModelSettings, _options
+    from pipeline.settings import ModelSettings
+    from pipeline.simulate import _options
     from pipeline.units import G
 
     column = Column(*COLUMN)
@@ -93,7 +94,8 @@ def main():
         scipy_child(args.rtol)
         return
     from pipeline.dynamics import hybrid as hy
-    from pipeline.simulate import Excitation, simulate
+    from pipeline.settings import Excitation
+    from pipeline.simulate import simulate
 
     print(f"machine: {platform.platform()}, {platform.processor() or platform.machine()}, "
           f"{os.cpu_count()} cores, Python {platform.python_version()}")

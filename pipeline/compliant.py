@@ -3,7 +3,7 @@
 Friendly layer over :mod:`pipeline.dynamics.stack`: builds the dimensionless tables of a
 monolith or of a multi-drum column (:class:`pipeline.drums.DrumColumn`), sets the normal
 damping from a target coefficient of restitution (:func:`calibrated_damping`), runs the
-compiled kernel and returns a :class:`pipeline.simulate.Response` with the rigid models'
+compiled kernel and returns a :class:`pipeline.response.Response` with the rigid models'
 summary keys and history names (docs/model.md, "The compliant-contact model").
 """
 
@@ -20,24 +20,16 @@ from pipeline.dynamics import semi_implicit as si
 from pipeline.dynamics import stack as sk
 from pipeline.errors import InputError
 from pipeline.geometry import Column
+from pipeline.response import Response
+from pipeline.settings import (
+    COMPLIANT_MODELS,
+    COMPLIANT_NUMERICS,
+    Excitation,
+    ModelSettings,
+    check_column,
+    housner_restitution,
+)
 from pipeline.units import G
-
-# Numerical choices of the joint law that are not measured physics, overridable through
-# ``ModelSettings.numerics`` by studies that show what they move:
-# edge_band: width of the band past a face's edge over which a point's support runs off
-# (:func:`pipeline.dynamics.joint.overlap`), in spacings of the two outer rings of contact
-# points [1]. Only a drum tilting or sliding over the edge of the one below meets it.
-# step_safety: the fixed step of the semi-implicit integrator as a fraction of its stability
-# limit 2 / omega_max on the stiffest joint mode (:mod:`pipeline.dynamics.semi_implicit`) [1].
-NUMERICS = {"edge_band": 0.5, "step_safety": si.SAFETY}
-# the range each numerical choice may take, and what it is
-_NUMERICS_RANGES = {
-    "edge_band": (0.05, 5.0, "width of the band past a face's edge, in spacings of the outer rings of contact points"),
-    "step_safety": (0.01, 0.9, "fixed step as a fraction of the stability limit of the stiffest joint"),
-}
-# Integrators of the compliant models: the fixed-step semi-implicit one (default) and the
-# adaptive ones it is checked against.
-INTEGRATORS = ("semi-implicit",) + tuple(sk.METHODS)
 
 
 @dataclass(frozen=True)
@@ -114,7 +106,7 @@ def assemble(column, settings, damping):
     Parameters
     ----------
     column : pipeline.geometry.Column or pipeline.drums.DrumColumn
-    settings : pipeline.simulate.ModelSettings
+    settings : pipeline.settings.ModelSettings
         Joint stiffness, ratio, friction, contact points, anathyrosis.
     damping : float
         Normal damping per unit area c_n [Pa s/m] of the base; a bed joint of another
@@ -125,7 +117,7 @@ def assemble(column, settings, damping):
     Assembly
     """
     stack = as_stack(column)
-    edge_band = dict(settings.numerics).get("edge_band", NUMERICS["edge_band"])
+    edge_band = dict(settings.numerics).get("edge_band", COMPLIANT_NUMERICS["edge_band"])
     density = stack.density
     drums = stack.drums()
     L = stack.column.R
@@ -198,89 +190,6 @@ def assemble(column, settings, damping):
                     tuple(r[7] for r in rows))
 
 
-# -- settings --------------------------------------------------------------------------------
-
-_STIFFNESS = (1e6, 1e14, "Pa/m", "normal stiffness of the joints per unit area")
-_RANGES = {  # name: (low, high, unit, what)
-    "stiffness_ratio": (1e-3, 10.0, "", "shear/normal stiffness ratio of the joints"),
-    "base_anathyrosis": (0.0, 0.95, "", "inner/outer radius of the base's contact ring (0: full disc)"),
-    "monitor_step": (1e-5, 1.0, "s", "sampling interval of the peak and contact statistics of the adaptive integrators"),
-}
-
-
-def _number(value, name, lo, hi, unit, what):
-    ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
-    if not (ok and lo <= value <= hi):
-        raise InputError(f"{name} = {value!r} {unit}: the {what} must be a number in [{lo:g}, {hi:g}]".replace("  ", " "))
-    return float(value)
-
-
-def _whole(settings, name, lo, hi, even=False):
-    value = getattr(settings, name)
-    ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value) and value == int(value)
-    if not (ok and lo <= value <= hi and (not even or int(value) % 2 == 0)):
-        kind = "an even whole number" if even else "a whole number"
-        raise InputError(f"{name} = {value!r} must be {kind} from {lo} to {hi}")
-    object.__setattr__(settings, name, int(value))
-
-
-def _number_or_list(settings, name, lo, hi, what):
-    value = getattr(settings, name)
-    if value is None:
-        return
-    if isinstance(value, (list, tuple)):
-        checked = tuple(_number(v, f"{name}[{i}]", lo, hi, "", what) for i, v in enumerate(value))
-        if not checked:
-            raise InputError(f"{name} is an empty list: give one number, or one per bed joint (bottom first)")
-        object.__setattr__(settings, name, checked)
-    else:
-        object.__setattr__(settings, name, _number(value, name, lo, hi, "", what))
-
-
-def check_settings(settings):
-    """Check (and normalise) the compliant-model fields of a ModelSettings, naming the field.
-
-    Called by ``ModelSettings.__post_init__`` for every model: the fields exist for all.
-    Whole-number fields given as floats (study files) become ints; lists become tuples.
-    """
-    for name, (lo, hi, unit, what) in _RANGES.items():
-        object.__setattr__(settings, name, _number(getattr(settings, name), name, lo, hi, unit, what))
-    if settings.integrator not in INTEGRATORS:
-        raise InputError(f"integrator = {settings.integrator!r} is unknown; choose one of {', '.join(INTEGRATORS)} "
-                         "(semi-implicit, the default, takes fixed steps; dopri5 is the adaptive reference, "
-                         "dop853 the one before it)")
-    if settings.step is not None:
-        object.__setattr__(settings, "step", _number(settings.step, "step", 1e-7, 0.01, "s",
-                                                     "fixed step of the semi-implicit integrator"))
-        if settings.integrator != "semi-implicit":
-            raise InputError(f"step = {settings.step:g} s is the fixed step of the semi-implicit integrator; "
-                             f"integrator = {settings.integrator!r} chooses its own steps (set rtol/atol instead)")
-    _whole(settings, "contact_rings", 2, 8)
-    _whole(settings, "contact_sectors", 4, 256, even=True)
-    if settings.joint_stiffness is not None:
-        lo, hi, unit, _ = _STIFFNESS
-        object.__setattr__(settings, "joint_stiffness", _number(
-            settings.joint_stiffness, "joint_stiffness", lo, hi, unit, "normal stiffness of the bed joints per unit area"))
-    if settings.contact_damping is not None:
-        object.__setattr__(settings, "contact_damping", _number(
-            settings.contact_damping, "contact_damping", 0.0, 1e12, "Pa s/m",
-            "normal damping of the joints per unit area (omit it to calibrate it to the restitution)"))
-    _number_or_list(settings, "joint_friction", 1e-3, 100.0, "friction coefficient of the bed joints")
-    _number_or_list(settings, "anathyrosis", 0.0, 0.95, "inner/outer radius of the bed joints' contact ring")
-    if settings.model == "3d-compliant":
-        for name, value in dict(settings.numerics).items():
-            if name not in NUMERICS:
-                raise InputError(f"numerics: {name!r} is not a numerical choice of the compliant model; "
-                                 f"choose from {', '.join(NUMERICS)}")
-            _number(value, f"numerics: {name}", *_NUMERICS_RANGES[name][:2], "", _NUMERICS_RANGES[name][2])
-        # the rigid models also take an infinite stiffness and friction (the paper's point contact
-        # rolling without slip); the joints of contact points need finite ones
-        _number(settings.normal_stiffness, "normal_stiffness", *_STIFFNESS)
-        if not math.isfinite(settings.friction):
-            raise InputError("friction = inf is the rigid models' rolling without slip; the compliant model "
-                             "needs a finite friction coefficient at the base (e.g. 10 for no sliding)")
-
-
 # -- damping from a coefficient of restitution -------------------------------------------------
 
 # Largest damping the calibration considers: critical damping of the column bouncing on its
@@ -347,7 +256,7 @@ def planar_restitution(column, settings, damping, amplitude=RELEASE_TILT):
     ----------
     column : pipeline.geometry.Column or pipeline.drums.DrumColumn
         Its outline is used, as one body.
-    settings : pipeline.simulate.ModelSettings
+    settings : pipeline.settings.ModelSettings
     damping : float
         Normal damping per unit area c_n [Pa s/m].
     amplitude : float
@@ -440,8 +349,6 @@ def _settings_key(settings):
 
 
 def _settings_from_key(key):
-    from pipeline.simulate import ModelSettings
-
     return ModelSettings(model="3d-compliant", **dict(zip(_CALIBRATION_FIELDS, key)))
 
 
@@ -459,18 +366,16 @@ def calibrated_damping(column, settings, target=None):
     Parameters
     ----------
     column : pipeline.geometry.Column or pipeline.drums.DrumColumn
-    settings : pipeline.simulate.ModelSettings
+    settings : pipeline.settings.ModelSettings
     target : float, optional
         Target restitution [1]; default ``settings.restitution``, or else the rigid model's
-        own ``1 - 2 / I_y_hat`` (:func:`pipeline.simulate.housner_restitution`).
+        own ``1 - 2 / I_y_hat`` (:func:`pipeline.settings.housner_restitution`).
 
     Returns
     -------
     tuple of float
         ``(c_n [Pa s/m], restitution reached [1])``.
     """
-    from pipeline.simulate import housner_restitution
-
     stack = as_stack(column)
     outline = Column(stack.column.R, stack.column.r, stack.column.h, density=stack.density)
     if target is None:
@@ -523,8 +428,8 @@ def fixed_step(asm, params, y, settings):
 
 
 def numerics(settings):
-    """The compliant model's numerical choices: :data:`NUMERICS` with the settings' overrides."""
-    return {**NUMERICS, **dict(settings.numerics)}
+    """The compliant model's numerical choices: :data:`pipeline.settings.COMPLIANT_NUMERICS`, the settings' overrides."""
+    return {**COMPLIANT_NUMERICS, **dict(settings.numerics)}
 
 
 def _integrate(asm, params, y0, duration, monitor, stride, settings, histories, theta_commit=math.inf,
@@ -603,11 +508,9 @@ def simulate_compliant(column, motion, excitation, settings, histories=True, pro
     """Response of a column at rest (monolith or drums) to a ground motion, compliant contact.
 
     The friendly entry of :func:`pipeline.simulate.simulate` for ``model="3d-compliant"``;
-    same arguments and the same :class:`pipeline.simulate.Response`. ``progress(done, total)``
+    same arguments and the same :class:`pipeline.response.Response`. ``progress(done, total)``
     [s of motion], if given, is called about every simulated second (fixed-step integrator).
     """
-    from pipeline.simulate import COMPLIANT_MODELS, Excitation, Response, check_column
-
     stack = as_stack(column)
     if settings.model not in COMPLIANT_MODELS:
         raise InputError(f"model = {settings.model!r} is a rigid model of a monolith: a column of "

@@ -3,11 +3,11 @@
 This module is the friendly layer over :mod:`pipeline.dynamics`: it checks
 inputs, converts SI quantities to the kernels' dimensionless variables, runs
 the compiled hybrid simulation (:mod:`pipeline.dynamics.hybrid`) and returns
-a :class:`Response`: a summary (peaks, overturning, energy budget, ...) and,
+a :class:`pipeline.response.Response`: a summary (peaks, overturning, energy budget, ...) and,
 on request, an ``xarray.Dataset`` of time histories named as in
 :mod:`pipeline.dataset`.
 
-Three models share this interface (``ModelSettings.model``); the third,
+Three models share this interface (``ModelSettings.model``, :mod:`pipeline.settings`); the third,
 ``"3d-compliant"`` (rigid drums on joints of contact points, monolith or
 multi-drum, :mod:`pipeline.compliant`), is dispatched to its own module:
 
@@ -23,27 +23,21 @@ multi-drum, :mod:`pipeline.compliant`), is dispatched to its own module:
 """
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 import xarray as xr
 
+from pipeline.compliant import simulate_compliant
 from pipeline.dataset import annotate, append_history
 from pipeline.dynamics import frustum as fk
 from pipeline.dynamics import hybrid as hy
 from pipeline.dynamics import rocking as rk
 from pipeline.errors import InputError
 from pipeline.geometry import Column
+from pipeline.response import Response
+from pipeline.settings import COMPLIANT_MODELS, Excitation, ModelSettings, check_column
 from pipeline.units import MARBLE_DENSITY, G, deg_to_rad, time_scale
-
-MODELS = ("3d", "2d", "3d-compliant")
-COMPLIANT_MODELS = ("3d-compliant",)  # pipeline.compliant: rigid drums on compliant joints
-
-# Geometry the model is meant for: free-standing columns and drums, from
-# squat drums to slender monoliths, from pebbles to the largest monoliths.
-RADIUS_RANGE = (1e-3, 50.0)  # [m]
-SLENDERNESS_RANGE = (0.05, 200.0)  # h/R [1]
-BETA_RANGE = (0.05, 20.0)  # r/R [1]
 
 # The contact tilt of a rigid base (no compliance to set it): small enough to
 # change nothing measurable (studies/contact_tilt), large enough for the
@@ -52,251 +46,6 @@ RIGID_CONTACT_TILT = 1e-7  # [rad]
 
 # Landings logged individually (time, theta' before/after, energy jump).
 MAX_LOGGED_IMPACTS = 10_000
-
-
-@dataclass(frozen=True)
-class InitialState:
-    """Euler angles [deg] and their rates [rad/s] at t = 0 (the paper's Figure 2).
-
-    Angles in degrees, as on the command line; :meth:`from_dimensionless`
-    takes the paper's own radians and rates per tau.
-    """
-
-    phi: float = 0.0
-    theta: float = 0.0
-    psi: float = 0.0
-    phi_dot: float = 0.0
-    theta_dot: float = 0.0
-    psi_dot: float = 0.0
-
-    def __post_init__(self):
-        for name in ("phi", "theta", "psi", "phi_dot", "theta_dot", "psi_dot"):
-            value = getattr(self, name)
-            if not math.isfinite(value):
-                raise InputError(f"initial {name} = {value!r} must be a finite number")
-        if not 0.0 < self.theta < 90.0:
-            raise InputError(
-                f"initial theta = {self.theta:g} deg: a free motion starts tilted on its rim, 0 < theta < 90 deg"
-            )
-
-    @property
-    def angles_rad(self):
-        """(phi, theta, psi) [rad]."""
-        return deg_to_rad(self.phi), deg_to_rad(self.theta), deg_to_rad(self.psi)
-
-    @classmethod
-    def from_dimensionless(cls, radius, phi, theta, psi, dphi, dtheta, dpsi):
-        """Build from the paper's dimensionless values: angles [rad], rates per tau, for a base radius [m]."""
-        rate = math.sqrt(G / radius)
-        return cls(math.degrees(phi), math.degrees(theta), math.degrees(psi), dphi * rate, dtheta * rate,
-                   dpsi * rate)
-
-
-@dataclass(frozen=True)
-class ModelSettings:
-    """The model and its options.
-
-    Parameters
-    ----------
-    model : {"3d", "2d", "3d-compliant"}
-        Rolling frustum (the paper), planar rocking (Housner), or rigid drums
-        on joints of contact points (:mod:`pipeline.compliant`).
-    restitution : float, optional
-        theta' after / before a landing [1]. Default (None): the impact
-        conserves angular momentum about the new pivot (for planar rocking
-        ``1 - 2 m R^2 / I_P``).
-    contact_tilt : float or None
-        theta_c [deg]: below this inclination the base is in full contact;
-        rolling starts there after uplift and a landing happens there, and a
-        passage through a minimum of theta near it slaps in part
-        (docs/model.md). None (default): theta_k of the compliant bed
-        (:func:`contact_tilt`). 0 is allowed for planar motion only.
-    damping : float
-        Viscous contact couple nu, per m g R sqrt(R/g) [1]; 0 is the paper's
-        model without dissipation other than impacts.
-    friction : float
-        Coulomb friction coefficient of the base on the ground [1]: the base
-        slides flat, or the rim slips, when the friction needed exceeds
-        ``friction`` times the normal force. ``math.inf`` is the paper's
-        rolling without slip.
-    lift_off : bool
-        The ground can only push: the column flies when the normal force
-        would pull, and lands with an impact. False holds the rim on the
-        ground whatever the force, as the paper's model does.
-    normal_stiffness : float
-        Normal stiffness of the bed joint per unit area, k_n [Pa/m]. The
-        rigid models take from it the contact patch under the rim
-        (:mod:`pipeline.dynamics.patch`: rolling damping and drilling
-        friction); ``math.inf`` is the paper's point contact.
-    contact_damping : float or None
-        Normal dashpots of the joint per unit area, c_n [Pa s/m]; None: the
-        critical damping of the column bouncing on its base,
-        ``2 sqrt(k_n m / A)``. The compliant model calibrates it to
-        ``restitution`` instead (:func:`pipeline.compliant.calibrated_damping`);
-        its default target, the rigid value, is out of its reach and gives
-        that critical damping too.
-    numerics : tuple of (str, float)
-        Overrides of the rigid kernels' numerical thresholds
-        (:data:`pipeline.dynamics.hybrid.NUMERICS`: ``landing_margin``,
-        ``min_rebound``, ``slave_time``, ``look_ahead``, ``slaved_turn``), for studies that
-        show no result depends on them; e.g. ``(("slave_time", 1e-5),)``. With
-        ``"3d-compliant"``, overrides of :data:`pipeline.compliant.NUMERICS` instead
-        (``edge_band``, ``step_safety``).
-    tail : float
-        Free motion after the record ends [s].
-    rtol, atol : float
-        Integration tolerances (dimensionless state).
-    output_step : float
-        Sampling interval of the time histories [s].
-    integrator : {"semi-implicit", "dopri5", "dop853"}
-        Integrator of the compliant-contact model: fixed steps of the
-        semi-implicit scheme of DEM codes (default; springs explicit,
-        dashpots implicit, friction by return to the Coulomb cone:
-        :mod:`pipeline.dynamics.semi_implicit`), or the adaptive DOPRI5 it
-        is checked against (``rtol``, ``atol``), or DOP853 before it
-        (:mod:`pipeline.dynamics.dopri5`). The rigid models always use DOP853.
-    step : float or None
-        Fixed step of the semi-implicit integrator [s]; None: ``step_safety``
-        (``numerics``, default 0.5) times the stability limit ``2 / omega_max``
-        of the stiffest joint mode (its statistics are taken at every step,
-        its history rows interpolated between steps; ``monitor_step`` is the
-        adaptive integrators' sampling).
-        A step above the stability limit is refused before computing.
-    joint_stiffness, stiffness_ratio, contact_rings, contact_sectors, joint_friction, \
-anathyrosis, base_anathyrosis, monitor_step
-        Options of the compliant-contact model ``"3d-compliant"`` (there
-        ``normal_stiffness`` and ``friction`` are the base's and
-        ``restitution`` the target of the damping calibration); see
-        :mod:`pipeline.compliant`.
-    """
-
-    model: str = "3d"
-    restitution: float | None = None
-    contact_tilt: float | None = None
-    damping: float = 0.0
-    friction: float = 0.7
-    lift_off: bool = True
-    normal_stiffness: float = 1.0e10
-    contact_damping: float | None = None
-    numerics: tuple = ()
-    tail: float = 5.0
-    rtol: float = 1e-9
-    atol: float = 1e-12
-    output_step: float = 0.01
-    joint_stiffness: float | None = None
-    stiffness_ratio: float = 0.5
-    contact_rings: int = 3
-    contact_sectors: int = 24
-    joint_friction: float | tuple | None = None
-    anathyrosis: float | tuple = 0.0
-    base_anathyrosis: float = 0.0
-    monitor_step: float = 0.001
-    integrator: str = "semi-implicit"
-    step: float | None = None
-
-    def __post_init__(self):
-        if self.model not in MODELS:
-            raise InputError(f"model = {self.model!r} is unknown; choose one of {', '.join(MODELS)}")
-        checks = {
-            "damping": (0.0, 100.0, "(per m g R sqrt(R/g))"),
-            "tail": (0.0, 3600.0, "s"),
-        }
-        for name, (lo, hi, unit) in checks.items():
-            value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and lo <= value <= hi):
-                raise InputError(f"{name} = {value!r} {unit} must be a number in [{lo:g}, {hi:g}]")
-        if self.contact_tilt is not None and not (
-                isinstance(self.contact_tilt, (int, float)) and 0.0 <= self.contact_tilt <= 0.5):
-            raise InputError(f"contact_tilt = {self.contact_tilt!r} deg must be a number in [0, 0.5] "
-                             "(or omitted: the compliance of the bed sets it)")
-        if not (isinstance(self.friction, (int, float)) and (self.friction == math.inf or
-                                                              0.0 < self.friction <= 10.0)):
-            raise InputError(f"friction = {self.friction!r} must be a number in (0, 10], or inf for rolling "
-                             "without slip")
-        if not (isinstance(self.normal_stiffness, (int, float)) and 1e6 <= self.normal_stiffness <= math.inf):
-            raise InputError(f"normal_stiffness = {self.normal_stiffness!r} Pa/m must be a number in [1e6, inf]")
-        if self.contact_damping is not None and not (
-                isinstance(self.contact_damping, (int, float)) and 0.0 <= self.contact_damping < math.inf):
-            raise InputError(f"contact_damping = {self.contact_damping!r} Pa s/m must be a number >= 0 "
-                             "(or omitted for critical damping)")
-        # the compliant model's own numerics are checked by pipeline.compliant.check_settings
-        numerics = dict(self.numerics) if self.model != "3d-compliant" else {}
-        for name, value in numerics.items():
-            if name not in hy.NUMERICS:
-                raise InputError(f"numerics: {name!r} is unknown; choose from {', '.join(hy.NUMERICS)}")
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-                raise InputError(f"numerics: {name} = {value!r} must be a positive number")
-        for name in ("rtol", "atol", "output_step"):
-            value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-                raise InputError(f"{name} = {value!r} must be a positive number")
-        if self.restitution is not None and not (0.0 <= self.restitution <= 1.0):
-            raise InputError(f"restitution = {self.restitution!r} must be between 0 and 1 (or omitted)")
-        from pipeline.compliant import check_settings
-
-        check_settings(self)
-
-
-@dataclass(frozen=True)
-class Excitation:
-    """How a record drives the column.
-
-    Parameters
-    ----------
-    angle : float
-        Incidence angle [degree]: the horizontal pair is turned
-        counter-clockwise by it (:meth:`pipeline.groundmotion.GroundMotion.rotated`).
-        Degrees as on the command line and in study files; :attr:`angle_rad`
-        is what the kernels use.
-    scale : float
-        Factor on every component [1], > 0.
-    vertical : bool
-        Use the record's vertical component if it has one.
-    """
-
-    angle: float = 0.0
-    scale: float = 1.0
-    vertical: bool = True
-
-    def __post_init__(self):
-        if not (isinstance(self.scale, (int, float)) and math.isfinite(self.scale) and self.scale > 0):
-            raise InputError(f"scale = {self.scale!r} must be a positive number")
-        if not math.isfinite(self.angle):
-            raise InputError(f"angle = {self.angle!r} must be a finite number of degrees")
-
-    @property
-    def angle_rad(self):
-        """Incidence angle [rad]."""
-        return deg_to_rad(self.angle)
-
-
-@dataclass
-class Response:
-    """What one simulation returns.
-
-    Attributes
-    ----------
-    summary : dict
-        Scalar results (names of docs/variables.md), SI units.
-    histories : xarray.Dataset or None
-        Time histories, if asked for.
-    """
-
-    summary: dict
-    histories: xr.Dataset | None = field(default=None, repr=False)
-    impacts: np.ndarray | None = field(default=None, repr=False)
-
-
-def housner_restitution(column):
-    """Coefficient of restitution of planar rocking from angular momentum conservation.
-
-    Conserving the angular momentum about the new contact point, opposite
-    the old one across the base, gives ``theta'_after / theta'_before =
-    1 - 2 m R^2 / I_P = 1 - 2 / I_y_hat`` (docs/model.md). For a slender
-    column this tends to Housner's ``1 - 1.5 sin^2(alpha)`` of the block with
-    the same outline. Clipped at 0 for squat columns (I_y_hat < 2).
-    """
-    return max(0.0, 1.0 - 2.0 / column.inertia_transverse_hat)
 
 
 def lying_tilt(column):
@@ -311,19 +60,6 @@ def lying_tilt(column):
     overturning event.
     """
     return 0.5 * math.pi + math.atan((column.R - column.r) / column.h)
-
-
-def check_column(column):
-    """Reject geometry outside the range the model is meant for, naming the value."""
-    lo, hi = RADIUS_RANGE
-    if not lo <= column.R <= hi:
-        raise InputError(f"column R = {column.R:g} m is out of range [{lo:g}, {hi:g}] m")
-    lo, hi = SLENDERNESS_RANGE
-    if not lo <= column.slenderness <= hi:
-        raise InputError(f"column slenderness h/R = {column.slenderness:g} is out of range [{lo:g}, {hi:g}]")
-    lo, hi = BETA_RANGE
-    if not lo <= column.beta <= hi:
-        raise InputError(f"column conicity r/R = {column.beta:g} is out of range [{lo:g}, {hi:g}]")
 
 
 def _options(column, settings):
@@ -399,8 +135,6 @@ def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), 
     Response
     """
     if settings.model in COMPLIANT_MODELS or not isinstance(column, Column):
-        from pipeline.compliant import simulate_compliant
-
         return simulate_compliant(column, motion, excitation, settings, histories, progress=progress)
     check_column(column)
     if not isinstance(excitation, Excitation):
@@ -649,13 +383,7 @@ def _histories(column, settings, raw, diag, excitation, motion):
 
 
 __all__ = [
-    "InitialState",
-    "ModelSettings",
-    "Excitation",
-    "Response",
     "simulate",
     "simulate_free",
-    "housner_restitution",
     "lying_tilt",
-    "check_column",
 ]

@@ -49,7 +49,7 @@ see docs/studies.md for the full reference)::
     vertical = true
     sa_period = 1.0                  # optional: also report Sa(T) [s]
 
-    [options]                        # pipeline.simulate.ModelSettings
+    [options]                        # pipeline.settings.ModelSettings
     friction = 0.7
 
     [execution]
@@ -68,7 +68,7 @@ from pipeline.drums import Capital, DrumColumn
 from pipeline.errors import InputError
 from pipeline.geometry import Column
 from pipeline.limits import check_tolerance
-from pipeline.simulate import MODELS, ModelSettings, check_column
+from pipeline.settings import COMPLIANT_MODELS, INTEGRATORS, MODELS, ModelSettings, check_column
 from pipeline.units import G
 
 __all__ = ["Study", "RecordSpec", "ColumnInfo", "Intensity", "load_study", "load_motions", "parse_study"]
@@ -130,8 +130,6 @@ class ColumnInfo:
 
     def body(self, model):
         """What ``model`` runs: the drums for the compliant model, else the shaft as a monolith."""
-        from pipeline.simulate import COMPLIANT_MODELS
-
         return self.stack if (self.stack is not None and model in COMPLIANT_MODELS) else self.column
 
 
@@ -241,7 +239,7 @@ class Study:
     sa_period : float or None
         Period [s] of the reported spectral acceleration.
     options : tuple of (str, object)
-        Keyword arguments of :class:`pipeline.simulate.ModelSettings` (no model).
+        Keyword arguments of :class:`pipeline.settings.ModelSettings` (no model).
     block_columns : int or None
         Columns per task (None: automatic).
     """
@@ -281,14 +279,12 @@ class Study:
     def n_joints(self):
         """Length of the results' ``joint`` dimension: the most bodies of a column when the
         compliant model is run (joint k is the base of body k), else 0 (no such dimension)."""
-        from pipeline.simulate import COMPLIANT_MODELS
-
         if not any(m in COMPLIANT_MODELS for m in self.models):
             return 0
         return max(c.n_bodies for c in self.columns)
 
     def settings(self, model):
-        """:class:`pipeline.simulate.ModelSettings` of one model."""
+        """:class:`pipeline.settings.ModelSettings` of one model."""
         return ModelSettings(model=model, **dict(self.options))
 
 
@@ -438,8 +434,6 @@ def parse_study(data, path="<study>", digest=""):
         if key == "restitution":
             ck.number(value, "options.restitution", lo=0.0, hi=1.0)
         elif key == "integrator":
-            from pipeline.compliant import INTEGRATORS
-
             if value not in INTEGRATORS:
                 ck.fail("options.integrator", f"{value!r} is unknown; choose one of {', '.join(INTEGRATORS)}")
         elif key in ("rtol", "atol"):

@@ -47,7 +47,8 @@ from pipeline.errors import InputError, OutputError
 from pipeline.limits import check_fits, results_bytes
 from pipeline.locking import try_lock
 from pipeline.paths import check_output_file
-from pipeline.simulate import COMPLIANT_MODELS, Excitation, simulate
+from pipeline.settings import COMPLIANT_MODELS, Excitation, ModelSettings
+from pipeline.simulate import simulate
 
 FLOAT_VARIABLES = ("peak_theta", "peak_theta_ratio", "peak_time", "overturn_time", "uplift_time", "peak_mu_mob",
                    "residual_rotation", "residual_displacement", "work_ground", "energy_balance_error")
@@ -87,7 +88,7 @@ class Task:
         Incidence angles [degree].
     factors : tuple of float
         Factors on the record, one per scale level [1].
-    settings : tuple of pipeline.simulate.ModelSettings
+    settings : tuple of pipeline.settings.ModelSettings
         One per model.
     vertical : bool
     stacks : tuple
@@ -428,7 +429,6 @@ def warm_up(models=("3d", "2d")):
     """
     from pipeline.geometry import Column
     from pipeline.groundmotion.synthesis import one_sine_pulse
-    from pipeline.simulate import ModelSettings
 
     motion = one_sine_pulse(5.0, 0.2, dt=0.01, duration=0.3, record_id="warm-up")
     for model in models:

@@ -75,7 +75,8 @@ def trajectories(results, label, model="3d"):
     import json
 
     from pipeline.groundmotion import load
-    from pipeline.simulate import Excitation, ModelSettings, simulate
+    from pipeline.settings import Excitation, ModelSettings
+    from pipeline.simulate import simulate
 
     options = json.loads(results.attrs.get("model_options", "{}"))
     settings = ModelSettings(model=model, **{k: v for k, v in options.items()

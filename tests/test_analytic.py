@@ -25,8 +25,9 @@ from pipeline import analytic as an
 from pipeline.dynamics import derivation as d
 from pipeline.dynamics import frustum as fk
 from pipeline.geometry import Column
-from pipeline.simulate import InitialState, simulate_free
-from pipeline.simulate import ModelSettings as _Settings
+from pipeline.settings import InitialState
+from pipeline.settings import ModelSettings as _Settings
+from pipeline.simulate import simulate_free
 from pipeline.units import G
 
 FIG4 = Column(R=0.5, r=0.4, h=4.0)  # the paper's Figure 4 column

@@ -18,7 +18,8 @@ from pipeline.cli import main
 from pipeline.dataset import histories_file, one_run, open_results, write_netcdf
 from pipeline.geometry import Column
 from pipeline.groundmotion.synthesis import one_sine_pulse
-from pipeline.simulate import Excitation, ModelSettings, simulate
+from pipeline.settings import Excitation, ModelSettings
+from pipeline.simulate import simulate
 
 REFERENCE = Path(__file__).parent / "data" / "animate" / "frame_3d_2d.png"
 T_REFERENCE = 1.0  # [s]: both columns tilted

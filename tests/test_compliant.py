@@ -15,7 +15,8 @@ from pipeline.drums import DrumColumn
 from pipeline.errors import InputError
 from pipeline.geometry import Column
 from pipeline.groundmotion import GroundMotion, clough_penzien, load, one_sine_pulse, rectangular_pulse
-from pipeline.simulate import Excitation, ModelSettings, housner_restitution, simulate
+from pipeline.settings import Excitation, ModelSettings, housner_restitution
+from pipeline.simulate import simulate
 from pipeline.units import G
 
 PAPER = Column(0.5, 0.4, 4.0)
@@ -361,8 +362,9 @@ def test_a_drum_column_needs_the_compliant_model():
 
 def test_the_band_past_a_face_edge_is_a_numerical_choice_set_in_numerics():
     """edge_band sets the bed joints' run-off band and nothing else; the default is 0.5 ring spacings."""
-    from pipeline.compliant import NUMERICS, assemble
+    from pipeline.compliant import assemble
     from pipeline.dynamics import stack as sk
+    from pipeline.settings import COMPLIANT_NUMERICS as NUMERICS
 
     column = DrumColumn.equal(PAPER, 3)
     default = assemble(column, compliant(), damping=1e7)

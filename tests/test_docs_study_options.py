@@ -5,7 +5,7 @@ import os
 import re
 
 from pipeline import study
-from pipeline.simulate import ModelSettings
+from pipeline.settings import ModelSettings
 
 DOC = os.path.join(os.path.dirname(__file__), os.pardir, "docs", "studies.md")
 HEADING = "### Model options (`[options]`)"

@@ -10,7 +10,8 @@ from pipeline.drums import Capital, DrumColumn, named_drum_column
 from pipeline.errors import InputError
 from pipeline.geometry import Column
 from pipeline.groundmotion import clough_penzien, one_sine_pulse, rectangular_pulse
-from pipeline.simulate import Excitation, ModelSettings, simulate
+from pipeline.settings import Excitation, ModelSettings
+from pipeline.simulate import simulate
 from pipeline.units import G
 
 from test_compliant import first_peak  # noqa: E402

@@ -23,7 +23,8 @@ from pipeline.citation import REFERENCE
 from pipeline.dataset import histories_file, write_netcdf
 from pipeline.geometry import Column
 from pipeline.groundmotion.synthesis import one_sine_pulse
-from pipeline.simulate import Excitation, ModelSettings, simulate
+from pipeline.settings import Excitation, ModelSettings
+from pipeline.simulate import simulate
 from pipeline.study import load_study
 from pipeline.sweep import run_study
 

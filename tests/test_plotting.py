@@ -10,7 +10,8 @@ from pipeline.cli import main
 from pipeline.geometry import Column
 from pipeline.groundmotion.synthesis import one_sine_pulse
 from pipeline.plotting import plot_response, response_figure
-from pipeline.simulate import Excitation, InitialState, ModelSettings, simulate, simulate_free
+from pipeline.settings import Excitation, InitialState, ModelSettings
+from pipeline.simulate import simulate, simulate_free
 
 COLUMN = Column(0.5, 0.4, 4.0)
 

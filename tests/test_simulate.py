@@ -8,7 +8,8 @@ import pytest
 from pipeline.errors import InputError
 from pipeline.geometry import Column
 from pipeline.groundmotion import GroundMotion, harmonic, load, rectangular_pulse
-from pipeline.simulate import Excitation, ModelSettings, housner_restitution, simulate, simulate_free, InitialState
+from pipeline.settings import Excitation, InitialState, ModelSettings, housner_restitution
+from pipeline.simulate import simulate, simulate_free
 from pipeline.units import G
 
 PAPER = Column(0.5, 0.4, 4.0)

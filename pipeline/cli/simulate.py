@@ -201,7 +201,7 @@ def _check_sampling(args):
 
 
 def _models(text):
-    from pipeline.simulate import MODELS
+    from pipeline.settings import MODELS
 
     models = [m.strip() for m in str(text).split(",") if m.strip()]
     if not models or any(m not in MODELS for m in models) or len(set(models)) != len(models):
@@ -254,7 +254,8 @@ def _suffixed(path, model):
 
 def _earthquake(args, column, models):
     """[(histories, summary)] of the record under each model."""
-    from pipeline.simulate import Excitation, ModelSettings, simulate
+    from pipeline.settings import Excitation, ModelSettings
+    from pipeline.simulate import simulate
 
     if args.theta0 is not None:
         raise InputError("--theta0 starts a free motion; an earthquake response starts at rest (drop --theta0)")
@@ -296,7 +297,8 @@ def _progress_line(model, settings):
 
 
 def _free(args, column):
-    from pipeline.simulate import InitialState, ModelSettings, simulate_free
+    from pipeline.settings import InitialState, ModelSettings
+    from pipeline.simulate import simulate_free
 
     if args.theta0 is None:
         raise InputError("give --record for an earthquake response, or --theta0 (degrees) for a free motion")

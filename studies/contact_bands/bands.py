@@ -39,7 +39,7 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, ROOT)
 
 from pipeline.fragility import fragility  # noqa: E402
-from pipeline.simulate import housner_restitution  # noqa: E402
+from pipeline.settings import housner_restitution  # noqa: E402
 from pipeline.study import load_motions, parse_study  # noqa: E402
 from pipeline.sweep import run_study  # noqa: E402
 from pipeline.units import G  # noqa: E402

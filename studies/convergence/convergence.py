@@ -12,7 +12,8 @@ import math
 
 from pipeline.geometry import Column
 from pipeline.groundmotion import load_set
-from pipeline.simulate import ModelSettings, simulate
+from pipeline.settings import ModelSettings
+from pipeline.simulate import simulate
 
 COLUMN = Column(0.5, 0.4, 4.0)
 RTOLS = (1e-8, 1e-9, 1e-10, 1e-11)

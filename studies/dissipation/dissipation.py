@@ -11,7 +11,8 @@ Run:  python studies/dissipation/dissipation.py > studies/dissipation/results.md
 
 from pipeline.geometry import Column
 from pipeline.groundmotion import load
-from pipeline.simulate import Excitation, ModelSettings, simulate
+from pipeline.settings import Excitation, ModelSettings
+from pipeline.simulate import simulate
 
 COLUMN = Column(0.5, 0.4, 4.0)
 RECORDS = [f"FEMA-FF-{i:02d}" for i in range(1, 9)]

@@ -46,12 +46,12 @@ from functools import lru_cache
 import numpy as np
 
 from pipeline.atomic import atomic_path
-from pipeline.compliant import NUMERICS as COMPLIANT_NUMERICS
 from pipeline.compliant import calibrated_damping
 from pipeline.drums import DrumColumn, named_drum_column
 from pipeline.fragility import fit_lognormal
 from pipeline.geometry import Column
-from pipeline.simulate import Excitation, ModelSettings, simulate
+from pipeline.settings import COMPLIANT_NUMERICS, Excitation, ModelSettings
+from pipeline.simulate import simulate
 from pipeline.units import G
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))

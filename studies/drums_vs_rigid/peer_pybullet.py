@@ -321,7 +321,7 @@ def record_run(n_drums, record, scale, tail=TAIL, angle=ANGLE, stop=True, **worl
     world too) and ``simulated`` [s].
     """
     from pipeline.compliant import turned_record
-    from pipeline.simulate import Excitation
+    from pipeline.settings import Excitation
 
     motion = _load(record)
     cpu = time.process_time()
@@ -358,7 +358,7 @@ def check_properties():
     """Masses and central inertias in PyBullet against ``pipeline.compliant.assemble``'s (4 drums)."""
     from pipeline.compliant import assemble
     from pipeline.dynamics import stack as sk
-    from pipeline.simulate import ModelSettings
+    from pipeline.settings import ModelSettings
 
     stack = paper_stack(4)
     asm = assemble(stack, ModelSettings(model="3d-compliant"), 0.0)

@@ -35,8 +35,9 @@ import numpy as np  # noqa: E402
 
 from pipeline import analytic as an  # noqa: E402
 from pipeline.geometry import Column  # noqa: E402
-from pipeline.simulate import InitialState, simulate_free  # noqa: E402
-from pipeline.simulate import ModelSettings as _Settings  # noqa: E402
+from pipeline.settings import InitialState  # noqa: E402
+from pipeline.settings import ModelSettings as _Settings  # noqa: E402
+from pipeline.simulate import simulate_free  # noqa: E402
 from pipeline.units import G  # noqa: E402
 
 COLUMN = Column(R=0.5, r=0.4, h=4.0, name="Figure 4 column")

@@ -21,7 +21,8 @@ import numpy as np
 from pipeline.geometry import Column
 from pipeline.groundmotion import GroundMotion, one_sine_pulse
 from pipeline.plotting import plt
-from pipeline.simulate import Excitation, ModelSettings, simulate
+from pipeline.settings import Excitation, ModelSettings
+from pipeline.simulate import simulate
 
 COLUMN = Column(0.5, 0.4, 4.0)
 

@@ -29,7 +29,8 @@ from pipeline.compliant import calibrated_damping
 from pipeline.fragility import fit_lognormal
 from pipeline.geometry import Column
 from pipeline.groundmotion import load
-from pipeline.simulate import Excitation, ModelSettings, simulate
+from pipeline.settings import Excitation, ModelSettings
+from pipeline.simulate import simulate
 from pipeline.units import G
 
 COLUMNS = {

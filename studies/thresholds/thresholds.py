@@ -30,7 +30,8 @@ from pipeline.dynamics.hybrid import NUMERICS
 from pipeline.fragility import fit_lognormal
 from pipeline.geometry import Column
 from pipeline.groundmotion import load
-from pipeline.simulate import Excitation, ModelSettings, contact_tilt, simulate
+from pipeline.settings import Excitation, ModelSettings
+from pipeline.simulate import contact_tilt, simulate
 from pipeline.units import G
 
 COLUMN = Column(0.5, 0.4, 4.0)

@@ -12,7 +12,8 @@ import pytest
 from pipeline.geometry import Column
 from pipeline.groundmotion import GroundMotion, load
 from pipeline.groundmotion.synthesis import kanai_tajimi, rectangular_pulse
-from pipeline.simulate import Excitation, ModelSettings, simulate
+from pipeline.settings import Excitation, ModelSettings
+from pipeline.simulate import simulate
 from pipeline.units import G
 
 PAPER = Column(0.5, 0.4, 4.0)

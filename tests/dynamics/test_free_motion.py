@@ -9,7 +9,8 @@ from scipy.integrate import solve_ivp
 
 from pipeline.dynamics import frustum as fk
 from pipeline.geometry import Column
-from pipeline.simulate import InitialState, ModelSettings, simulate_free
+from pipeline.settings import InitialState, ModelSettings
+from pipeline.simulate import simulate_free
 from pipeline.units import G
 
 PAPER_COLUMN = Column(R=0.5, r=0.4, h=4.0)  # Figure 4

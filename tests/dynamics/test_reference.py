@@ -10,7 +10,8 @@ from pipeline.dynamics import hybrid as hy
 from pipeline.dynamics.reference import run_frustum_scipy
 from pipeline.geometry import Column
 from pipeline.groundmotion import GroundMotion, ricker_wavelet
-from pipeline.simulate import ModelSettings, _options
+from pipeline.settings import ModelSettings
+from pipeline.simulate import _options
 from pipeline.units import G
 
 

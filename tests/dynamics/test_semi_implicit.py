@@ -18,7 +18,7 @@ from pipeline.dynamics import stack as sk
 from pipeline.errors import InputError
 from pipeline.geometry import Column
 from pipeline.groundmotion import one_sine_pulse
-from pipeline.simulate import Excitation, ModelSettings
+from pipeline.settings import Excitation, ModelSettings
 
 PAPER = Column(0.5, 0.4, 4.0)
 

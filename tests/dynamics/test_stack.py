@@ -9,7 +9,7 @@ from pipeline.compliant import as_stack, assemble, critical_damping, released_st
 from pipeline.drums import Capital, DrumColumn
 from pipeline.dynamics import stack as sk
 from pipeline.geometry import Column
-from pipeline.simulate import ModelSettings
+from pipeline.settings import ModelSettings
 
 PAPER = Column(0.5, 0.4, 4.0)
 STACKS = {

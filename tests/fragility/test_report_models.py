@@ -13,7 +13,7 @@ from fragility_synthetic import make_results
 
 from pipeline import model_descriptions as MD
 from pipeline.report import write_report
-from pipeline.simulate import MODELS
+from pipeline.settings import MODELS
 
 STALE = ("never slides", "does not follow sliding", "would have jumped", "without slipping",
          "the only energy losses")

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from pipeline.errors import InputError
-from pipeline.simulate import Excitation, simulate
+from pipeline.settings import Excitation
+from pipeline.simulate import simulate
 from pipeline.study import load_motions, load_study
 from pipeline.sweep import plan, run_study, scale_factors, record_intensity
 

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from pipeline import sweep
-from pipeline.simulate import Excitation, simulate
+from pipeline.settings import Excitation
+from pipeline.simulate import simulate
 from pipeline.study import load_motions, load_study
 
 from conftest import SMALL_STUDY  # noqa: E402
