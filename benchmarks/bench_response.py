@@ -4,11 +4,11 @@ The paper's column (R = 0.5 m, r = 0.4 m, h = 4 m) under FEMA P695 far-field
 record 1 (both components, angle 0) at scales 1, 2 and 3, the 3D model, side
 by side in one run:
 
-* compiled: :func:`pipeline.dynamics.hybrid.run_frustum` (numba DOP853 with
+* compiled: :func:`pipeline.dynamics.rigid.run3d.run_frustum` (numba DOP853 with
   events), timed as the best of several calls after compilation, and the
   whole :func:`pipeline.simulate.simulate` call (summary included, no
   histories);
-* scipy: the same hybrid model with every rolling phase integrated by
+* scipy: the same model with every rolling phase integrated by
   ``solve_ivp(method="DOP853")`` at the same tolerances, in a subprocess with
   ``NUMBA_DISABLE_JIT=1`` so that the right-hand side is plain Python.
 
@@ -33,7 +33,7 @@ SCALES = (1.0, 2.0, 3.0)
 
 def _problem(scale, rtol):
     from pipeline.dynamics import frustum as fk
-    from pipeline.dynamics import hybrid as hy
+    from pipeline.dynamics.rigid import layout as lay
     from pipeline.geometry import Column
     from pipeline.groundmotion import load
     from pipeline.settings import ModelSettings
@@ -53,7 +53,7 @@ def _problem(scale, rtol):
         params=params, y0=np.zeros(fk.N_STATE), t_end=t_end, t_out=t_out,
         y_out=np.zeros((len(t_out), fk.N_STATE)), phase_out=np.zeros(len(t_out), np.int8),
         t_breaks=np.arange(len(record)) * dt, rtol=settings.rtol, atol=settings.atol,
-        summary=np.zeros(hy.N_SUMMARY), impacts=np.zeros((1000, 4)),
+        summary=np.zeros(lay.N_SUMMARY), impacts=np.zeros((1000, 4)),
     )
     return column, motion, settings, args
 
@@ -70,8 +70,8 @@ def scipy_child(rtol):
     answer: it has no way to keep steps off the record's kinks, so at equal
     tolerance it is less accurate).
     """
-    from pipeline.dynamics import hybrid as hy
     from pipeline.dynamics.reference import run_frustum_scipy
+    from pipeline.dynamics.rigid import layout as lay
 
     for scale, tol in [(s, rtol) for s in SCALES] + [(SCALES[0], rtol / 100)]:
         _column, _motion, _settings, a = _problem(scale, tol)
@@ -79,9 +79,9 @@ def scipy_child(rtol):
         _call(run_frustum_scipy, a)
         elapsed = time.perf_counter() - t0
         s = a["summary"]
-        print(json.dumps({"scale": scale, "rtol": tol, "time": elapsed, "peak_theta": s[hy.S_PEAK_THETA],
-                          "overturned": not math.isnan(s[hy.S_OVERTURN_TIME]), "nfev": s[hy.S_NFEV],
-                          "impacts": s[hy.S_N_IMPACTS]}), flush=True)
+        print(json.dumps({"scale": scale, "rtol": tol, "time": elapsed, "peak_theta": s[lay.S_PEAK_THETA],
+                          "overturned": not math.isnan(s[lay.S_OVERTURN_TIME]), "nfev": s[lay.S_NFEV],
+                          "impacts": s[lay.S_N_IMPACTS]}), flush=True)
 
 
 def main():
@@ -93,7 +93,8 @@ def main():
     if args.scipy_child:
         scipy_child(args.rtol)
         return
-    from pipeline.dynamics import hybrid as hy
+    from pipeline.dynamics.rigid import layout as lay
+    from pipeline.dynamics.rigid.run3d import run_frustum
     from pipeline.settings import Excitation
     from pipeline.simulate import simulate
 
@@ -104,20 +105,20 @@ def main():
     compiled = {}
     for scale in SCALES:
         column, motion, settings, a = _problem(scale, args.rtol)
-        _call(hy.run_frustum, a)  # compile / load cache
+        _call(run_frustum, a)  # compile / load cache
         times = []
         for _ in range(args.repeat):
             t0 = time.perf_counter()
-            _call(hy.run_frustum, a)
+            _call(run_frustum, a)
             times.append(time.perf_counter() - t0)
         t0 = time.perf_counter()
         for _ in range(args.repeat):
             simulate(column, motion, Excitation(scale=scale), settings, histories=False)
         whole = (time.perf_counter() - t0) / args.repeat
         s = a["summary"]
-        compiled[scale] = dict(time=min(times), whole=whole, peak_theta=s[hy.S_PEAK_THETA],
-                               overturned=not math.isnan(s[hy.S_OVERTURN_TIME]), nfev=s[hy.S_NFEV],
-                               impacts=s[hy.S_N_IMPACTS])
+        compiled[scale] = dict(time=min(times), whole=whole, peak_theta=s[lay.S_PEAK_THETA],
+                               overturned=not math.isnan(s[lay.S_OVERTURN_TIME]), nfev=s[lay.S_NFEV],
+                               impacts=s[lay.S_N_IMPACTS])
     env = dict(os.environ, NUMBA_DISABLE_JIT="1")
     child = subprocess.run([sys.executable, __file__, "--scipy-child", "--rtol", str(args.rtol)],
                            env=env, capture_output=True, text=True, check=True)

@@ -7,7 +7,7 @@ assumptions from the entries of the models the study ran, and only those; the pl
 titles from here. Plain data: the model registry of the redesign (``models/spec.py``,
 docs/ARCHITECTURE) is to take these entries over as they are.
 
-What the rigid models follow is :mod:`pipeline.dynamics.hybrid` (docs/model.md, "The physical
+What the rigid models follow is :mod:`pipeline.dynamics.rigid` (docs/model.md, "The physical
 contact"); the compliant model is :mod:`pipeline.compliant` (docs/model.md, "The
 compliant-contact model").
 """

@@ -31,8 +31,11 @@ import xarray as xr
 from pipeline.compliant import simulate_compliant
 from pipeline.dataset import annotate, append_history
 from pipeline.dynamics import frustum as fk
-from pipeline.dynamics import hybrid as hy
-from pipeline.dynamics import rocking as rk
+from pipeline.dynamics.rigid import diagnostics as rd
+from pipeline.dynamics.rigid import layout as hy  # the rigid runs' layouts: S_*, PHASE_*, NUMERICS
+from pipeline.dynamics.rigid import rocking as rk
+from pipeline.dynamics.rigid.run2d import run_rocking
+from pipeline.dynamics.rigid.run3d import run_frustum
 from pipeline.errors import InputError
 from pipeline.geometry import Column
 from pipeline.response import Response
@@ -231,7 +234,7 @@ def _run(column, settings, record, dt, y0, duration):
     breaks = np.arange(record.shape[0]) * dt  # kinks of the linearly interpolated record
     summary = np.zeros(hy.N_SUMMARY)
     restitution = -1.0 if settings.restitution is None else float(settings.restitution)
-    runner = hy.run_frustum if settings.model == "3d" else hy.run_rocking
+    runner = run_frustum if settings.model == "3d" else run_rocking
     impacts = np.empty((MAX_LOGGED_IMPACTS, 4))  # the kernel fills every logged row; only those are read
     n = runner(params, restitution, y0, tau_end, tau, states, phase, breaks, settings.rtol, settings.atol,
                summary, impacts)
@@ -255,8 +258,8 @@ def _impact_table(raw, column):
 
 def _diagnostics(raw, settings):
     """Per-row derived quantities (``hybrid.D_*`` columns, dimensionless)."""
-    out = np.full((raw.tau.shape[0], hy.N_DIAGNOSTICS), np.nan)
-    hy.diagnostics_rows(raw.tau, raw.states, raw.phase, raw.params, settings.model == "3d", out)
+    out = np.full((raw.tau.shape[0], rd.N_DIAGNOSTICS), np.nan)
+    rd.diagnostics_rows(raw.tau, raw.states, raw.phase, raw.params, settings.model == "3d", out)
     return out
 
 
@@ -311,8 +314,8 @@ def _histories(column, settings, raw, diag, excitation, motion):
     phase = raw.phase
     flat = (phase == hy.PHASE_REST) | (phase == hy.PHASE_SLIDING)
     cg, sg = math.cos(excitation.angle_rad), math.sin(excitation.angle_rad)
-    bx, by = diag[:, hy.D_BASE_X] * R, diag[:, hy.D_BASE_Y] * R
-    px, py = diag[:, hy.D_CONTACT_X] * R, diag[:, hy.D_CONTACT_Y] * R
+    bx, by = diag[:, rd.D_BASE_X] * R, diag[:, rd.D_BASE_Y] * R
+    px, py = diag[:, rd.D_CONTACT_X] * R, diag[:, rd.D_CONTACT_Y] * R
     if settings.model == "3d":
         theta = np.where(flat, 0.0, st[:, fk.THETA])
         data = {
@@ -326,7 +329,7 @@ def _histories(column, settings, raw, diag, excitation, motion):
         # the kernel runs in the record's frame: turn the horizontal outputs by the angle
         data.update({"x_p": cg * px - sg * py, "y_p": sg * px + cg * py,
                      "x_b": cg * bx - sg * by, "y_b": sg * bx + cg * by})
-        gx, gy = diag[:, hy.D_AX], diag[:, hy.D_AY]
+        gx, gy = diag[:, rd.D_AX], diag[:, rd.D_AY]
         ground_x, ground_y = cg * gx - sg * gy, sg * gx + cg * gy
     else:
         signed = st[:, rk.THETA2]
@@ -339,17 +342,17 @@ def _histories(column, settings, raw, diag, excitation, motion):
             "y_b": by,
             "theta_dot": np.where(flat, 0.0, np.copysign(1.0, signed) * st[:, rk.DTHETA2]) * per_s,
         }
-        ground_x, ground_y = diag[:, hy.D_AX], np.zeros_like(diag[:, hy.D_AX])
+        ground_x, ground_y = diag[:, rd.D_AX], np.zeros_like(diag[:, rd.D_AX])
     data.update({
-        "omega_zeta": diag[:, hy.D_OMEGA] * per_s,
-        "energy_hat": diag[:, hy.D_ENERGY],
-        "normal_force_hat": diag[:, hy.D_NORMAL],
-        "tangential_force_hat": diag[:, hy.D_TANGENTIAL],
-        "mu_mob": diag[:, hy.D_MU],
-        "slip_velocity": diag[:, hy.D_SLIP] * math.sqrt(G * R),
+        "omega_zeta": diag[:, rd.D_OMEGA] * per_s,
+        "energy_hat": diag[:, rd.D_ENERGY],
+        "normal_force_hat": diag[:, rd.D_NORMAL],
+        "tangential_force_hat": diag[:, rd.D_TANGENTIAL],
+        "mu_mob": diag[:, rd.D_MU],
+        "slip_velocity": diag[:, rd.D_SLIP] * math.sqrt(G * R),
         "ground_acc_x": ground_x * G,
         "ground_acc_y": ground_y * G,
-        "ground_acc_z": diag[:, hy.D_AZ] * G,
+        "ground_acc_z": diag[:, rd.D_AZ] * G,
     })
     if column.density is not None:
         weight = column.mass * G

@@ -446,8 +446,10 @@ COMPILE_NOTICE_AFTER = 10.0
 
 # the compiled entry points of each model, as (module, function) (their cache holds what they
 # inline); the compliant model's is its default integrator's run
-_ENTRY_POINTS = {"3d": (("pipeline.dynamics.hybrid", "run_frustum"), ("pipeline.dynamics.hybrid", "diagnostics_rows")),
-                 "2d": (("pipeline.dynamics.hybrid", "run_rocking"), ("pipeline.dynamics.hybrid", "diagnostics_rows")),
+_ENTRY_POINTS = {"3d": (("pipeline.dynamics.rigid.run3d", "run_frustum"),
+                        ("pipeline.dynamics.rigid.diagnostics", "diagnostics_rows")),
+                 "2d": (("pipeline.dynamics.rigid.run2d", "run_rocking"),
+                        ("pipeline.dynamics.rigid.diagnostics", "diagnostics_rows")),
                  "3d-compliant": (("pipeline.dynamics.semi_implicit", "run"),)}
 
 

@@ -1,15 +1,16 @@
-"""Numerical kernels: equations of motion, contact maps, integrator, hybrid runs.
+"""Numerical kernels: equations of motion, contact maps, integrators, event-driven runs.
 
 Floats and arrays in, arrays out; no units, no objects, no obspy/xarray/dask.
 
 Compiled-code cache
 -------------------
 numba caches each ``cache=True`` function keyed on its own source file only,
-but the kernels inline one another (the hybrid runs inline the integrator and
+but the kernels inline one another (the rigid runs inline the integrator and
 the right-hand sides): editing ``frustum.py`` would leave a stale compiled
-``hybrid`` in the cache. So, unless the user sets ``NUMBA_CACHE_DIR``, the
-cache lives in a folder named after a digest of every source file here (and
-the numba and Python versions): any edit gives a fresh, consistent cache.
+``rigid/run3d`` in the cache. So, unless the user sets ``NUMBA_CACHE_DIR``, the
+cache lives in a folder named after a digest of every source file here and in
+the family folders below (and the numba and Python versions): any edit gives a
+fresh, consistent cache.
 This must run before the kernel modules are imported, hence here.
 """
 
@@ -24,8 +25,8 @@ def _source_digest():
 
     h = hashlib.sha256()
     here = Path(__file__).resolve().parent
-    for path in sorted(here.glob("*.py")):
-        h.update(path.name.encode())
+    for path in sorted(here.rglob("*.py")):
+        h.update(path.relative_to(here).as_posix().encode())
         h.update(path.read_bytes())
     h.update(f"{numba.__version__} {sys.version}".encode())
     return h.hexdigest()[:16]

@@ -230,7 +230,7 @@ def general_couple_accelerations():
     """Accelerations caused by any couple ``M = m_xi e_xi + m_eta e_eta + m_zeta e_zeta``.
 
     As :func:`couple_accelerations`, for a couple given by its body
-    components (the contact patch's couples of :mod:`pipeline.dynamics.patch`).
+    components (the contact patch's couples of :mod:`pipeline.dynamics.rigid.patch`).
 
     Returns
     -------

@@ -16,7 +16,7 @@ y_p`` the contact point on the plane (relative to the plane, which may move),
 ``work`` the work done on the column by the ground motion, ``dissipated``
 the energy removed by the contact couples and ``friction`` the energy removed
 by sliding. Rolling (this module) uses the first ten. The other phases of
-:mod:`pipeline.dynamics.hybrid` use the rest: the slip velocity (speed and
+:mod:`pipeline.dynamics.rigid` use the rest: the slip velocity (speed and
 direction angle) of the base or of the rim point that slides, and in flight
 the centre of mass (its horizontal position in the ``x_p, y_p`` slots, its
 height and velocity).
@@ -54,27 +54,27 @@ N_STATE = 17
 # contact couple, the friction coefficient, the phase being integrated, the
 # pivot side and slip direction of planar rocking, the rolling resistance.
 # Slipping phases also keep: whether the slip direction is slaved (see
-# pipeline.dynamics.hybrid) and the precession angle when it was last set.
+# pipeline.dynamics.rigid.phases3d) and the precession angle when it was last set.
 # OPT_UNILATERAL is 1 when the ground can only push (the column flies when
 # the normal force would pull), 0 to hold the rim on the ground as the paper does.
 # OPT_FRICTION_EXCESS [m g]: friction beyond mu N that a rolling phase started
-# with because no slip could start from rest (pipeline.dynamics.hybrid._enter_contact).
+# with because no slip could start from rest (pipeline.dynamics.rigid.run3d._enter_contact).
 # OPT_SLAVED_SPEED [sqrt(g R)]: the slip speed at which the direction was last
-# slaved; the layer is left above max(edge, 2 x it) (pipeline.dynamics.hybrid).
+# slaved; the layer is left above max(edge, 2 x it) (pipeline.dynamics.rigid.run3d).
 # OPT_MAX_STEP [tau]: the longest step of the phase being integrated (inf but
 # while a slip direction is slaved, so that its speed cannot cross the layer's
-# edge and come back within one step unseen; pipeline.dynamics.hybrid).
+# edge and come back within one step unseen; pipeline.dynamics.rigid.run3d).
 # OPT_RIM_HELD is 1 while infinite friction and lift-off contradict each other
 # (the rim would have to pull, yet the column in free flight would sink into
-# the ground): the rim is held until either stops (pipeline.dynamics.hybrid).
-# The contact patch (pipeline.dynamics.patch): the tilt theta_k of lost full
+# the ground): the rim is held until either stops (pipeline.dynamics.rigid.run3d).
+# The contact patch (pipeline.dynamics.rigid.patch): the tilt theta_k of lost full
 # contact (0: a point contact, the paper's) and the dashpots per unit area,
 # c_n R^3 / (m sqrt(g R)); whether the patch's drilling friction holds the
 # pivot (no turning about the vertical through P) and, if not, the sense it
 # turns in.
 # OPT_LANDING_MARGIN, OPT_MIN_REBOUND, OPT_SLAVE_TIME, OPT_LOOK_AHEAD and
-# OPT_SLAVED_TURN are the numerical thresholds of pipeline.dynamics.hybrid
-# (defaults there, in NUMERICS), carried at run time so that a study can vary
+# OPT_SLAVED_TURN are the numerical thresholds of the rigid runs
+# (defaults in pipeline.dynamics.rigid.layout.NUMERICS), carried at run time so that a study can vary
 # them without recompiling.
 (OPT_THETA_C, OPT_THETA_LIE, OPT_NU, OPT_MU, OPT_PHASE, OPT_PIVOT, OPT_SIGN, OPT_RIM_HELD,
  OPT_SLAVED, OPT_PHI_REF, OPT_UNILATERAL, OPT_THETA_K, OPT_PATCH_DAMPING, OPT_PIVOT_HELD,

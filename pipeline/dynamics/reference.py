@@ -1,7 +1,7 @@
-"""The same hybrid model, every phase integrated by scipy's ``solve_ivp``.
+"""The same rigid 3D model, every phase integrated by scipy's ``solve_ivp``.
 
 A reference for benchmarks and cross-checks: :func:`run_frustum_scipy` runs
-the Python source of :func:`pipeline.dynamics.hybrid.run_frustum` (the same
+the Python source of :func:`pipeline.dynamics.rigid.run3d.run_frustum` (the same
 phases, events, impact maps) with each phase integrated by
 ``scipy.integrate.solve_ivp(method="DOP853")`` instead of the compiled
 integrator. Under ``NUMBA_DISABLE_JIT=1`` every kernel, the right-hand side
@@ -15,7 +15,8 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from pipeline.dynamics import frustum as fk
-from pipeline.dynamics import hybrid as hy
+from pipeline.dynamics.rigid import phases3d, run3d
+from pipeline.dynamics.rigid.layout import EVENT_DIRECTIONS
 from pipeline.dynamics.integrator import Dop853Result
 
 # The compiled integrator reads the event signs first at the end of a
@@ -26,27 +27,27 @@ _RESTART = 1e-9  # [tau]
 
 
 def integrate_scipy(params, t0, y0, t_end, t_out, y_out, out_start, t_breaks, rtol, atol, h0):
-    """One phase with solve_ivp; same contract as the compiled ``hybrid._integrate3d``.
+    """One phase with solve_ivp; same contract as the compiled ``phases3d.integrate3d``.
 
     ``t_breaks`` is ignored (scipy has no such option: a plain implementation
     lets the error control deal with the record's kinks). The step monitor is
     called at every accepted step, as the compiled integrator does.
     """
-    n_ev = len(hy.EVENT_DIRECTIONS)
+    n_ev = len(EVENT_DIRECTIONS)
 
     def fun(t, y):
         out = np.empty_like(y)
-        hy.rhs3d(t, y, params, out)
+        phases3d.rhs3d(t, y, params, out)
         return out
 
     g = np.empty(n_ev)
     nudged = y0 + _RESTART * fun(t0, y0)
     start = np.empty(n_ev)
-    hy.events3d(t0 + _RESTART, nudged, params, start)
+    phases3d.events3d(t0 + _RESTART, nudged, params, start)
 
     def make_event(k, direction):
         def event(t, y):
-            hy.events3d(t, y, params, g)
+            phases3d.events3d(t, y, params, g)
             if t == t0:
                 return start[k]
             return g[k]
@@ -55,13 +56,13 @@ def integrate_scipy(params, t0, y0, t_end, t_out, y_out, out_start, t_breaks, rt
         event.direction = direction
         return event
 
-    events = [make_event(k, d) for k, d in enumerate(hy.EVENT_DIRECTIONS)]
+    events = [make_event(k, d) for k, d in enumerate(EVENT_DIRECTIONS)]
     sol = solve_ivp(fun, (t0, t_end), y0, method="DOP853", rtol=rtol, atol=atol, events=events,
                     dense_output=True, first_step=h0 if h0 > 0 else None,
                     max_step=params[3][fk.OPT_MAX_STEP])
     for t_step, y_step in zip(sol.t[1:], sol.y.T[1:]):
-        hy.events3d(t_step, y_step, params, g)
-        hy.monitor3d(t_step, y_step, params, g)
+        phases3d.events3d(t_step, y_step, params, g)
+        phases3d.monitor3d(t_step, y_step, params, g)
     t_stop = sol.t[-1]
     stop = int(np.searchsorted(t_out, t_stop, side="right"))
     if stop > out_start:
@@ -77,16 +78,17 @@ def integrate_scipy(params, t0, y0, t_end, t_out, y_out, out_start, t_breaks, rt
 
 @contextlib.contextmanager
 def _scipy_phases():
-    original = hy._integrate3d
-    hy._integrate3d = integrate_scipy
+    # run_frustum's Python source looks the name up in its own module
+    original = run3d.integrate3d
+    run3d.integrate3d = integrate_scipy
     try:
         yield
     finally:
-        hy._integrate3d = original
+        run3d.integrate3d = original
 
 
 def run_frustum_scipy(*args):
-    """:func:`pipeline.dynamics.hybrid.run_frustum` with scipy phases (same arguments)."""
-    source = getattr(hy.run_frustum, "py_func", hy.run_frustum)
+    """:func:`pipeline.dynamics.rigid.run3d.run_frustum` with scipy phases (same arguments)."""
+    source = getattr(run3d.run_frustum, "py_func", run3d.run_frustum)
     with _scipy_phases():
         return source(*args)

@@ -3,7 +3,7 @@
 The paper's column (R = 0.5 m, r = 0.4 m, h = 4 m) under the 22 FEMA P695
 far-field pairs, 3D model with its defaults (slip, lift-off, the contact patch
 of a bed with k_n = 1e10 Pa/m, theta_c = theta_k). Every numerical threshold
-left in the kernels (:data:`pipeline.dynamics.hybrid.NUMERICS`) and the
+left in the kernels (:data:`pipeline.dynamics.rigid.layout.NUMERICS`) and the
 integration tolerance is set to a tenth and to ten times its default, one at a
 time:
 
@@ -26,7 +26,7 @@ from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 
-from pipeline.dynamics.hybrid import NUMERICS
+from pipeline.dynamics.rigid.layout import NUMERICS
 from pipeline.fragility import fit_lognormal
 from pipeline.geometry import Column
 from pipeline.groundmotion import load

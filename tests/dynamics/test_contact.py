@@ -5,7 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from pipeline.dynamics import contact, frustum as fk
+from pipeline.dynamics import frustum as fk
+from pipeline.dynamics.rigid import contact
 from pipeline.geometry import Column
 
 PAPER = Column(0.5, 0.4, 4.0)

@@ -302,38 +302,39 @@ def test_slip_onset_continues_the_rolling_accelerations_with_the_patch(held, dam
     With the viscous couple (``damping`` nu = 0.1) both sets carry it too (the slip
     equations lacked it until 2026-11-23: they then differed by 7e-3 of the largest acceleration).
     """
-    from pipeline.dynamics import frustum as fk, hybrid as hy
+    from pipeline.dynamics import frustum as fk
+    from pipeline.dynamics.rigid import layout, phases3d, run3d
     from pipeline.simulate import _options
 
     settings = ModelSettings(damping=damping)
     c = PAPER.kernel_constants()
     opts = _options(PAPER, settings)
     record = np.array([[0.3, -0.2, 0.05], [0.32, -0.18, 0.04]])
-    params = (c, record, 0.01, opts, np.zeros(hy.N_SUMMARY))
+    params = (c, record, 0.01, opts, np.zeros(layout.N_SUMMARY))
     y = np.zeros(fk.N_STATE)
     y[fk.PHI], y[fk.THETA], y[fk.DPHI], y[fk.DTHETA] = 0.4, 0.05, 0.3, 0.02
     # held: omega_Z = phi' sin^2 + omega cos = 0; turning: a spin of the same size
     y[fk.OMEGA] = -y[fk.DPHI] * math.sin(y[fk.THETA]) ** 2 / math.cos(y[fk.THETA]) + (0.0 if held else 0.01)
     opts[fk.OPT_MU] = 10.0
-    hy._pivot_mode(0.0, y, params)
+    run3d._pivot_mode(0.0, y, params)
     assert (opts[fk.OPT_PIVOT_HELD] != 0.0) == held
     # the friction rolling asks is affine in mu (the turning pivot's couple is mu N r_d):
     # F(mu) = a + b mu, and |F(mu)| = mu N is a quadratic in mu
     opts[fk.OPT_MU] = 0.0
-    r0 = hy._rolling_state(0.0, y, params)
+    r0 = phases3d.rolling_state(0.0, y, params)
     opts[fk.OPT_MU] = 1.0
-    r1 = hy._rolling_state(0.0, y, params)
+    r1 = phases3d.rolling_state(0.0, y, params)
     a = np.array([r0[3], r0[4]])
     b = np.array([r1[3], r1[4]]) - a
     f_z = r0[5]
     roots = np.roots([b @ b - f_z**2, 2 * a @ b, a @ a])
     opts[fk.OPT_MU] = min(x.real for x in roots if abs(x.imag) < 1e-12 and x.real > 0)
-    r = hy._rolling_state(0.0, y, params)
+    r = phases3d.rolling_state(0.0, y, params)
     f_xi, f_n, drill = r[3], r[4], r[12]
     assert math.hypot(f_xi, f_n) == pytest.approx(opts[fk.OPT_MU] * r[5], rel=1e-12)
     sp_, cp = math.sin(y[fk.PHI]), math.cos(y[fk.PHI])
     chi = math.atan2(-(f_xi * sp_ + f_n * cp), -(f_xi * cp - f_n * sp_))
-    q = hy._slip_with(0.0, y, params, chi)
+    q = phases3d.slip_with(0.0, y, params, chi)
     rolling = np.array(r[0:3])
     slipping = np.array([q[2], q[3], q[4]])
     scale = np.max(np.abs(rolling))
@@ -402,15 +403,16 @@ def test_planar_slip_onset_continues_the_rocking_acceleration(damping):
     viscous couple until 2026-11-23: theta'' then differed by 2.7e-2 of it at
     nu = 0.1 (measured), which this bound sees.
     """
-    from pipeline.dynamics import frustum as fk, hybrid as hy
+    from pipeline.dynamics import frustum as fk
+    from pipeline.dynamics.rigid import phases2d
     from pipeline.simulate import _options
 
     c = PAPER.kernel_constants()
     opts = _options(PAPER, ModelSettings(model="2d", damping=damping))
     theta, dtheta, a_u, a_z = 0.03, -0.15, 0.25, 0.05
-    f_u, f_z, ddtheta, _damped = hy._rocking_contact(theta, dtheta, a_u, a_z, c, opts)
+    f_u, f_z, ddtheta, _damped = phases2d.rocking_contact(theta, dtheta, a_u, a_z, c, opts)
     opts[fk.OPT_MU] = abs(f_u) / f_z
-    slip = hy._rocking_slip(theta, dtheta, -math.copysign(1.0, f_u), a_u, a_z, c, opts)
+    slip = phases2d.rocking_slip(theta, dtheta, -math.copysign(1.0, f_u), a_u, a_z, c, opts)
     assert slip[0] == pytest.approx(ddtheta, rel=1e-6)
     assert slip[2] == pytest.approx(f_z, rel=1e-6)
 

@@ -1,4 +1,4 @@
-"""The compiled hybrid run agrees with the same model integrated by scipy."""
+"""The compiled rigid 3D run agrees with the same model integrated by scipy."""
 
 import math
 
@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from pipeline.dynamics import frustum as fk
-from pipeline.dynamics import hybrid as hy
+from pipeline.dynamics.rigid import layout as lay
+from pipeline.dynamics.rigid.run3d import run_frustum
 from pipeline.dynamics.reference import run_frustum_scipy
 from pipeline.geometry import Column
 from pipeline.groundmotion import GroundMotion, ricker_wavelet
@@ -29,19 +30,19 @@ def _problem(rtol):
     t_out = np.linspace(0, t_end, 801)
     return [params, -1.0, np.zeros(fk.N_STATE), t_end, t_out, np.zeros((801, fk.N_STATE)),
             np.zeros(801, np.int8), np.arange(len(record)) * dt, rtol, rtol * 1e-3,
-            np.zeros(hy.N_SUMMARY), np.zeros((100, 4))]
+            np.zeros(lay.N_SUMMARY), np.zeros((100, 4))]
 
 
 def test_compiled_hybrid_matches_scipy_reference():
     compiled = _problem(1e-10)
-    hy.run_frustum(*compiled)
+    run_frustum(*compiled)
     reference = _problem(1e-12)
     run_frustum_scipy(*reference)
     s_c, s_r = compiled[10], reference[10]
-    assert s_c[hy.S_PEAK_THETA] > 0.05  # it really rocks and wobbles
-    assert s_c[hy.S_N_IMPACTS] == s_r[hy.S_N_IMPACTS]
-    assert math.isnan(s_c[hy.S_OVERTURN_TIME]) == math.isnan(s_r[hy.S_OVERTURN_TIME])
+    assert s_c[lay.S_PEAK_THETA] > 0.05  # it really rocks and wobbles
+    assert s_c[lay.S_N_IMPACTS] == s_r[lay.S_N_IMPACTS]
+    assert math.isnan(s_c[lay.S_OVERTURN_TIME]) == math.isnan(s_r[lay.S_OVERTURN_TIME])
     # two integrators of the same model, both converged to ~1e-7 or better
-    assert s_c[hy.S_PEAK_THETA] == pytest.approx(s_r[hy.S_PEAK_THETA], rel=1e-6)
-    rows = compiled[6] == hy.PHASE_ROLLING
+    assert s_c[lay.S_PEAK_THETA] == pytest.approx(s_r[lay.S_PEAK_THETA], rel=1e-6)
+    rows = compiled[6] == lay.PHASE_ROLLING
     np.testing.assert_allclose(compiled[5][rows, fk.THETA], reference[5][rows, fk.THETA], atol=1e-6)

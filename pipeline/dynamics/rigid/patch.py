@@ -14,7 +14,7 @@ distance s from the rim's tangent. The load fixes w:
 with A the segment's area, S1 its first moment about the tangent and
 ``theta_k = m g / (k_n pi R^2 R)`` the tilt at which a disc under its own
 weight just loses full contact (w = 2: the whole base). From the patch the
-rigid models take two couples (:mod:`pipeline.dynamics.hybrid`):
+rigid models take two couples (:mod:`pipeline.dynamics.rigid.phases3d`):
 
 * **rolling damping**: the dashpots under a patch turning with the body at
   the horizontal angular velocity (omega_xi, omega_n) dissipate

@@ -1,0 +1,176 @@
+"""Steps that both rigid event-driven runs take, the 3D frustum's and planar rocking's (compiled).
+
+Helpers of :func:`pipeline.dynamics.rigid.run3d.run_frustum` and
+:func:`pipeline.dynamics.rigid.run2d.run_rocking`: the summary's start and
+close, the first times of uplift, sliding and flight, the peak tilt, the step
+monitor's peak mobilized friction and lowest normal force, the rest phase up
+to the column's departure (found exactly on the piecewise-linear record), the
+booking of an integrated phase with its stall count, lying down, the landing
+log, and the rim hold of infinite friction.
+"""
+
+import math
+
+from numba import njit
+
+from pipeline.dynamics import frustum as fk
+from pipeline.dynamics.rigid import contact
+from pipeline.dynamics.rigid.layout import (
+    MAX_STALLS, PHASE_OVERTURNED, PHASE_REST, STATUS_STALLED, S_DISSIPATED, S_ENERGY_END, S_FLIGHT_TIME,
+    S_FRICTION, S_MIN_NORMAL, S_NFEV, S_N_IMPACTS, S_OVERTURN_TIME, S_PEAK_MU, S_PEAK_THETA, S_PEAK_TIME,
+    S_SLIDE_TIME, S_STATUS, S_STEPS, S_UPLIFT_TIME, S_WORK
+)
+
+
+@njit(cache=True)
+def watch_contact(summary, mu, normal):
+    if mu > summary[S_PEAK_MU]:
+        summary[S_PEAK_MU] = mu
+    if normal < summary[S_MIN_NORMAL]:
+        summary[S_MIN_NORMAL] = normal
+
+
+@njit(cache=True)
+def init_summary(summary):
+    summary[:] = 0.0
+    summary[S_OVERTURN_TIME] = math.nan
+    summary[S_UPLIFT_TIME] = math.nan
+    summary[S_SLIDE_TIME] = math.nan
+    summary[S_FLIGHT_TIME] = math.nan
+    summary[S_MIN_NORMAL] = math.inf
+
+
+@njit(cache=True)
+def close_budget(summary, energy_end, work, dissipated, friction):
+    summary[S_ENERGY_END] = energy_end
+    summary[S_WORK] = work
+    summary[S_DISSIPATED] = dissipated
+    summary[S_FRICTION] = friction
+
+
+@njit(cache=True)
+def first_time(summary, k, t):
+    if math.isnan(summary[k]):
+        summary[k] = t
+
+
+@njit(cache=True)
+def settling_kinetic_energy(theta_c, zc, min_rebound):
+    """Kinetic energy [m g R] below which a landing column settles to rest."""
+    top = theta_c + max(theta_c, min_rebound)
+    return (math.sin(top) + zc * math.cos(top)) - (math.sin(theta_c) + zc * math.cos(theta_c))
+
+
+@njit(cache=True)
+def departure_ratio(zc, mu):
+    """Ratio |a_h| / (g + a_z) at which a column at rest starts to move [1].
+
+    ``R / z_cm`` if it uplifts first, ``mu`` if it slides first.
+    """
+    return min(1.0 / zc, mu)
+
+
+@njit(cache=True)
+def rest_until_departure(record, dt, ratio, t, t_end, t_out, y_out, phase_out, out_i, y_rest, summary):
+    """Stay at rest from ``t`` until the column starts to move (or ``t_end``), filling the outputs.
+
+    Also updates the peak mobilized friction at rest, ``|a_h| / (1 + a_z)``,
+    which on the piecewise-linear record peaks at samples or at the ends.
+    Returns the departure time (``inf`` if none before the record ends) and
+    the next output row.
+    """
+    t_dep = contact.first_uplift(record, dt, 1.0 / ratio, t)
+    stop = min(t_dep, t_end)
+    inclusive = t_dep >= t_end
+    n = t_out.shape[0]
+    while out_i < n and (t_out[out_i] < stop or (inclusive and t_out[out_i] <= stop)):
+        y_out[out_i, :] = y_rest
+        phase_out[out_i] = PHASE_REST
+        out_i += 1
+    n_rec = record.shape[0]
+    # a column that comes to rest where the ground already asks more than it can hold leaves
+    # at once: no rest, no friction at rest (the phase it leaves in carries the friction)
+    if n_rec > 0 and stop > t:
+        last = min(stop, (n_rec - 1) * dt)
+        k_lo = int(math.ceil(t / dt)) if t > 0.0 else 0
+        k_hi = int(math.floor(last / dt))
+        _rest_friction(summary, *fk.ground_acceleration(t, record, dt))
+        for k in range(k_lo, min(k_hi, n_rec - 1) + 1):
+            _rest_friction(summary, record[k, 0], record[k, 1], record[k, 2])
+        if last >= t:
+            _rest_friction(summary, *fk.ground_acceleration(last, record, dt))
+    return t_dep, out_i
+
+
+@njit(cache=True)
+def _rest_friction(summary, ax, ay, az):
+    normal = 1.0 + az
+    if normal > 0.0:
+        watch_contact(summary, math.sqrt(ax * ax + ay * ay) / normal, normal)
+
+
+@njit(cache=True)
+def log_impact(impacts, summary, t, rate_before, rate_after, energy_jump):
+    """Record a landing in the log (the first ``len(impacts)`` only)."""
+    k = int(summary[S_N_IMPACTS]) - 1
+    if 0 <= k < impacts.shape[0]:
+        impacts[k, 0] = t
+        impacts[k, 1] = rate_before
+        impacts[k, 2] = rate_after
+        impacts[k, 3] = energy_jump
+
+
+@njit(cache=True)
+def book_phase(res, phase, phase_out, out_i, summary, y, t_start, stalls):
+    """Record a phase's outputs and cost; copy its final state into y.
+
+    Returns the next output row and the count of consecutive calls that
+    stopped without advancing time (``STATUS_STALLED`` past ``MAX_STALLS``).
+    """
+    phase_out[out_i:res.out_next] = phase
+    summary[S_NFEV] += res.nfev
+    summary[S_STEPS] += res.n_accepted
+    if res.status < 0:
+        summary[S_STATUS] = res.status
+    y[:] = res.y
+    stalls = stalls + 1 if res.t == t_start else 0
+    if stalls > MAX_STALLS:
+        summary[S_STATUS] = STATUS_STALLED
+    return res.out_next, stalls
+
+
+@njit(cache=True)
+def lie_down(summary, t, theta, y, y_out, phase_out, out_i):
+    """The column lies on its side: record it and freeze the remaining outputs."""
+    summary[S_PEAK_THETA] = theta
+    summary[S_PEAK_TIME] = t
+    summary[S_OVERTURN_TIME] = t
+    for i in range(out_i, y_out.shape[0]):
+        y_out[i, :] = y
+        phase_out[i] = PHASE_OVERTURNED
+    return y_out.shape[0]
+
+
+@njit(cache=True)
+def book_peak(summary, t, theta):
+    if theta > summary[S_PEAK_THETA]:
+        summary[S_PEAK_THETA] = theta
+        summary[S_PEAK_TIME] = t
+
+
+@njit(cache=True)
+def holds_rim(opts, gap_acceleration):
+    """Infinite friction, a pulling normal force and a sinking flight: hold the rim (OPT_RIM_HELD).
+
+    Without slip (mu = inf) the contact force is whatever rolling needs; when
+    that would pull while the free column would fall into the ground
+    (``gap_acceleration`` < 0, :func:`flight_gap_acceleration`), neither
+    rolling nor flight is consistent (an infinite-friction paradox that any
+    finite mu avoids by slipping first). The rim is then held, as the paper
+    holds it, until the normal force pushes again or the flight would rise.
+    Both kernels use it.
+    """
+    if opts[fk.OPT_MU] != math.inf or opts[fk.OPT_UNILATERAL] == 0.0 or gap_acceleration >= 0.0:
+        return False
+    opts[fk.OPT_RIM_HELD] = 1.0
+    return True
