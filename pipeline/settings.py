@@ -6,7 +6,7 @@ made (a bad value raises :class:`pipeline.errors.InputError` naming the field an
 * :data:`MODELS`, :data:`COMPLIANT_MODELS`: the models' names.
 * :class:`ModelSettings`: the model and its options, each default written once
   (friction [1], stiffnesses [Pa/m], damping, tolerances, tail [s], ...); the numerical
-  choices of the rigid kernels (:data:`pipeline.dynamics.hybrid.NUMERICS`) and of the
+  choices of the rigid kernels (:data:`pipeline.dynamics.rigid.layout.NUMERICS`) and of the
   compliant model (:data:`COMPLIANT_NUMERICS`), and the compliant integrators
   (:data:`INTEGRATORS`).
 * :class:`Excitation`: how a record drives the column (incidence angle [deg], scale [1],
@@ -22,9 +22,9 @@ studies, and imports only kernels' constants.
 import math
 from dataclasses import dataclass
 
-from pipeline.dynamics import hybrid as hy
 from pipeline.dynamics import semi_implicit as si
 from pipeline.dynamics import stack as sk
+from pipeline.dynamics.rigid import layout as hy  # the rigid kernels' NUMERICS
 from pipeline.errors import InputError
 from pipeline.units import G, deg_to_rad
 
@@ -127,7 +127,7 @@ class ModelSettings:
     normal_stiffness : float
         Normal stiffness of the bed joint per unit area, k_n [Pa/m]. The
         rigid models take from it the contact patch under the rim
-        (:mod:`pipeline.dynamics.patch`: rolling damping and drilling
+        (:mod:`pipeline.dynamics.rigid.patch`: rolling damping and drilling
         friction); ``math.inf`` is the paper's point contact.
     contact_damping : float or None
         Normal dashpots of the joint per unit area, c_n [Pa s/m]; None: the
@@ -138,7 +138,7 @@ class ModelSettings:
         that critical damping too.
     numerics : tuple of (str, float)
         Overrides of the rigid kernels' numerical thresholds
-        (:data:`pipeline.dynamics.hybrid.NUMERICS`: ``landing_margin``,
+        (:data:`pipeline.dynamics.rigid.layout.NUMERICS`: ``landing_margin``,
         ``min_rebound``, ``slave_time``, ``look_ahead``, ``slaved_turn``), for studies that
         show no result depends on them; e.g. ``(("slave_time", 1e-5),)``. With
         ``"3d-compliant"``, overrides of :data:`COMPLIANT_NUMERICS` instead
