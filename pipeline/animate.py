@@ -32,6 +32,8 @@ import numpy as np
 
 from pipeline.atomic import atomic_path
 from pipeline.errors import InputError
+from pipeline.models import DEFAULT
+from pipeline.models import title as model_title  # the one description of each model
 from pipeline.paths import MARKED
 
 #: Segments around the circumference of a drawn frustum.
@@ -179,7 +181,7 @@ class Motion:
         self.run = run
         self.time = run["time"].values
         self.shape = Shape(float(run["column_R"]), float(run["column_r"]), float(run["column_h"]))
-        self.model = str(run.attrs.get("model", "3d"))
+        self.model = str(run.attrs.get("model", DEFAULT))
         theta = np.nan_to_num(run["theta"].values)
         phi = _filled(run["phi"].values)
         psi = _filled(run["psi"].values) if "psi" in run else np.zeros_like(theta)
@@ -321,8 +323,6 @@ class ModelView:
         tilt = math.degrees(m.theta[i])
         state = (f", overturned at {m.overturn_time:.2f} s" if math.isfinite(m.overturn_time)
                  and t >= m.overturn_time else "")
-        from pipeline.model_descriptions import title as model_title  # the one description of each model
-
         name = model_title(m.model)
         if m.drums:
             name = f"{name}: {len(m.drums)} bodies"

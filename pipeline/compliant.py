@@ -20,15 +20,10 @@ from pipeline.dynamics import semi_implicit as si
 from pipeline.dynamics import stack as sk
 from pipeline.errors import InputError
 from pipeline.geometry import Column
+from pipeline.models import REGISTRY
+from pipeline.models.compliant import COMPLIANT_DRUMS
 from pipeline.response import Response
-from pipeline.settings import (
-    COMPLIANT_MODELS,
-    COMPLIANT_NUMERICS,
-    Excitation,
-    ModelSettings,
-    check_column,
-    housner_restitution,
-)
+from pipeline.settings import Excitation, ModelSettings, check_column, housner_restitution
 from pipeline.units import G
 
 
@@ -117,7 +112,7 @@ def assemble(column, settings, damping):
     Assembly
     """
     stack = as_stack(column)
-    edge_band = dict(settings.numerics).get("edge_band", COMPLIANT_NUMERICS["edge_band"])
+    edge_band = numerics(settings)["edge_band"]
     density = stack.density
     drums = stack.drums()
     L = stack.column.R
@@ -349,7 +344,7 @@ def _settings_key(settings):
 
 
 def _settings_from_key(key):
-    return ModelSettings(model="3d-compliant", **dict(zip(_CALIBRATION_FIELDS, key)))
+    return ModelSettings(model=COMPLIANT_DRUMS.name, **dict(zip(_CALIBRATION_FIELDS, key)))
 
 
 def calibrated_damping(column, settings, target=None):
@@ -428,8 +423,9 @@ def fixed_step(asm, params, y, settings):
 
 
 def numerics(settings):
-    """The compliant model's numerical choices: :data:`pipeline.settings.COMPLIANT_NUMERICS`, the settings' overrides."""
-    return {**COMPLIANT_NUMERICS, **dict(settings.numerics)}
+    """The compliant model's numerical choices: the defaults of its registry entry
+    (:data:`pipeline.models.compliant.COMPLIANT_DRUMS`), the settings' overrides."""
+    return {**COMPLIANT_DRUMS.numerics, **dict(settings.numerics)}
 
 
 def _integrate(asm, params, y0, duration, monitor, stride, settings, histories, theta_commit=math.inf,
@@ -507,14 +503,14 @@ def turned_record(motion, excitation):
 def simulate_compliant(column, motion, excitation, settings, histories=True, progress=None):
     """Response of a column at rest (monolith or drums) to a ground motion, compliant contact.
 
-    The friendly entry of :func:`pipeline.simulate.simulate` for ``model="3d-compliant"``;
+    The run of the registry's compliant model (:mod:`pipeline.models.compliant`);
     same arguments and the same :class:`pipeline.response.Response`. ``progress(done, total)``
     [s of motion], if given, is called about every simulated second (fixed-step integrator).
     """
     stack = as_stack(column)
-    if settings.model not in COMPLIANT_MODELS:
+    if not REGISTRY[settings.model].drums:
         raise InputError(f"model = {settings.model!r} is a rigid model of a monolith: a column of "
-                         f"{stack.n_drums} drum(s) needs model='3d-compliant'")
+                         f"{stack.n_drums} drum(s) needs one of {', '.join(m for m in REGISTRY if REGISTRY[m].drums)}")
     check_column(stack.column)
     if not isinstance(excitation, Excitation):
         raise InputError(f"excitation must be an Excitation, got {type(excitation).__name__}")

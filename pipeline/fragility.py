@@ -53,6 +53,7 @@ from scipy.special import log_ndtr, ndtr
 from pipeline import dataset
 from pipeline.dataset import annotate, append_history, write_netcdf
 from pipeline.errors import InputError
+from pipeline.models import DEFAULT, REGISTRY
 
 DEFAULT_STATES = (0.25, 0.5, 1.0)
 
@@ -306,7 +307,7 @@ def open_results(path):
 
 def _normalise(results, where="results"):
     if "model" not in results.dims:
-        model = str(results.attrs.get("model", "3d"))
+        model = str(results.attrs.get("model", DEFAULT))
         results = results.expand_dims(model=[model])
     missing = [d for d in RESULT_DIMS if d not in results.dims]
     if missing:
@@ -447,10 +448,11 @@ def _per_record(results, im, labels):
     exceed = np.stack([exceedance(results, s).broadcast_like(like).transpose(*RESULT_DIMS).values
                        for s in labels])
     models = [str(m) for m in results["model"].values]
-    # 3D results do not depend on the incidence angle (axisymmetric column): count each run once
+    # an angle-invariant model's results do not depend on the incidence angle (axisymmetric
+    # column): count each run once
     angle_weight = np.ones((len(models), results.sizes["angle"]))
     for i, m in enumerate(models):
-        if m == "3d":
+        if m in REGISTRY and REGISTRY[m].angle_invariant:
             angle_weight[i, 1:] = 0.0
     weight = valid * angle_weight.T[None, None, :, None, :]  # (column, record, angle, scale, model)
     return x, exceed, weight

@@ -11,7 +11,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from pipeline.model_descriptions import title as model_title  # noqa: E402
+from pipeline.models import DEFAULT  # noqa: E402
+from pipeline.models import title as model_title  # noqa: E402
 from pipeline.units import G  # noqa: E402
 
 
@@ -106,7 +107,7 @@ def response_figure(ds, summary, friction=0.7):
 
 def run_title(ds):
     """What one run is, for titles: record, incidence angle, scale, model and column."""
-    model = model_title(ds.attrs.get("model", "3d"))
+    model = model_title(ds.attrs.get("model", DEFAULT))
     column = (f"column R = {ds.attrs['column_R_m']:g} m, r = {ds.attrs['column_r_m']:g} m, "
               f"h = {ds.attrs['column_h_m']:g} m")
     if "record_id" not in ds.attrs or ds.attrs["record_id"] == "free-motion":

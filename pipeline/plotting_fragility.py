@@ -18,19 +18,13 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from pipeline.model_descriptions import title as model_title  # noqa: E402
+from pipeline.models import DEFAULT, REGISTRY, planar_pair  # noqa: E402
+from pipeline.models import style as _style  # noqa: E402  (each model's line, marker and band: its registry entry)
+from pipeline.models import title as model_title  # noqa: E402
 from pipeline.units import G  # noqa: E402
 
-# line of each model's fitted curves and marker of its observed fractions (3D filled, the others open);
-# the models' names come from pipeline.model_descriptions
-_MODEL_STYLE = {"3d": dict(ls="-", marker="o", filled=True), "2d": dict(ls="--", marker="s", filled=False),
-                "3d-compliant": dict(ls="-.", marker="^", filled=False)}
 _LINE_NAME = {"-": "solid", "--": "dashed", "-.": "dash-dotted", ":": "dotted"}
 _MARKER_NAME = {"o": "circles", "s": "squares", "^": "triangles"}
-
-
-def _style(model):
-    return _MODEL_STYLE.get(model, dict(ls=":", marker="D", filled=False))
 
 
 def line_key(models):
@@ -139,7 +133,7 @@ def plot_fragility(frag, stem, column=None, states=None, models=None, title=None
             keys.append((i, models.index(m)))
             if "probability_lower" in frag:
                 ax.fill_between(grid, cell["probability_lower"].values, cell["probability_upper"].values,
-                                color=color, alpha=0.12 if m == "3d" else 0.07, lw=0)
+                                color=color, alpha=_style(m)["band_alpha"], lw=0)
             frac = cell["stripe_fraction"].values
             ok = np.isfinite(frac)
             ax.plot(frag["stripe_im"].values[ok] * factor, frac[ok], ls="none",
@@ -197,7 +191,7 @@ def plot_ida(view, stem, title=None, units="m s-2", im="pga"):
     return _save(fig, stem)
 
 
-def plot_geometry_map(frag, stem, im_value, model="3d", state="overturning", title=None):
+def plot_geometry_map(frag, stem, im_value, model=DEFAULT, state="overturning", title=None):
     """Probability of a damage state at one IM level over slenderness h/R and conicity r/R.
 
     Each column is a point coloured by the fitted probability at ``im_value``
@@ -237,11 +231,14 @@ def plot_geometry_map(frag, stem, im_value, model="3d", state="overturning", tit
     return _save(fig, stem)
 
 
-def plot_angle_polar(results, stem, column, model="2d", scales=None, title=None):
+def plot_angle_polar(results, stem, column, model=None, scales=None, title=None):
     """Fraction of records that overturn the column at each incidence angle (polar).
 
-    The 2D model sees the record turned by the angle; angle and angle + 180
+    A planar model sees the record turned by the angle; angle and angle + 180
     deg are the same planar excitation mirrored, so the data are drawn on both.
+    ``model``: the results' model to draw (default: the first planar one); the model it is the
+    planar counterpart of, if in the results, is drawn as dotted rings (it does not depend on
+    the angle).
 
     Parameters
     ----------
@@ -250,6 +247,9 @@ def plot_angle_polar(results, stem, column, model="2d", scales=None, title=None)
     scales : list of float, optional
         Scale stripes to draw (default: all where some run overturned).
     """
+    names = [str(m) for m in results["model"].values]
+    if model is None:
+        model = next((m for m in names if m in REGISTRY and REGISTRY[m].planar), names[0])
     one = results.sel(column=column, model=model)
     valid = one["status"] == 0 if "status" in one else True
     frac = (one["overturned"].where(valid) > 0).where(valid).mean("record")  # (angle, scale)
@@ -261,8 +261,9 @@ def plot_angle_polar(results, stem, column, model="2d", scales=None, title=None)
     cmap = plt.get_cmap("viridis")
     units = results["scale"].attrs.get("units", "1")
     reference = None
-    if model != "3d" and "3d" in [str(m) for m in results["model"].values]:
-        ref = results.sel(column=column, model="3d").isel(angle=0)
+    spatial = REGISTRY[model].planar_of if model in REGISTRY else None
+    if spatial in names:
+        ref = results.sel(column=column, model=spatial).isel(angle=0)
         ok = ref["status"] == 0 if "status" in ref else True
         reference = (ref["overturned"].where(ok) > 0).where(ok).mean("record")  # (scale,)
     ring = np.linspace(0, 2 * np.pi, 181)
@@ -322,22 +323,27 @@ def plot_trajectories(runs, stem, title=None):
 def plot_model_comparison(frag, stem, state="overturning", title=None):
     """Median IM of a damage state, 3D against 2D, per column, with bootstrap bounds.
 
-    Points above the diagonal: 2D needs a stronger motion than 3D to overturn
-    the column, i.e. the 2D analysis is unconservative there.
+    The 3D model and its planar counterpart (:func:`pipeline.models.planar_pair`). Points above
+    the diagonal: 2D needs a stronger motion than 3D to overturn the column, i.e. the 2D
+    analysis is unconservative there.
     """
     factor, label, _ = im_axis(frag.attrs.get("intensity_measure", "pga"), frag["median"].attrs.get("units", ""))
     sub = frag.sel(state=state)
-    m3 = sub["median"].sel(model="3d").values * factor
-    m2 = sub["median"].sel(model="2d").values * factor
+    pair = planar_pair([str(m) for m in frag["model"].values])
+    if pair is None:
+        return []  # no 3D model with its planar counterpart: nothing to compare
+    spatial, planar = pair
+    m3 = sub["median"].sel(model=spatial).values * factor
+    m2 = sub["median"].sel(model=planar).values * factor
     if not np.any(np.isfinite(m3) & np.isfinite(m2) & (m3 > 0) & (m2 > 0)):
         return []  # no column has a median under both models (e.g. nothing overturned): nothing to draw
     fig, ax = plt.subplots(figsize=(7.0, 6.0), constrained_layout=True)
     many = m3.size > 5 and "slenderness" in frag.coords and "column_beta" in frag.coords
     if "median_lower" in frag:
-        xerr = np.nan_to_num([m3 - sub["median_lower"].sel(model="3d").values * factor,
-                              sub["median_upper"].sel(model="3d").values * factor - m3])
-        yerr = np.nan_to_num([m2 - sub["median_lower"].sel(model="2d").values * factor,
-                              sub["median_upper"].sel(model="2d").values * factor - m2])
+        xerr = np.nan_to_num([m3 - sub["median_lower"].sel(model=spatial).values * factor,
+                              sub["median_upper"].sel(model=spatial).values * factor - m3])
+        yerr = np.nan_to_num([m2 - sub["median_lower"].sel(model=planar).values * factor,
+                              sub["median_upper"].sel(model=planar).values * factor - m2])
         ax.errorbar(m3, m2, xerr=xerr, yerr=yerr, fmt="none", ecolor="0.6", capsize=2, lw=0.8,
                     label=f"{100 * frag.attrs.get('confidence_level', 0.9):g} % bootstrap bounds")
     if many:
@@ -423,7 +429,7 @@ def plot_column_grid(frag, values, stem, label, title, cmap="viridis", vmin=None
     return _save(fig, stem)
 
 
-def plot_curve_comparison(frags, stem, column, state="overturning", model="3d", title=None):
+def plot_curve_comparison(frags, stem, column, state="overturning", model=DEFAULT, title=None):
     """Fitted curves of one column and state from several fragility datasets (e.g. options).
 
     Parameters

@@ -32,7 +32,8 @@ import os
 import numpy as np
 
 from pipeline import fragility as F
-from pipeline import model_descriptions as MD
+from pipeline import models as MD
+from pipeline.models import planar_pair
 from pipeline import plotting_fragility as P
 from pipeline.atomic import atomic_folder, atomic_open
 from pipeline.errors import InputError
@@ -52,7 +53,7 @@ CSV_DIGITS = 4
 def assumptions(models, vertical=True, options=None):
     """The report's assumptions as Markdown bullets: what every model shares, then each model run.
 
-    Each model is described by its entry of :mod:`pipeline.model_descriptions` and only the
+    Each model is described by its entry of the registry (:mod:`pipeline.models`) and only the
     models given are described, so a report says nothing about a model it did not run.
 
     Parameters
@@ -68,7 +69,7 @@ def assumptions(models, vertical=True, options=None):
     -------
     str
     """
-    compliant = "3d-compliant" in models
+    compliant = any(MD.get(m).drums for m in models)
     shape = ("Each column is a conical frustum (a cone with its tip cut off): bottom radius R, top radius r, "
              "height h" + ("; the compliant model may cut it into drums and put a capital on top" if compliant
                            else "") + ". Its bodies are rigid and homogeneous: they do not bend, crack or break; "
@@ -200,28 +201,29 @@ def model_comparison(results, frag, pga_levels_g=DEFAULT_PGA_LEVELS_G):
         for both models and the largest shortfall of 2D (3D fraction minus 2D
         fraction) with its stripe.
     """
-    models = [str(m) for m in frag["model"].values]
-    if not ("3d" in models and "2d" in models):
+    pair = planar_pair([str(m) for m in frag["model"].values])
+    if pair is None:  # the 3D model and its planar counterpart are compared, or nothing
         return []
+    spatial, planar = pair
     probs = overturning_probabilities(frag, pga_levels_g)
     rows = []
     for c in frag["column"].values:
         c = str(c)
         cell = frag.sel(state="overturning", column=c)
-        m3, m2 = float(cell["median"].sel(model="3d")), float(cell["median"].sel(model="2d"))
-        f3 = cell["stripe_fraction"].sel(model="3d").values
-        f2 = cell["stripe_fraction"].sel(model="2d").values
+        m3, m2 = float(cell["median"].sel(model=spatial)), float(cell["median"].sel(model=planar))
+        f3 = cell["stripe_fraction"].sel(model=spatial).values
+        f2 = cell["stripe_fraction"].sel(model=planar).values
         gap = f3 - f2
         worst = int(np.nanargmax(gap)) if np.any(np.isfinite(gap)) else 0
         rows.append({
             "column": c,
             "median_3d": m3,
             "median_2d": m2,
-            "extrapolated_3d": extrapolation(m3, simulated_pga_range(results, c, "3d")),
-            "extrapolated_2d": extrapolation(m2, simulated_pga_range(results, c, "2d")),
+            "extrapolated_3d": extrapolation(m3, simulated_pga_range(results, c, spatial)),
+            "extrapolated_2d": extrapolation(m2, simulated_pga_range(results, c, planar)),
             "ratio": m2 / m3 if (np.isfinite(m2) and np.isfinite(m3) and m3 > 0) else math.nan,
-            "p3d": probs[(c, "3d")],
-            "p2d": probs[(c, "2d")],
+            "p3d": probs[(c, spatial)],
+            "p2d": probs[(c, planar)],
             "stripe_scale": frag["scale"].values,
             "stripe_im": frag["stripe_im"].values,
             "fraction_3d": f3,
@@ -368,11 +370,12 @@ CAPTIONS = (
 )
 
 
-#: What a figure's caption adds when the study ran a model: (figure prefix, model) -> words.
+#: What a figure's caption adds when the study ran a model of a kind: (figure prefix, what the
+#: model is, an attribute of its registry entry) -> words.
 CAPTION_MODEL_NOTES = {
-    ("fragility_states", "3d-compliant"): "; for columns of drums, also the residual slip of a joint reaching a "
+    ("fragility_states", "drums"): "; for columns of drums, also the residual slip of a joint reaching a "
     "fraction of its diameter.",
-    ("angle_polar", "3d"): "; dotted rings: the 3D model, which does not depend on the direction.",
+    ("angle_polar", "angle_invariant"): "; dotted rings: the 3D model, which does not depend on the direction.",
 }
 
 
@@ -486,9 +489,10 @@ def _write_report_into(results, out_dir, pga_levels_g, states, bootstrap, seed, 
                 os.path.join(fig_dir, f"probability_grid_{m}"), "probability of overturning [1]",
                 f"{MD.title(m)}: probability of overturning at PGA = {level:g} g "
                 f"({_fmt(level * G)} m/s²)", vmin=0, vmax=1)[:1]
-        if "3d" in models and "2d" in models:
-            ratio = (frag["median"].sel(state="overturning", model="2d")
-                     / frag["median"].sel(state="overturning", model="3d")).values
+        pair = planar_pair(models)
+        if pair is not None:
+            ratio = (frag["median"].sel(state="overturning", model=pair[1])
+                     / frag["median"].sel(state="overturning", model=pair[0])).values
             figs += P.plot_column_grid(
                 frag, ratio, os.path.join(fig_dir, "median_ratio_2d_3d_grid"), "median PGA 2D / median PGA 3D [1]",
                 "Median PGA of overturning, 2D over 3D (> 1: 2D unconservative)", cmap="magma_r", fmt="{:.2f}")[:1]
@@ -500,9 +504,11 @@ def _write_report_into(results, out_dir, pga_levels_g, states, bootstrap, seed, 
         view = F.ida(results, im="pga", model=m, column=columns[0])
         figs += P.plot_ida(view, os.path.join(fig_dir, f"ida_{columns[0]}_{m}"),
                            title=f"IDA, column '{columns[0]}', {m.upper()} model"
-                           + ("" if MD.describe(m).angle_invariant else " (largest over incidence angles)"))[:1]
-    if "2d" in models and results.sizes["angle"] > 1:
-        figs += P.plot_angle_polar(results, os.path.join(fig_dir, f"angle_polar_{columns[0]}"), columns[0])[:1]
+                           + ("" if MD.get(m).angle_invariant else " (largest over incidence angles)"))[:1]
+    planar = [m for m in models if MD.get(m).planar]
+    if planar and results.sizes["angle"] > 1:
+        figs += P.plot_angle_polar(results, os.path.join(fig_dir, f"angle_polar_{columns[0]}"), columns[0],
+                                   model=planar[0])[:1]
     comparison = model_comparison(results, frag, pga_levels_g)
     if comparison:
         figs += P.plot_model_comparison(frag, os.path.join(fig_dir, "median_2d_vs_3d"))[:1]
@@ -589,7 +595,7 @@ def _overturning_all_columns(frag, stem):
     for i, c in enumerate(frag["column"].values):
         for m in frag["model"].values:
             cell = frag.sel(state="overturning", column=c, model=m)
-            ax.plot(grid, cell["probability"].values, color=f"C{i}", ls="-" if m == "3d" else "--", lw=1.5,
+            ax.plot(grid, cell["probability"].values, color=f"C{i}", ls=MD.style(str(m))["ls"], lw=1.5,
                     label=f"{c}, {str(m).upper()} (h/R = {float(frag['slenderness'].sel(column=c)):.3g})"
                     if "slenderness" in frag.coords else f"{c}, {m}")
     ax.set_xscale("log")
@@ -781,7 +787,7 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
                  (f" from {len(quakes)} earthquake(s): {', '.join(quakes)}" if quakes else "") +
                  (f" (ids {records[0]} ... {records[-1]})" if len(records) > 1 else f" ({records[0]})") + ".")
     angles = results["angle"].values
-    invariant = [m.upper() for m in models if MD.describe(m).angle_invariant]
+    invariant = [m.upper() for m in models if MD.get(m).angle_invariant]
     lines.append(f"- **{n['angle']} incidence angle(s)**: {', '.join(_fmt(a) for a in angles)} deg "
                  "(the direction in which the record hits the column" +
                  (f"; the {' and '.join(invariant)} results do not depend on it" if invariant else "") + ").")
@@ -800,12 +806,12 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
                  f"to {_g_and_ms2(float(pga.max()))}.")
     lines.append(f"- **Model(s)**: {', '.join(f'{MD.title(m)} (`{m}`)' for m in models)}.")
     lines.append(f"- {n_total} simulations in the dataset, {n_failed} failed and left out.")
-    for flag in ("sliding_onset", "lift_off"):  # each model says what its flag counts (model_descriptions)
+    for flag in ("sliding_onset", "lift_off"):  # each model says what its flag counts (its registry entry)
         if flag in results.variables:
             for m in models:
                 one = results.sel(model=m)
                 ok = F._valid(one)
-                if MD.describe(m).angle_invariant:  # one run per angle set, broadcast
+                if MD.get(m).angle_invariant:  # one run per angle set, broadcast
                     one, ok = one.isel(angle=[0]), ok.isel(angle=[0])
                 count = int(((one[flag] > 0) & ok).sum())
                 lines.append(f"- {m.upper()}: in {count} of {int(ok.sum())} runs {getattr(MD.describe(m), flag)}.")
@@ -890,7 +896,7 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
                 verdict = ("2D is **unconservative**: it needs a {:.0f} % stronger PGA to overturn the column half "
                            "of the time".format(100 * (r["ratio"] - 1)) if r["ratio"] > 1 else
                            "2D is conservative here: its median PGA is {:.0f} % lower".format(100 * (1 - r["ratio"])))
-                marked = [m.upper() for m in ("3d", "2d") if r[f"extrapolated_{m}"]]
+                marked = [label for label, key in (("3D", "extrapolated_3d"), ("2D", "extrapolated_2d")) if r[key]]
                 if marked:
                     verdict += f" (the {' and '.join(marked)} median extrapolated beyond the shaking simulated)"
             else:
@@ -925,8 +931,8 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
         name = stem.replace("_", " ")
         lines += [f"![{name}]({image(path)})", ""]
         caption = next((text for prefix, text in CAPTIONS if stem.startswith(prefix)), None)
-        for (prefix, model), more in CAPTION_MODEL_NOTES.items():  # only what the models run draw
-            if caption and stem.startswith(prefix) and model in models:
+        for (prefix, kind), more in CAPTION_MODEL_NOTES.items():  # only what the models run draw
+            if caption and stem.startswith(prefix) and any(getattr(MD.get(m), kind) for m in models):
                 caption = caption[:-1] + more
         if caption:
             lines += [f"*{caption}*", ""]

@@ -3,12 +3,11 @@
 Every model reads its inputs from here, and every input is checked here, once, when it is
 made (a bad value raises :class:`pipeline.errors.InputError` naming the field and the range):
 
-* :data:`MODELS`, :data:`COMPLIANT_MODELS`: the models' names.
-* :class:`ModelSettings`: the model and its options, each default written once
-  (friction [1], stiffnesses [Pa/m], damping, tolerances, tail [s], ...); the numerical
-  choices of the rigid kernels (:data:`pipeline.dynamics.rigid.layout.NUMERICS`) and of the
-  compliant model (:data:`COMPLIANT_NUMERICS`), and the compliant integrators
-  (:data:`INTEGRATORS`).
+* :class:`ModelSettings`: the model (a name of the registry, :mod:`pipeline.models`) and its
+  options, each default written once (friction [1], stiffnesses [Pa/m], damping, tolerances,
+  tail [s], ...); the numerical choices each model declares in its registry entry, and the
+  compliant integrators (:data:`INTEGRATORS`). It imports no kernel: the command's help
+  reads its defaults without loading numba.
 * :class:`Excitation`: how a record drives the column (incidence angle [deg], scale [1],
   vertical component).
 * :class:`InitialState`: Euler angles [deg] and rates [rad/s] of a free motion.
@@ -22,14 +21,10 @@ studies, and imports only kernels' constants.
 import math
 from dataclasses import dataclass
 
-from pipeline.dynamics import semi_implicit as si
-from pipeline.dynamics import stack as sk
-from pipeline.dynamics.rigid import layout as hy  # the rigid kernels' NUMERICS
+from pipeline import models
+from pipeline.models.compliant import COMPLIANT_DRUMS
 from pipeline.errors import InputError
 from pipeline.units import G, deg_to_rad
-
-MODELS = ("3d", "2d", "3d-compliant")
-COMPLIANT_MODELS = ("3d-compliant",)  # pipeline.compliant: rigid drums on compliant joints
 
 # Geometry the model is meant for: free-standing columns and drums, from
 # squat drums to slender monoliths, from pebbles to the largest monoliths.
@@ -37,22 +32,14 @@ RADIUS_RANGE = (1e-3, 50.0)  # [m]
 SLENDERNESS_RANGE = (0.05, 200.0)  # h/R [1]
 BETA_RANGE = (0.05, 20.0)  # r/R [1]
 
-# Numerical choices of the joint law that are not measured physics, overridable through
-# ``ModelSettings.numerics`` by studies that show what they move:
-# edge_band: width of the band past a face's edge over which a point's support runs off
-# (:func:`pipeline.dynamics.joint.overlap`), in spacings of the two outer rings of contact
-# points [1]. Only a drum tilting or sliding over the edge of the one below meets it.
-# step_safety: the fixed step of the semi-implicit integrator as a fraction of its stability
-# limit 2 / omega_max on the stiffest joint mode (:mod:`pipeline.dynamics.semi_implicit`) [1].
-COMPLIANT_NUMERICS = {"edge_band": 0.5, "step_safety": si.SAFETY}
-# the range each numerical choice may take, and what it is
+# the range of the compliant model's numerical choices (pipeline.models.compliant), and what each is
 _NUMERICS_RANGES = {
     "edge_band": (0.05, 5.0, "width of the band past a face's edge, in spacings of the outer rings of contact points"),
     "step_safety": (0.01, 0.9, "fixed step as a fraction of the stability limit of the stiffest joint"),
 }
-# Integrators of the compliant models: the fixed-step semi-implicit one (default) and the
-# adaptive ones it is checked against.
-INTEGRATORS = ("semi-implicit",) + tuple(sk.METHODS)
+# Integrators of the compliant model: the fixed-step semi-implicit one (default) and the
+# adaptive ones it is checked against (its registry entry).
+INTEGRATORS = COMPLIANT_DRUMS.integrators
 
 
 @dataclass(frozen=True)
@@ -99,9 +86,9 @@ class ModelSettings:
 
     Parameters
     ----------
-    model : {"3d", "2d", "3d-compliant"}
-        Rolling frustum (the paper), planar rocking (Housner), or rigid drums
-        on joints of contact points (:mod:`pipeline.compliant`).
+    model : str
+        A model of the registry (:func:`pipeline.models.names`): the rolling frustum of
+        the paper, planar rocking (Housner), or rigid drums on joints of contact points.
     restitution : float, optional
         theta' after / before a landing [1]. Default (None): the impact
         conserves angular momentum about the new pivot (for planar rocking
@@ -137,12 +124,11 @@ class ModelSettings:
         its default target, the rigid value, is out of its reach and gives
         that critical damping too.
     numerics : tuple of (str, float)
-        Overrides of the rigid kernels' numerical thresholds
-        (:data:`pipeline.dynamics.rigid.layout.NUMERICS`: ``landing_margin``,
-        ``min_rebound``, ``slave_time``, ``look_ahead``, ``slaved_turn``), for studies that
-        show no result depends on them; e.g. ``(("slave_time", 1e-5),)``. With
-        ``"3d-compliant"``, overrides of :data:`COMPLIANT_NUMERICS` instead
-        (``edge_band``, ``step_safety``).
+        Overrides of the numerical choices the model declares (``Model.numerics`` of its
+        registry entry: the rigid kernels' thresholds ``landing_margin``, ``min_rebound``,
+        ``slave_time``, ``look_ahead``, ``slaved_turn``; the compliant model's ``edge_band``
+        and ``step_safety``), for studies that show what they move; e.g.
+        ``(("slave_time", 1e-5),)``.
     tail : float
         Free motion after the record ends [s].
     rtol, atol : float
@@ -171,7 +157,7 @@ anathyrosis, base_anathyrosis, monitor_step
         :mod:`pipeline.compliant`.
     """
 
-    model: str = "3d"
+    model: str = models.DEFAULT
     restitution: float | None = None
     contact_tilt: float | None = None
     damping: float = 0.0
@@ -196,8 +182,7 @@ anathyrosis, base_anathyrosis, monitor_step
     step: float | None = None
 
     def __post_init__(self):
-        if self.model not in MODELS:
-            raise InputError(f"model = {self.model!r} is unknown; choose one of {', '.join(MODELS)}")
+        model = models.get(self.model)  # an unknown name is refused with the choices
         checks = {
             "damping": (0.0, 100.0, "(per m g R sqrt(R/g))"),
             "tail": (0.0, 3600.0, "s"),
@@ -220,12 +205,13 @@ anathyrosis, base_anathyrosis, monitor_step
                 isinstance(self.contact_damping, (int, float)) and 0.0 <= self.contact_damping < math.inf):
             raise InputError(f"contact_damping = {self.contact_damping!r} Pa s/m must be a number >= 0 "
                              "(or omitted for critical damping)")
-        # the compliant model's own numerics are checked by _check_compliant
-        numerics = dict(self.numerics) if self.model != "3d-compliant" else {}
-        for name, value in numerics.items():
-            if name not in hy.NUMERICS:
-                raise InputError(f"numerics: {name!r} is unknown; choose from {', '.join(hy.NUMERICS)}")
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+        for name, value in dict(self.numerics).items():  # the numerical choices the model declares
+            if name not in model.numerics:
+                raise InputError(f"numerics: {name!r} is not a numerical choice of the {model.name} model; "
+                                 f"choose from {', '.join(model.numerics)}")
+            if name in _NUMERICS_RANGES:
+                _number(value, f"numerics: {name}", *_NUMERICS_RANGES[name][:2], "", _NUMERICS_RANGES[name][2])
+            elif not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise InputError(f"numerics: {name} = {value!r} must be a positive number")
         for name in ("rtol", "atol", "output_step"):
             value = getattr(self, name)
@@ -233,7 +219,7 @@ anathyrosis, base_anathyrosis, monitor_step
                 raise InputError(f"{name} = {value!r} must be a positive number")
         if self.restitution is not None and not (0.0 <= self.restitution <= 1.0):
             raise InputError(f"restitution = {self.restitution!r} must be between 0 and 1 (or omitted)")
-        _check_compliant(self)
+        _check_compliant(self, model)
 
 
 @dataclass(frozen=True)
@@ -335,7 +321,7 @@ def _number_or_list(settings, name, lo, hi, what):
         object.__setattr__(settings, name, _number(value, name, lo, hi, "", what))
 
 
-def _check_compliant(settings):
+def _check_compliant(settings, model):
     """Check (and normalise) the compliant-model fields of a ModelSettings, naming the field.
 
     Called by ``ModelSettings.__post_init__`` for every model: the fields exist for all.
@@ -365,12 +351,7 @@ def _check_compliant(settings):
             "normal damping of the joints per unit area (omit it to calibrate it to the restitution)"))
     _number_or_list(settings, "joint_friction", 1e-3, 100.0, "friction coefficient of the bed joints")
     _number_or_list(settings, "anathyrosis", 0.0, 0.95, "inner/outer radius of the bed joints' contact ring")
-    if settings.model == "3d-compliant":
-        for name, value in dict(settings.numerics).items():
-            if name not in COMPLIANT_NUMERICS:
-                raise InputError(f"numerics: {name!r} is not a numerical choice of the compliant model; "
-                                 f"choose from {', '.join(COMPLIANT_NUMERICS)}")
-            _number(value, f"numerics: {name}", *_NUMERICS_RANGES[name][:2], "", _NUMERICS_RANGES[name][2])
+    if model.drums:
         # the rigid models also take an infinite stiffness and friction (the paper's point contact
         # rolling without slip); the joints of contact points need finite ones
         _number(settings.normal_stiffness, "normal_stiffness", *_STIFFNESS)
@@ -379,11 +360,14 @@ def _check_compliant(settings):
                              "needs a finite friction coefficient at the base (e.g. 10 for no sliding)")
 
 
+#: The settings of a free motion (:func:`pipeline.simulate.simulate_free`): tight tolerances,
+#: landing at theta = 0.
+FREE_MOTION = ModelSettings(rtol=1e-12, atol=1e-14, contact_tilt=0.0)
+
+
 __all__ = [
-    "MODELS",
-    "COMPLIANT_MODELS",
-    "COMPLIANT_NUMERICS",
     "INTEGRATORS",
+    "FREE_MOTION",
     "InitialState",
     "ModelSettings",
     "Excitation",

@@ -1,25 +1,25 @@
 """One column, one motion, one set of settings -> one response.
 
-This module is the friendly layer over :mod:`pipeline.dynamics`: it checks
-inputs, converts SI quantities to the kernels' dimensionless variables, runs
-the compiled hybrid simulation (:mod:`pipeline.dynamics.hybrid`) and returns
-a :class:`pipeline.response.Response`: a summary (peaks, overturning, energy budget, ...) and,
-on request, an ``xarray.Dataset`` of time histories named as in
-:mod:`pipeline.dataset`.
+:func:`simulate` is the facade: it asks the model registry (:mod:`pipeline.models`) for the
+model of ``settings.model`` and runs it; every model returns a
+:class:`pipeline.response.Response`: a summary (peaks, overturning, energy budget, ...) and, on
+request, an ``xarray.Dataset`` of time histories named as in :mod:`pipeline.dataset`.
 
-Three models share this interface (``ModelSettings.model``, :mod:`pipeline.settings`); the third,
-``"3d-compliant"`` (rigid drums on joints of contact points, monolith or
-multi-drum, :mod:`pipeline.compliant`), is dispatched to its own module:
+The rest of the module runs the rigid models of a monolith (:func:`simulate_rigid`): it
+converts SI quantities to the kernels' dimensionless variables and runs the compiled
+event-driven kernels of :mod:`pipeline.dynamics.rigid`:
 
-* ``"3d"``: the rolling frustum of the paper. The column is axisymmetric, so
+* the rolling frustum of the paper (not ``planar``). The column is axisymmetric, so
   its response to a record turned by the incidence angle is its response to
   the record as recorded, turned by that angle. The kernel is run on the
   record in its own frame and the horizontal outputs are turned afterwards:
   the angle changes no number but the directions, exactly, and a
   one-directional record stays planar by construction.
-* ``"2d"``: classical planar rocking (Housner) of the same column in the
+* classical planar rocking (Housner) of the same column (``planar``) in the
   vertical plane of the X axis, driven by the X component of the turned
   record.
+
+The compliant model (drums on joints of contact points) runs in :mod:`pipeline.compliant`.
 """
 
 import math
@@ -28,18 +28,20 @@ from dataclasses import dataclass, replace
 import numpy as np
 import xarray as xr
 
+from pipeline import models
 from pipeline.compliant import simulate_compliant
 from pipeline.dataset import annotate, append_history
 from pipeline.dynamics import frustum as fk
 from pipeline.dynamics.rigid import diagnostics as rd
-from pipeline.dynamics.rigid import layout as hy  # the rigid runs' layouts: S_*, PHASE_*, NUMERICS
+from pipeline.dynamics.rigid import layout as hy  # the rigid runs' layouts: S_*, PHASE_*
 from pipeline.dynamics.rigid import rocking as rk
 from pipeline.dynamics.rigid.run2d import run_rocking
 from pipeline.dynamics.rigid.run3d import run_frustum
 from pipeline.errors import InputError
 from pipeline.geometry import Column
+from pipeline.models.rigid import ROLLING_FRUSTUM
 from pipeline.response import Response
-from pipeline.settings import COMPLIANT_MODELS, Excitation, ModelSettings, check_column
+from pipeline.settings import FREE_MOTION, Excitation, ModelSettings, check_column
 from pipeline.units import MARBLE_DENSITY, G, deg_to_rad, time_scale
 
 # The contact tilt of a rigid base (no compliance to set it): small enough to
@@ -73,7 +75,7 @@ def _options(column, settings):
     opts[fk.OPT_UNILATERAL] = 1.0 if settings.lift_off else 0.0
     opts[fk.OPT_THETA_K], opts[fk.OPT_PATCH_DAMPING] = patch_parameters(column, settings)
     opts[fk.OPT_THETA_C] = contact_tilt(column, settings)
-    numerics = {**hy.NUMERICS, **dict(settings.numerics)}
+    numerics = {**models.get(settings.model).numerics, **dict(settings.numerics)}
     opts[fk.OPT_LANDING_MARGIN] = numerics["landing_margin"]
     opts[fk.OPT_MIN_REBOUND] = numerics["min_rebound"]
     opts[fk.OPT_SLAVE_TIME] = numerics["slave_time"]
@@ -122,7 +124,7 @@ def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), 
     Parameters
     ----------
     column : pipeline.geometry.Column or pipeline.drums.DrumColumn
-        A multi-drum column needs the model ``"3d-compliant"``.
+        A multi-drum column needs a model that runs drums (``Model.drums`` of the registry).
     motion : pipeline.groundmotion.GroundMotion
     excitation : Excitation
         Incidence angle, scale and whether to use the vertical component.
@@ -137,8 +139,20 @@ def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), 
     -------
     Response
     """
-    if settings.model in COMPLIANT_MODELS or not isinstance(column, Column):
+    model = models.get(settings.model)
+    if not isinstance(column, Column) and not model.drums:
+        # a column of drums for a model of monoliths: the compliant model's check says which model to use
         return simulate_compliant(column, motion, excitation, settings, histories, progress=progress)
+    return model.run(column, motion, excitation, settings, histories, progress)
+
+
+def simulate_rigid(column, motion, excitation, settings, histories=True, progress=None):
+    """The run of the registry's rigid models of a monolith (:mod:`pipeline.models.rigid`).
+
+    Same arguments and result as :func:`simulate`; ``progress`` is not called (a rigid run
+    takes a fraction of a second to seconds).
+    """
+    planar = models.get(settings.model).planar
     check_column(column)
     if not isinstance(excitation, Excitation):
         raise InputError(f"excitation must be an Excitation, got {type(excitation).__name__}")
@@ -148,7 +162,7 @@ def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), 
     az = motion.acc_z
     az = np.zeros_like(ax) if (az is None or not excitation.vertical) else np.asarray(az) * excitation.scale
     gamma = excitation.angle_rad
-    if settings.model == "3d":
+    if not planar:
         record = np.stack([ax, ay, az], axis=1) / G  # turned after, by axisymmetry
     else:
         a_u = ax * math.cos(gamma) - ay * math.sin(gamma)  # X component of the turned pair
@@ -156,7 +170,7 @@ def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), 
     record = np.ascontiguousarray(record)
     dt = motion.dt / t_scale
     duration = motion.duration + settings.tail
-    y0 = np.zeros(fk.N_STATE if settings.model == "3d" else rk.N_STATE2)
+    y0 = np.zeros(rk.N_STATE2 if planar else fk.N_STATE)
     raw = _run(column, settings, record, dt, y0, duration)
     diag = _diagnostics(raw, settings)
     summary = _summary(column, settings, raw, diag, motion, excitation)
@@ -164,7 +178,7 @@ def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), 
     return Response(summary, ds, _impact_table(raw, column))
 
 
-def simulate_free(column, initial, duration, settings=ModelSettings(rtol=1e-12, atol=1e-14, contact_tilt=0.0),
+def simulate_free(column, initial, duration, settings=FREE_MOTION,
                   restitution=None, friction=math.inf, lift_off=False, normal_stiffness=math.inf):
     """Free motion (no ground motion) of the 3D column released on its rim.
 
@@ -192,7 +206,7 @@ def simulate_free(column, initial, duration, settings=ModelSettings(rtol=1e-12, 
         raise InputError(f"duration = {duration!r} s must be a positive number of seconds")
     if restitution is not None:
         settings = replace(settings, restitution=float(restitution))
-    settings = replace(settings, model="3d", friction=friction, lift_off=lift_off,
+    settings = replace(settings, model=ROLLING_FRUSTUM.name, friction=friction, lift_off=lift_off,
                        normal_stiffness=normal_stiffness)
     rate = time_scale(column.R)  # (rad/s) * rate = rad per tau
     y0 = np.zeros(fk.N_STATE)
@@ -234,7 +248,7 @@ def _run(column, settings, record, dt, y0, duration):
     breaks = np.arange(record.shape[0]) * dt  # kinks of the linearly interpolated record
     summary = np.zeros(hy.N_SUMMARY)
     restitution = -1.0 if settings.restitution is None else float(settings.restitution)
-    runner = run_frustum if settings.model == "3d" else run_rocking
+    runner = run_rocking if models.get(settings.model).planar else run_frustum
     impacts = np.empty((MAX_LOGGED_IMPACTS, 4))  # the kernel fills every logged row; only those are read
     n = runner(params, restitution, y0, tau_end, tau, states, phase, breaks, settings.rtol, settings.atol,
                summary, impacts)
@@ -259,7 +273,7 @@ def _impact_table(raw, column):
 def _diagnostics(raw, settings):
     """Per-row derived quantities (``hybrid.D_*`` columns, dimensionless)."""
     out = np.full((raw.tau.shape[0], rd.N_DIAGNOSTICS), np.nan)
-    rd.diagnostics_rows(raw.tau, raw.states, raw.phase, raw.params, settings.model == "3d", out)
+    rd.diagnostics_rows(raw.tau, raw.states, raw.phase, raw.params, not models.get(settings.model).planar, out)
     return out
 
 
@@ -271,7 +285,7 @@ def _summary(column, settings, raw, diag, motion, excitation):
     e_start, e_end = s[hy.S_ENERGY_START], s[hy.S_ENERGY_END]
     work, dissipated, friction = s[hy.S_WORK], s[hy.S_DISSIPATED], s[hy.S_FRICTION]
     balance = (e_end - e_start) - (work + s[hy.S_TRANSITION] - dissipated - friction)
-    residual_rotation = s[hy.S_ROTATION] if settings.model == "3d" else 0.0
+    residual_rotation = 0.0 if models.get(settings.model).planar else s[hy.S_ROTATION]
     out = {
         "model": settings.model,
         "peak_theta": float(s[hy.S_PEAK_THETA]),
@@ -316,7 +330,7 @@ def _histories(column, settings, raw, diag, excitation, motion):
     cg, sg = math.cos(excitation.angle_rad), math.sin(excitation.angle_rad)
     bx, by = diag[:, rd.D_BASE_X] * R, diag[:, rd.D_BASE_Y] * R
     px, py = diag[:, rd.D_CONTACT_X] * R, diag[:, rd.D_CONTACT_Y] * R
-    if settings.model == "3d":
+    if not models.get(settings.model).planar:
         theta = np.where(flat, 0.0, st[:, fk.THETA])
         data = {
             "phi": np.where(flat, np.nan, st[:, fk.PHI] + excitation.angle_rad),

@@ -68,7 +68,8 @@ from pipeline.drums import Capital, DrumColumn
 from pipeline.errors import InputError
 from pipeline.geometry import Column
 from pipeline.limits import check_tolerance
-from pipeline.settings import COMPLIANT_MODELS, INTEGRATORS, MODELS, ModelSettings, check_column
+from pipeline.models import DEFAULT, REGISTRY
+from pipeline.settings import INTEGRATORS, ModelSettings, check_column
 from pipeline.units import G
 
 __all__ = ["Study", "RecordSpec", "ColumnInfo", "Intensity", "load_study", "load_motions", "parse_study"]
@@ -129,8 +130,8 @@ class ColumnInfo:
         return 1 if self.stack is None else self.stack.n_bodies
 
     def body(self, model):
-        """What ``model`` runs: the drums for the compliant model, else the shaft as a monolith."""
-        return self.stack if (self.stack is not None and model in COMPLIANT_MODELS) else self.column
+        """What ``model`` (a name) runs: the drums for a model of drums, else the shaft as a monolith."""
+        return self.stack if (self.stack is not None and REGISTRY[model].drums) else self.column
 
 
 @dataclass(frozen=True)
@@ -279,7 +280,7 @@ class Study:
     def n_joints(self):
         """Length of the results' ``joint`` dimension: the most bodies of a column when the
         compliant model is run (joint k is the base of body k), else 0 (no such dimension)."""
-        if not any(m in COMPLIANT_MODELS for m in self.models):
+        if not any(REGISTRY[m].drums for m in self.models):
             return 0
         return max(c.n_bodies for c in self.columns)
 
@@ -417,13 +418,13 @@ def parse_study(data, path="<study>", digest=""):
         ck.fail("output", f"{given!r} is a folder; give the path of a file, e.g. out/{path.stem}.nc "
                 "(its checkpoint folder, FILE.checkpoint, goes beside it)")
     output = str(output)
-    models = data.get("models", ["3d"])
+    models = data.get("models", [DEFAULT])
     models = tuple(ck.strings(models, "models"))
     if not models:
-        ck.fail("models", f"is empty: give one or more of {', '.join(MODELS)}")
+        ck.fail("models", f"is empty: give one or more of {', '.join(REGISTRY)}")
     for i, m in enumerate(models):
-        if m not in MODELS:
-            ck.fail(f"models[{i}]", f"{m!r} is unknown; choose from {', '.join(MODELS)}")
+        if m not in REGISTRY:
+            ck.fail(f"models[{i}]", f"{m!r} is unknown; choose from {', '.join(REGISTRY)}")
     if len(set(models)) != len(models):
         ck.fail("models", "has repeated models")
     columns = _columns(data, ck)

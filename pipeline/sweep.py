@@ -46,8 +46,9 @@ from pipeline.dataset import STUDY_VARIABLES, annotate, append_history, write_re
 from pipeline.errors import InputError, OutputError
 from pipeline.limits import check_fits, results_bytes
 from pipeline.locking import try_lock
+from pipeline.models import REGISTRY
 from pipeline.paths import check_output_file
-from pipeline.settings import COMPLIANT_MODELS, Excitation, ModelSettings
+from pipeline.settings import Excitation, ModelSettings
 from pipeline.simulate import simulate
 
 FLOAT_VARIABLES = ("peak_theta", "peak_theta_ratio", "peak_time", "overturn_time", "uplift_time", "peak_mu_mob",
@@ -117,8 +118,8 @@ class Task:
 
     @property
     def n_simulations(self):
-        """Simulations actually run (3D once over all angles)."""
-        per = sum(1 if s.model == "3d" else len(self.angles) for s in self.settings)
+        """Simulations actually run (an angle-invariant model once over all angles)."""
+        per = sum(1 if REGISTRY[s.model].angle_invariant else len(self.angles) for s in self.settings)
         return len(self.columns) * len(self.factors) * per
 
 
@@ -265,7 +266,8 @@ def block_size(study):
     n = len(study.columns)
     if study.block_columns:
         return min(study.block_columns, n)
-    per_column = len(study.levels) * sum(1 if m == "3d" else len(study.angles) for m in study.models)
+    per_column = len(study.levels) * sum(1 if REGISTRY[m].angle_invariant else len(study.angles)
+                                         for m in study.models)
     size = max(1, min(n, math.ceil(TARGET_SIMULATIONS_PER_TASK / per_column)))
     return math.ceil(n / math.ceil(n / size))
 
@@ -375,11 +377,12 @@ def run_task(task, motion):
     for ci, shaft in enumerate(task.columns):
         stack = task.stacks[ci] if task.stacks else None
         for mi, settings in enumerate(task.settings):
-            # the compliant model runs the drums; the rigid ones the shaft as a monolith
-            column = stack if (stack is not None and settings.model in COMPLIANT_MODELS) else shaft
+            model = REGISTRY[settings.model]
+            # a model of drums runs the drums; a model of monoliths the shaft as a monolith
+            column = stack if (stack is not None and model.drums) else shaft
             for si, factor in enumerate(task.factors):
-                # 3D: one run at the first angle, broadcast (axisymmetry, module docstring).
-                angle_runs = [(task.angles[0], slice(None))] if settings.model == "3d" else \
+                # angle-invariant: one run at the first angle, broadcast (axisymmetry, module docstring)
+                angle_runs = [(task.angles[0], slice(None))] if model.angle_invariant else \
                     [(a, ai) for ai, a in enumerate(task.angles)]
                 for angle, where in angle_runs:
                     runs += 1
@@ -420,8 +423,8 @@ def failed_result(task, message):
             "arrays": arrays}
 
 
-def warm_up(models=("3d", "2d")):
-    """Run a tiny simulation per model so the compiled kernels are loaded (or compiled once).
+def warm_up(models):
+    """Run a tiny simulation per model (names) so the compiled kernels are loaded (or compiled once).
 
     Called in the driving process before workers start, so that a stale numba
     cache is rebuilt once rather than by every worker; workers call it too so
@@ -444,26 +447,17 @@ COMPILE_NOTICE = ("frustum: compiling the simulation kernels for this machine, o
 #: Without a readable cache index (another numba version), a load this long [s] is taken for a compile.
 COMPILE_NOTICE_AFTER = 10.0
 
-# the compiled entry points of each model, as (module, function) (their cache holds what they
-# inline); the compliant model's is its default integrator's run
-_ENTRY_POINTS = {"3d": (("pipeline.dynamics.rigid.run3d", "run_frustum"),
-                        ("pipeline.dynamics.rigid.diagnostics", "diagnostics_rows")),
-                 "2d": (("pipeline.dynamics.rigid.run2d", "run_rocking"),
-                        ("pipeline.dynamics.rigid.diagnostics", "diagnostics_rows")),
-                 "3d-compliant": (("pipeline.dynamics.semi_implicit", "run"),)}
-
-
 def kernels_cached(models):
     """Whether numba's cache holds the compiled kernels of every model (None: cannot tell).
 
-    Reads the cache index of each model's entry points (numba's
-    ``FunctionCache``; an index of a changed source counts as missing).
+    Reads the cache index of each model's compiled entry points (``Model.entry_points`` of the
+    registry; numba's ``FunctionCache``; an index of a changed source counts as missing).
     """
     import importlib
 
     try:
         return all(bool(getattr(importlib.import_module(module), name)._cache._cache_file._load_index())
-                   for model in models for module, name in _ENTRY_POINTS[model])
+                   for model in models for module, name in REGISTRY[model].entry_points)
     except (AttributeError, OSError, EOFError, ValueError):
         return None
 
@@ -1152,12 +1146,9 @@ def assemble(study, motions, measures, factors, arrays):
         ds["sa"].attrs["period"] = study.sa_period
         ds["sa"].attrs["long_name"] += f" (period {study.sa_period:g} s)"
     ds["angle"].attrs["comment"] = "degrees counter-clockwise; 3D results do not depend on it (axisymmetry)"
-    ds["model"].attrs["comment"] = ("3d: rigid conical frustum rolling on the rim of its base (the paper); "
-                                    "2d: planar rocking in the vertical plane of the X component of the turned pair; "
-                                    "3d-compliant: rigid bodies (the drums and capital of a column, or the "
-                                    "monolith) on joints of contact points (spring-dashpots, elastic-Coulomb "
-                                    "friction), run at every angle; the rigid models run a column of drums as "
-                                    "a monolith of its shaft")
+    ds["model"].attrs["comment"] = "; ".join(
+        [f"{m.name}: {m.in_short}" for m in REGISTRY.values()]
+        + ["the rigid models run a column of drums as a monolith of its shaft"])
     ds.attrs.update({
         "title": study.title,
         "summary": study.summary or (

@@ -364,7 +364,9 @@ def test_the_band_past_a_face_edge_is_a_numerical_choice_set_in_numerics():
     """edge_band sets the bed joints' run-off band and nothing else; the default is 0.5 ring spacings."""
     from pipeline.compliant import assemble
     from pipeline.dynamics import stack as sk
-    from pipeline.settings import COMPLIANT_NUMERICS as NUMERICS
+    from pipeline.models.compliant import COMPLIANT_DRUMS
+
+    NUMERICS = COMPLIANT_DRUMS.numerics
 
     column = DrumColumn.equal(PAPER, 3)
     default = assemble(column, compliant(), damping=1e7)
@@ -382,9 +384,10 @@ def test_the_band_past_a_face_edge_is_a_numerical_choice_set_in_numerics():
     assert np.array_equal(narrow.joints[:, others], default.joints[:, others])
     with pytest.raises(InputError, match="numerics: edge_band"):
         compliant(numerics=(("edge_band", 0.0),))
-    with pytest.raises(InputError, match="'slave_time' is not a numerical choice of the compliant model"):
+    with pytest.raises(InputError, match="'slave_time' is not a numerical choice of the 3d-compliant model"):
         compliant(numerics=(("slave_time", 1e-5),))
-    with pytest.raises(InputError, match="'edge_band' is unknown"):  # the rigid models have their own
+    # the rigid models have their own numerical choices
+    with pytest.raises(InputError, match="'edge_band' is not a numerical choice of the 3d model"):
         ModelSettings(model="3d", numerics=(("edge_band", 0.5),))
 
 

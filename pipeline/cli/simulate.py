@@ -8,9 +8,14 @@ import numpy as np
 
 from pipeline.cli.records import add_record_options, load_record, record_inputs
 from pipeline.errors import InputError
+from pipeline.models import DEFAULT, REGISTRY
+from pipeline.models.rigid import ROLLING_FRUSTUM
 from pipeline.limits import check_tolerance
 from pipeline.paths import check_output_file, check_plot_file
+from pipeline.settings import FREE_MOTION, ModelSettings
 from pipeline.units import MARBLE_DENSITY, deg_to_rad
+
+DEFAULTS = ModelSettings()  # the options' defaults, written once (pipeline.settings)
 
 _EXAMPLES = """\
 examples:
@@ -58,20 +63,19 @@ def register(subparsers):
                        help="incidence angle: the horizontal pair is turned counter-clockwise [deg] (default 0)")
     quake.add_argument("--scale", type=float, default=1.0, help="factor on the record [1] (default 1)")
     quake.add_argument("--no-vertical", action="store_true", help="ignore the record's vertical component")
-    quake.add_argument("--model", default="3d", metavar="3d|2d|3d-compliant|3d,2d",
-                       help="3d: rolling frustum (the paper); 2d: planar rocking in the X plane; 3d-compliant: "
-                       "rigid drums on joints of contact points; several, comma-separated: in one file along "
-                       "the model dimension (default 3d)")
-    quake.add_argument("--tail", type=float, default=5.0, metavar="S",
-                       help="free motion after the record ends [s] (default 5)")
+    quake.add_argument("--model", default=DEFAULT, metavar="|".join(REGISTRY) + "|" + ",".join(list(REGISTRY)[:2]),
+                       help="; ".join(f"{m.name}: {m.title}" for m in REGISTRY.values())
+                       + f"; several, comma-separated: in one file along the model dimension (default {DEFAULT})")
+    quake.add_argument("--tail", type=float, default=DEFAULTS.tail, metavar="S",
+                       help=f"free motion after the record ends [s] (default {DEFAULTS.tail:g})")
     quake.add_argument("--contact-tilt", type=float, default=None, metavar="DEG",
                        help="tilt below which the base is in full contact [deg] (default: where the bed's "
                        "compliance loses full contact under the weight, theta_k)")
-    quake.add_argument("--damping", type=float, default=0.0, metavar="NU",
+    quake.add_argument("--damping", type=float, default=DEFAULTS.damping, metavar="NU",
                        help="viscous contact couple per m g R sqrt(R/g) [1] (default 0: none)")
-    quake.add_argument("--friction", type=float, default=0.7, metavar="MU",
+    quake.add_argument("--friction", type=float, default=DEFAULTS.friction, metavar="MU",
                        help="Coulomb friction of the base on the ground [1]: it slides, or its rim slips, "
-                       "beyond it (default 0.7)")
+                       f"beyond it (default {DEFAULTS.friction:g})")
     quake.add_argument("--plot", metavar="FILE.png",
                        help="also draw theta, contact path, mu_mob and excitation (any format matplotlib writes: "
                        ".png, .pdf, .svg, ...; with two models, one file per model: FILE_3d.png, FILE_2d.png)")
@@ -111,14 +115,14 @@ def register(subparsers):
         free.add_argument(f"--{name}", type=float, default=default, metavar=unit.upper().replace("/", "_"),
                           help=f"{text} [{unit}] (default {default if default is not None else 'required'})")
     run = p.add_argument_group("run")
-    run.add_argument("--output-step", type=float, default=0.01, metavar="S",
-                     help="sampling interval of the histories [s] (default 0.01)")
+    run.add_argument("--output-step", type=float, default=DEFAULTS.output_step, metavar="S",
+                     help=f"sampling interval of the histories [s] (default {DEFAULTS.output_step:g})")
     run.add_argument("--duration", type=float, default=None, metavar="S",
                      help="simulated time of a free motion [s]")
     run.add_argument("--rtol", type=float, default=None,
-                     help="relative tolerance (default 1e-9 with a record, 1e-12 free)")
+                     help=f"relative tolerance (default {DEFAULTS.rtol:g} with a record, {FREE_MOTION.rtol:g} free)")
     run.add_argument("--atol", type=float, default=None,
-                     help="absolute tolerance (default 1e-12 with a record, 1e-14 free)")
+                     help=f"absolute tolerance (default {DEFAULTS.atol:g} with a record, {FREE_MOTION.atol:g} free)")
     run.add_argument("--restitution", type=float, default=None, metavar="E",
                      help="theta' after / before a planar landing [1] (default: angular momentum "
                      "conservation, 1 - 2 m R^2 / I_P)")
@@ -153,8 +157,8 @@ def run_simulate(args):
     if args.record:
         runs = _earthquake(args, column, models)
     else:
-        if models != ["3d"] or not isinstance(column, Column):
-            raise InputError(f"--model {args.model}: a free motion is the 3D rolling frustum only (drop --model "
+        if models != [ROLLING_FRUSTUM.name] or not isinstance(column, Column):
+            raise InputError(f"--model {args.model}: a free motion is the {ROLLING_FRUSTUM.title} only (drop --model "
                              "and the drum options)")
         runs = [_free(args, column)]
     outline = getattr(column, "column", column)
@@ -171,7 +175,7 @@ def run_simulate(args):
             line += (f" ({summary['peak_theta_ratio']:.2f} theta_crit), "
                      f"{'overturned at %.2f s' % summary['overturn_time'] if summary['overturned'] else 'stands'}, "
                      f"{summary['n_impacts']} impacts, peak mu_mob = {summary['peak_mu_mob']:.2f}")
-            if model == "3d-compliant":
+            if REGISTRY[model].drums:
                 line += _joints_line(summary)
         print(line)
     print(f"wrote {args.out}")
@@ -201,11 +205,10 @@ def _check_sampling(args):
 
 
 def _models(text):
-    from pipeline.settings import MODELS
-
     models = [m.strip() for m in str(text).split(",") if m.strip()]
-    if not models or any(m not in MODELS for m in models) or len(set(models)) != len(models):
-        raise InputError(f"--model {text}: give one or more of {', '.join(MODELS)}, comma-separated (e.g. 3d,2d)")
+    if not models or any(m not in REGISTRY for m in models) or len(set(models)) != len(models):
+        raise InputError(f"--model {text}: give one or more of {', '.join(REGISTRY)}, comma-separated (e.g. "
+                         f"{','.join(list(REGISTRY)[:2])})")
     return models
 
 
@@ -269,11 +272,11 @@ def _earthquake(args, column, models):
     for model in models:
         settings = ModelSettings(
             model=model, restitution=args.restitution, contact_tilt=args.contact_tilt, damping=args.damping,
-            friction=args.friction, tail=args.tail, rtol=_given(args.rtol, 1e-9), atol=_given(args.atol, 1e-12),
-            output_step=args.output_step, normal_stiffness=_given(args.normal_stiffness, 1.0e10),
+            friction=args.friction, tail=args.tail, rtol=_given(args.rtol, DEFAULTS.rtol), atol=_given(args.atol, DEFAULTS.atol),
+            output_step=args.output_step, normal_stiffness=_given(args.normal_stiffness, DEFAULTS.normal_stiffness),
             joint_stiffness=args.joint_stiffness, joint_friction=args.joint_friction, anathyrosis=args.anathyrosis,
             **({"integrator": args.integrator, "step": args.step, "contact_damping": args.contact_damping}
-               if model == "3d-compliant" else {}),
+               if REGISTRY[model].drums else {}),
         )
         response = simulate(column, motion, excitation, settings, progress=_progress_line(model, settings))
         runs.append((response.histories, response.summary))
@@ -281,8 +284,9 @@ def _earthquake(args, column, models):
 
 
 def _progress_line(model, settings):
-    """A progress line (seconds of motion simulated, ETA) on stderr for the compliant model's runs."""
-    if model != "3d-compliant" or settings.integrator != "semi-implicit":
+    """A progress line (seconds of motion simulated, ETA) on stderr for the runs of a model of drums
+    with the fixed-step integrator (the only long single runs)."""
+    if not REGISTRY[model].drums or settings.integrator != "semi-implicit":
         return None
     from pipeline.sweep import Progress
 
@@ -312,7 +316,7 @@ def _free(args, column):
         theta_dot=args.theta_dot0,
         psi_dot=args.psi_dot0,
     )
-    settings = ModelSettings(rtol=_given(args.rtol, 1e-12), atol=_given(args.atol, 1e-14),
+    settings = ModelSettings(rtol=_given(args.rtol, FREE_MOTION.rtol), atol=_given(args.atol, FREE_MOTION.atol),
                              output_step=args.output_step, contact_tilt=0.0, damping=args.damping)
     if not (math.isfinite(args.duration) and args.duration > 0):
         raise InputError(f"--duration {args.duration!r}: give a positive number of seconds")

@@ -15,7 +15,7 @@ contact points, each standing for a patch of area A of the upper body's bed face
   (:func:`overlap`): 1 inside, running off to 0 as a smoothstep across a narrow band past
   the face's edge, so that a drum sliding off the one below loses its support continuously
   and without a jump in the force (the band's width is a numerical choice:
-  ``pipeline.compliant.NUMERICS["edge_band"]``).
+  ``numerics["edge_band"]`` of :mod:`pipeline.models.compliant`).
 * **shear**: an elastic spring with memory, capped by Coulomb friction (the joint of 3DEC
   and other DEM codes: shear force accumulated from the relative tangential velocity, limited
   to mu times the normal force, unloading elastic at once). Its state is the shear

@@ -27,7 +27,8 @@ layout, tables, monitor and statistics it shares. One step of size h:
 The step is bounded by the springs alone: symplectic Euler is stable for ``h omega < 2`` on
 the stiffest undamped mode. :func:`stiffest_frequency` finds it (the generalised eigenvalue
 of the joints' springs, every point pressed, against the bodies' masses), and the default step
-is :data:`SAFETY` times that limit (``pipeline.compliant``).
+is ``step_safety`` (0.5, a numerical choice of the model: :mod:`pipeline.models.compliant`) times
+that limit (``pipeline.compliant``).
 
 Energy is booked with the discrete scheme: work of the field ``-m a_g . v_{n+1} h``, damping
 ``h V^T C V`` at the new velocities (plus the elastic energy a clipped point releases without
@@ -47,9 +48,6 @@ from pipeline.dynamics import joint as jl
 from pipeline.dynamics import stack as sk
 from pipeline.dynamics.frustum import ground_acceleration
 
-# Default step as a fraction of the stability limit 2 / omega_max of symplectic Euler on the
-# stiffest spring mode (about 4 % frequency error on that mode, far above the rocking ones).
-SAFETY = 0.5
 # Solves of one step's active set of clipped points at most (one when no point changes).
 MAX_PASSES = 4
 

@@ -3,7 +3,7 @@
 The paper's column (R = 0.5 m, r = 0.4 m, h = 4 m) under the 22 FEMA P695
 far-field pairs, 3D model with its defaults (slip, lift-off, the contact patch
 of a bed with k_n = 1e10 Pa/m, theta_c = theta_k). Every numerical threshold
-left in the kernels (:data:`pipeline.dynamics.rigid.layout.NUMERICS`) and the
+left in the kernels (``numerics`` of :data:`pipeline.models.rigid.ROLLING_FRUSTUM`) and the
 integration tolerance is set to a tenth and to ten times its default, one at a
 time:
 
@@ -26,13 +26,15 @@ from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 
-from pipeline.dynamics.rigid.layout import NUMERICS
 from pipeline.fragility import fit_lognormal
 from pipeline.geometry import Column
 from pipeline.groundmotion import load
+from pipeline.models.rigid import ROLLING_FRUSTUM
 from pipeline.settings import Excitation, ModelSettings
 from pipeline.simulate import contact_tilt, simulate
 from pipeline.units import G
+
+NUMERICS = ROLLING_FRUSTUM.numerics  # the rigid kernels' thresholds and their defaults
 
 COLUMN = Column(0.5, 0.4, 4.0)
 RECORDS = [f"FEMA-FF-{i:02d}" for i in range(1, 23)]

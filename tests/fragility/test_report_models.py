@@ -11,9 +11,8 @@ import numpy as np
 import pytest
 from fragility_synthetic import make_results
 
-from pipeline import model_descriptions as MD
+from pipeline import models as MD
 from pipeline.report import write_report
-from pipeline.settings import MODELS
 
 STALE = ("never slides", "does not follow sliding", "would have jumped", "without slipping",
          "the only energy losses")
@@ -32,16 +31,16 @@ def _report(models, tmp_path):
 
 def _sentences_of(model, ran=()):
     """Text of the description of ``model`` that no description of the models ``ran`` holds."""
-    d = MD.MODELS[model]
-    theirs = " ".join(MD.markdown(m) + MD.MODELS[m].sliding_onset + MD.MODELS[m].lift_off + MD.MODELS[m].reference
+    d = MD.describe(model)
+    theirs = " ".join(MD.markdown(m) + MD.describe(m).sliding_onset + MD.describe(m).lift_off + MD.describe(m).reference
                       for m in ran)
     return [s for s in (d.title, d.body, d.contact, d.sliding_onset, d.lift_off, d.reference, *d.follows)
             if s not in theirs]
 
 
 def test_every_model_has_one_description():
-    assert set(MD.MODELS) == set(MODELS)
-    assert len({d.title for d in MD.MODELS.values()}) == len(MD.MODELS)
+    assert len({m.title for m in MD.REGISTRY.values()}) == len(MD.REGISTRY) == 3
+    assert all(m.description.body and m.description.reference for m in MD.REGISTRY.values())
 
 
 def test_the_compliant_model_is_described_by_its_bodies_joints_and_law():
@@ -56,8 +55,8 @@ def test_a_compliant_report_names_its_model_and_no_model_it_did_not_run(models, 
     text = _report(models, tmp_path)
     assert MD.markdown("3d-compliant") in text
     assert "3D compliant drums on joints (`3d-compliant`)" in text  # in the list of models
-    assert "- 3D-COMPLIANT: in " in text and MD.MODELS["3d-compliant"].sliding_onset in text
-    for other in set(MD.MODELS) - set(models):
+    assert "- 3D-COMPLIANT: in " in text and MD.describe("3d-compliant").sliding_onset in text
+    for other in set(MD.REGISTRY) - set(models):
         for sentence in _sentences_of(other, ran=models):
             assert sentence not in text, (other, sentence)
     assert "2D" not in text and "Housner" not in text and "planar rocking" not in text
@@ -77,5 +76,5 @@ def test_a_rigid_report_does_not_describe_the_compliant_model_and_says_the_conta
     for stale in STALE:
         assert stale not in text
     # the rigid models slide and fly since the contact physics: their flags say the motion follows it
-    assert "- 3D: in " in text and MD.MODELS["3d"].sliding_onset in text
-    assert MD.MODELS["2d"].lift_off in text
+    assert "- 3D: in " in text and MD.describe("3d").sliding_onset in text
+    assert MD.describe("2d").lift_off in text

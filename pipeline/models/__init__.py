@@ -1,0 +1,78 @@
+"""The model registry: every model the pipeline runs, declared once.
+
+Each entry (:class:`pipeline.models.spec.Model`) says what its model is (title and words for
+help, plots and reports), the body it runs (monoliths, or drums too), whether the incidence
+angle matters, its numerical choices with their defaults, its compiled kernels and where its
+simulation is. Everything above the kernels asks the registry and compares no model's name:
+a new model is a kernel, one entry here (a module of this package) and catalog entries for
+its new variables (docs/architecture.md).
+"""
+
+from pipeline.errors import InputError
+from pipeline.models.compliant import COMPLIANT_DRUMS
+from pipeline.models.rigid import PLANAR_ROCKING, ROLLING_FRUSTUM
+from pipeline.models.spec import Model, ModelDescription
+
+__all__ = ["Model", "ModelDescription", "REGISTRY", "DEFAULT", "names", "get", "describe", "title", "markdown",
+           "style", "planar_pair"]
+
+#: The models by name, in the order help and reports list them.
+REGISTRY = {m.name: m for m in (ROLLING_FRUSTUM, PLANAR_ROCKING, COMPLIANT_DRUMS)}
+#: The model run when none is named: the paper's.
+DEFAULT = ROLLING_FRUSTUM.name
+
+
+def names():
+    """The models' names, in the registry's order."""
+    return tuple(REGISTRY)
+
+
+def get(name):
+    """The registry's entry of the model ``name``; an unknown name is refused with the choices."""
+    try:
+        return REGISTRY[name]
+    except (KeyError, TypeError):
+        raise InputError(f"model = {name!r} is unknown; choose one of {', '.join(REGISTRY)}") from None
+
+
+def describe(name):
+    """The description of a model; an unknown name (e.g. in an old results file) gets a
+    placeholder that says so, not an error."""
+    model = REGISTRY.get(name)
+    if model is not None:
+        return model.description
+    return ModelDescription(title=str(name), body=f"model {name!r} (no description)", follows=(), contact="",
+                            sliding_onset="the flag was set", lift_off="the flag was set", cite="", reference="")
+
+
+def title(name):
+    """Display name of a model (``"3D rolling frustum"``), or the name itself if unknown."""
+    return describe(name).title
+
+
+def markdown(name):
+    """The model's description as one Markdown bullet (the report's assumptions)."""
+    model = REGISTRY.get(name)
+    if model is not None:
+        return model.markdown()
+    return f"- **{name}** (`{name}`): model {name!r} (no description)."
+
+
+#: How plots draw a model the registry does not know (e.g. from an old results file).
+_UNKNOWN_STYLE = {"ls": ":", "marker": "D", "filled": False, "band_alpha": 0.07}
+
+
+def style(name):
+    """How plots draw a model: line style ``ls``, ``marker``, ``filled`` marker, ``band_alpha``."""
+    model = REGISTRY.get(name)
+    return dict(model.style) if model is not None else dict(_UNKNOWN_STYLE)
+
+
+def planar_pair(names_):
+    """(3D model, its planar counterpart) among the names given, the first such pair, or None:
+    the pair reports compare (is planar rocking conservative for this column?)."""
+    for name in names_:
+        model = REGISTRY.get(name)
+        if model is not None and model.planar_of in names_:
+            return model.planar_of, name
+    return None

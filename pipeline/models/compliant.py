@@ -1,0 +1,55 @@
+"""The compliant model (``"3d-compliant"``): rigid bodies, a monolith or a stack of drums and a
+capital, on joints of contact points (:mod:`pipeline.compliant`, kernels in
+:mod:`pipeline.dynamics.stack` and :mod:`pipeline.dynamics.semi_implicit`)."""
+
+from types import MappingProxyType
+
+from pipeline.models.rigid import RESULTS
+from pipeline.models.spec import Model, ModelDescription
+
+__all__ = ["COMPLIANT_DRUMS"]
+
+COMPLIANT_DRUMS = Model(
+    name="3d-compliant",
+    description=ModelDescription(
+        title="3D compliant drums on joints",
+        body="rigid bodies with six degrees of freedom each: one monolith, or a stack of drums (conical "
+        "frustums, bottom first) with an optional square capital on top; the base on the ground and every bed "
+        "joint between two bodies are joints of contact points (rings times sectors over the face)",
+        follows=("rocking and wobbling of every body", "sliding of the base on the ground and of each drum on the "
+                 "one below", "uplift and flight of the whole column or of the bodies above a joint",
+                 "drum dislocations: the residual slip, twist, tilt and opening of every joint",
+                 "overturning of the column or of any body above a joint"),
+        contact="Joint law, at every contact point: a normal spring-dashpot that acts in compression only (a joint "
+        "never pulls), and a shear spring capped by Coulomb friction (the point sticks inside the friction cone "
+        "and slips on it). There is no impact law: landings are taken by the springs and dashpots. Energy is lost "
+        "in the normal dashpots (damping calibrated to a planar restitution unless `contact_damping` is given) and "
+        "to friction where points slip.",
+        sliding_onset="the mobilized friction |F_t|/N of the base reached mu (the base slid on the ground)",
+        lift_off="every contact point of the base lost contact (the column flew)",
+        cite="docs/model.md",
+        reference="docs/model.md, 'The compliant-contact model' (joints of contact points in the manner of DEM "
+        "codes; the 3D compliant drums on joints)",
+    ),
+    in_short="rigid bodies (the drums and capital of a column, or the monolith) on joints of contact points "
+    "(spring-dashpots, elastic-Coulomb friction), run at every angle",
+    drums=True,
+    angle_invariant=False,  # its contact points are not axisymmetric: it feels the direction
+    planar=False,
+    # edge_band: width of the band past a face's edge over which a point's support runs off
+    # (pipeline.dynamics.joint.overlap), in spacings of the two outer rings of contact points [1];
+    # step_safety: the fixed step as a fraction of the stability limit 2 / omega_max of the
+    # stiffest joint mode (pipeline.dynamics.semi_implicit) [1]: about 4 % frequency error on that
+    # mode, far above the rocking ones
+    numerics=MappingProxyType({"edge_band": 0.5, "step_safety": 0.5}),
+    # and of a column of drums: the largest residual slip of a bed joint over its diameter, the body
+    # that fell first, the residual dislocation of every joint
+    results=RESULTS + ("dislocation_ratio", "overturn_drum", "joint_slip", "joint_twist", "joint_tilt",
+                       "joint_opening"),
+    entry_points=(("pipeline.dynamics.semi_implicit", "run"),),  # its default integrator's run
+    runner="pipeline.compliant:simulate_compliant",
+    # fixed steps of the semi-implicit scheme (the default), or the adaptive ones it is checked
+    # against (pipeline.dynamics.stack.METHODS)
+    integrators=("semi-implicit", "dopri5", "dop853"),
+    style=MappingProxyType(dict(ls="-.", marker="^", filled=False, band_alpha=0.07)),
+)

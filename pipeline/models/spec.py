@@ -1,0 +1,125 @@
+"""What a model declares: :class:`Model` (the registry's entries) and :class:`ModelDescription`.
+
+Plain data, below everything that reads it: a consumer asks an entry what it needs
+(the body it runs, whether the incidence angle matters, its numerical choices, its compiled
+kernels, its words for people) instead of comparing the model's name.
+"""
+
+from dataclasses import dataclass, field
+from importlib import import_module
+from types import MappingProxyType
+from typing import NamedTuple
+
+__all__ = ["Model", "ModelDescription"]
+
+
+class ModelDescription(NamedTuple):
+    """What one model is, in words for people who do not program.
+
+    Attributes
+    ----------
+    title : str
+        Display name, e.g. in figure titles and the report's list of models.
+    body : str
+        What the column is in this model.
+    follows : tuple of str
+        The motions the model follows (computes), not merely flags.
+    contact : str
+        The contact law and where energy is lost.
+    sliding_onset : str
+        What a run counted by the ``sliding_onset`` flag did ("in N of M runs ...").
+    lift_off : str
+        What a run counted by the ``lift_off`` flag did.
+    cite : str
+        Where the model comes from, in running text.
+    reference : str
+        Where the model comes from, in full (the report's references).
+    """
+
+    title: str
+    body: str
+    follows: tuple
+    contact: str
+    sliding_onset: str
+    lift_off: str
+    cite: str
+    reference: str
+
+
+@dataclass(frozen=True)
+class Model:
+    """One entry of the registry (:mod:`pipeline.models`).
+
+    Attributes
+    ----------
+    name : str
+        The name users give (``ModelSettings.model``, study files, ``--model``) and the
+        value of the CF ``model`` coordinate of results.
+    description : ModelDescription
+        Title and words for help, plots and reports.
+    in_short : str
+        What the model is in one line, for the comment of the CF ``model`` coordinate.
+    drums : bool
+        Runs columns built of drums (:class:`pipeline.drums.DrumColumn`, and a capital) as well
+        as monoliths; a model without it runs monolithic :class:`pipeline.geometry.Column` only.
+    angle_invariant : bool
+        Its results do not depend on the incidence angle (an axisymmetric column whose
+        response turns with the record): a study runs it at one angle and repeats it.
+    planar : bool
+        Moves in the vertical plane of the incidence angle only (driven by the record's
+        component along it).
+    planar_of : str or None
+        For a planar model, the name of the 3D model it is the planar counterpart of (reports
+        compare the two).
+    numerics : mapping of str to float
+        Its numerical choices that are not measured physics, with their defaults
+        (``ModelSettings.numerics`` overrides them; studies show what they move).
+    results : tuple of str
+        The scalar results of one run that a study keeps, by catalog name
+        (:data:`pipeline.dataset.STUDY_VARIABLES`): every run's summary holds them.
+    entry_points : tuple of (str, str)
+        Its compiled kernels as (module, function): compiled before a study's workers start and
+        looked up in numba's cache.
+    integrators : tuple of str
+        The integrators ``ModelSettings.integrator`` may name for it, the default first (empty:
+        the model has one, chosen by its kernels).
+    runner : str
+        ``"module:function"`` of its simulation, called as
+        ``function(column, motion, excitation, settings, histories, progress)`` and returning a
+        :class:`pipeline.response.Response` (imported when first run, so that the registry
+        stays below the code it names).
+    style : mapping
+        How plots draw it: line style ``ls``, ``marker``, ``filled`` marker, ``band_alpha``
+        (opacity of its bootstrap band).
+    """
+
+    name: str
+    description: ModelDescription
+    in_short: str
+    drums: bool
+    angle_invariant: bool
+    planar: bool
+    numerics: MappingProxyType
+    results: tuple
+    entry_points: tuple
+    runner: str
+    integrators: tuple = ()
+    style: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
+    planar_of: str | None = None
+
+    @property
+    def title(self):
+        """Display name (``"3D rolling frustum"``)."""
+        return self.description.title
+
+    def run(self, column, motion, excitation, settings, histories=True, progress=None):
+        """The response of ``column`` to ``motion`` in this model (see :func:`pipeline.simulate.simulate`)."""
+        module, function = self.runner.split(":")
+        return getattr(import_module(module), function)(column, motion, excitation, settings, histories, progress)
+
+    def markdown(self):
+        """The model's description as one Markdown bullet (the report's assumptions)."""
+        d = self.description
+        source = f", {d.cite}" if d.cite else ""
+        return (f"- **{d.title}** (`{self.name}`{source}): {d.body}. It follows {'; '.join(d.follows)}. "
+                f"{d.contact}").rstrip()

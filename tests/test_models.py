@@ -1,0 +1,111 @@
+"""The contract every model of the registry holds (issue 28).
+
+One test set, parametrised over :data:`pipeline.models.REGISTRY`: a model added with a kernel
+and one entry is checked here without a test of its own being written first. Each case runs
+the paper's column (R 0.5, r 0.4, h 4 m; a model of drums gets it in two drums) under a
+one-sine pulse of 4 m/s^2 and 0.5 s, strong enough to rock it (its uplift acceleration is
+g R / (h/2) ~ 2.5 m/s^2).
+"""
+
+from importlib import import_module
+
+import pytest
+from numba.core.caching import NullCache
+
+from pipeline import models
+from pipeline.dataset import FLAGS, STUDY_VARIABLES, VARIABLES
+from pipeline.drums import DrumColumn
+from pipeline.errors import InputError
+from pipeline.geometry import Column
+from pipeline.groundmotion.synthesis import one_sine_pulse
+from pipeline.settings import Excitation, ModelSettings
+from pipeline.simulate import simulate
+
+PAPER = Column(0.5, 0.4, 4.0)
+MODELS = list(models.REGISTRY.values())
+NAMES = [m.name for m in MODELS]
+
+
+@pytest.fixture(scope="module")
+def pulse():
+    return one_sine_pulse(4.0, 0.5, dt=0.005, duration=0.6, direction=0.0, record_id="contract-pulse")
+
+
+def _run(model, pulse, angle=20.0, histories=True):
+    body = DrumColumn.equal(PAPER, 2) if model.drums else PAPER
+    return simulate(body, pulse, Excitation(angle=angle), ModelSettings(model=model.name, tail=0.4),
+                    histories=histories)
+
+
+@pytest.mark.parametrize("model", MODELS, ids=NAMES)
+def test_a_model_runs_a_pulse_and_its_summary_holds_its_declared_results(model, pulse):
+    response = _run(model, pulse)
+    summary = response.summary
+    assert summary["model"] == model.name
+    missing = [name for name in model.results if name not in summary]
+    assert not missing, f"{model.name} declares results its summary lacks: {missing}"
+    uncatalogued = [name for name in model.results if name not in STUDY_VARIABLES and name not in FLAGS]
+    assert not uncatalogued, f"{model.name} declares results the catalog does not know: {uncatalogued}"
+    assert summary["peak_theta_ratio"] > 0.05  # the pulse rocked it: the run did something
+    assert summary["uplifted"]
+    # every history is a catalog variable (named and documented once, docs/variables.md), a flag,
+    # or the copy in degrees the catalog adds to an angle (``theta_deg``)
+    unknown = [name for name in response.histories.data_vars
+               if name not in VARIABLES and name not in FLAGS and name.removesuffix("_deg") not in VARIABLES]
+    assert not unknown, f"{model.name} writes histories the catalog does not know: {unknown}"
+
+
+@pytest.mark.parametrize("model", MODELS, ids=NAMES)
+def test_bad_options_are_refused_with_the_options_name(model):
+    with pytest.raises(InputError, match="numerics: 'no_such_choice' is not a numerical choice"):
+        ModelSettings(model=model.name, numerics=(("no_such_choice", 1.0),))
+    for name in model.numerics:
+        ModelSettings(model=model.name, numerics=((name, model.numerics[name]),))  # its default is accepted
+        with pytest.raises(InputError, match=f"numerics: {name}"):
+            ModelSettings(model=model.name, numerics=((name, -1.0),))
+    with pytest.raises(InputError, match="tail = -1"):
+        ModelSettings(model=model.name, tail=-1.0)
+
+
+def test_an_unknown_model_is_refused_with_the_choices():
+    with pytest.raises(InputError, match="model = 'nope' is unknown; choose one of " + ", ".join(NAMES)):
+        ModelSettings(model="nope")
+
+
+@pytest.mark.parametrize("model", MODELS, ids=NAMES)
+def test_a_model_is_angle_invariant_exactly_when_it_says_so(model, pulse):
+    """The sweep runs an angle-invariant model once per angle set and repeats it: that must
+    change no number. A model that is not must see the direction (37 deg is no symmetry of
+    the contact points' 24 sectors)."""
+    at_0 = _run(model, pulse, angle=0.0, histories=False).summary["peak_theta"]
+    at_37 = _run(model, pulse, angle=37.0, histories=False).summary["peak_theta"]
+    if model.angle_invariant:
+        assert at_37 == pytest.approx(at_0, rel=1e-12)
+    else:
+        assert abs(at_37 - at_0) > 1e-4 * at_0
+
+
+@pytest.mark.parametrize("model", MODELS, ids=NAMES)
+def test_a_models_compiled_entry_points_are_cached_kernels(model):
+    """What the sweep compiles before its workers start and looks up in numba's cache."""
+    assert model.entry_points
+    for module, function in model.entry_points:
+        kernel = getattr(import_module(module), function)
+        assert hasattr(kernel, "_cache") and not isinstance(kernel._cache, NullCache), (module, function)
+
+
+def test_a_planar_model_names_the_3d_model_it_is_the_counterpart_of():
+    for model in MODELS:
+        if model.planar:
+            assert models.get(model.planar_of).planar is False
+    assert models.planar_pair(NAMES) is not None
+
+
+def test_the_integrators_a_model_declares_are_its_kernels():
+    """The registry names the compliant model's integrators without importing its kernels (the
+    command's help stays free of numba); they must be the fixed-step one and the kernels' methods."""
+    from pipeline.dynamics import stack
+
+    assert models.get("3d-compliant").integrators == ("semi-implicit",) + tuple(stack.METHODS)
+    with pytest.raises(InputError, match="integrator = 'rk4' is unknown; choose one of semi-implicit"):
+        ModelSettings(model="3d-compliant", integrator="rk4")
