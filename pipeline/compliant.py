@@ -20,7 +20,6 @@ from pipeline.dynamics import semi_implicit as si
 from pipeline.dynamics import stack as sk
 from pipeline.errors import InputError
 from pipeline.geometry import Column
-from pipeline.models import REGISTRY
 from pipeline.models.compliant import COMPLIANT_DRUMS
 from pipeline.response import Response
 from pipeline.settings import Excitation, ModelSettings, check_column, housner_restitution
@@ -508,9 +507,6 @@ def simulate_compliant(column, motion, excitation, settings, histories=True, pro
     [s of motion], if given, is called about every simulated second (fixed-step integrator).
     """
     stack = as_stack(column)
-    if not REGISTRY[settings.model].drums:
-        raise InputError(f"model = {settings.model!r} is a rigid model of a monolith: a column of "
-                         f"{stack.n_drums} drum(s) needs one of {', '.join(m for m in REGISTRY if REGISTRY[m].drums)}")
     check_column(stack.column)
     if not isinstance(excitation, Excitation):
         raise InputError(f"excitation must be an Excitation, got {type(excitation).__name__}")

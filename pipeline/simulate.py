@@ -29,7 +29,7 @@ import numpy as np
 import xarray as xr
 
 from pipeline import models
-from pipeline.compliant import simulate_compliant
+from pipeline.compliant import as_stack
 from pipeline.dataset import annotate, append_history
 from pipeline.dynamics import frustum as fk
 from pipeline.dynamics.rigid import diagnostics as rd
@@ -141,8 +141,10 @@ def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), 
     """
     model = models.get(settings.model)
     if not isinstance(column, Column) and not model.drums:
-        # a column of drums for a model of monoliths: the compliant model's check says which model to use
-        return simulate_compliant(column, motion, excitation, settings, histories, progress=progress)
+        stack = as_stack(column)  # refuses what is neither a Column nor a DrumColumn
+        drum_models = ", ".join(name for name, m in models.REGISTRY.items() if m.drums)
+        raise InputError(f"model = {settings.model!r} is a rigid model of a monolith: a column of "
+                         f"{stack.n_drums} drum(s) needs one of {drum_models}")
     return model.run(column, motion, excitation, settings, histories, progress)
 
 

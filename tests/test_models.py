@@ -109,3 +109,11 @@ def test_the_integrators_a_model_declares_are_its_kernels():
     assert models.get("3d-compliant").integrators == ("semi-implicit",) + tuple(stack.METHODS)
     with pytest.raises(InputError, match="integrator = 'rk4' is unknown; choose one of semi-implicit"):
         ModelSettings(model="3d-compliant", integrator="rk4")
+
+
+def test_a_model_of_monoliths_refuses_drums_naming_the_models_that_run_them(pulse):
+    monoliths = [m for m in MODELS if not m.drums]
+    drum_models = ", ".join(m.name for m in MODELS if m.drums)
+    for model in monoliths:
+        with pytest.raises(InputError, match=f"a column of 3 drum\\(s\\) needs one of {drum_models}"):
+            simulate(DrumColumn.equal(PAPER, 3), pulse, Excitation(), ModelSettings(model=model.name))

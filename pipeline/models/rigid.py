@@ -54,11 +54,13 @@ _RIGID_CONTACT = (  # {pivot}: what the tipped column turns on, {rim}: where it 
 NUMERICS = {"landing_margin": 1e-3, "min_rebound": 1e-8, "slave_time": 1e-6, "look_ahead": 1e-7,
             "slaved_turn": 1e-3}
 
-_RUNNER = "pipeline.simulate:simulate_rigid"
 # what a study keeps of a run, by catalog name (pipeline.dataset)
 RESULTS = ("peak_theta", "peak_theta_ratio", "peak_time", "overturn_time", "uplift_time", "peak_mu_mob",
            "residual_rotation", "residual_displacement", "work_ground", "energy_balance_error", "n_impacts",
            "overturned", "uplifted", "sliding_onset", "lift_off")
+# what both rigid models share: a monolith, the same kernels' thresholds and results, one runner
+_RIGID = dict(drums=False, numerics=MappingProxyType(NUMERICS), results=RESULTS,
+              runner="pipeline.simulate:simulate_rigid")
 
 ROLLING_FRUSTUM = Model(
     name="3d",
@@ -76,14 +78,11 @@ ROLLING_FRUSTUM = Model(
         reference=f"{REFERENCE} (the 3D rolling frustum; its contact: docs/model.md)",
     ),
     in_short="rigid conical frustum rolling on the rim of its base (the paper)",
-    drums=False,
     angle_invariant=True,
     planar=False,
-    numerics=MappingProxyType(dict(NUMERICS)),
-    results=RESULTS,
     entry_points=(("pipeline.dynamics.rigid.run3d", "run_frustum"),
                   ("pipeline.dynamics.rigid.diagnostics", "diagnostics_rows")),
-    runner=_RUNNER,
+    **_RIGID,
     style=MappingProxyType(dict(ls="-", marker="o", filled=True, band_alpha=0.12)),
 )
 
@@ -106,14 +105,11 @@ PLANAR_ROCKING = Model(
         "docs/model.md)",
     ),
     in_short="planar rocking in the vertical plane of the X component of the turned pair",
-    drums=False,
     angle_invariant=False,
     planar=True,
     planar_of=ROLLING_FRUSTUM.name,
-    numerics=MappingProxyType(dict(NUMERICS)),
-    results=RESULTS,
     entry_points=(("pipeline.dynamics.rigid.run2d", "run_rocking"),
                   ("pipeline.dynamics.rigid.diagnostics", "diagnostics_rows")),
-    runner=_RUNNER,
+    **_RIGID,
     style=MappingProxyType(dict(ls="--", marker="s", filled=False, band_alpha=0.07)),
 )
