@@ -32,7 +32,7 @@ SCALES = (1.0, 2.0, 3.0)
 
 
 def _problem(scale, rtol):
-    from pipeline.dynamics import frustum as fk
+    from pipeline.dynamics.rigid import frustum as fk
     from pipeline.dynamics.rigid import layout as lay
     from pipeline.geometry import Column
     from pipeline.groundmotion import load

@@ -203,8 +203,8 @@ class Column:
         return math.sqrt(G * self.contact_to_cm_distance / (self.inertia_transverse_hat * self.R**2))
 
     def kernel_constants(self):
-        """Dimensionless constants for :mod:`pipeline.dynamics.frustum`."""
-        from pipeline.dynamics.frustum import column_constants
+        """Dimensionless constants for :mod:`pipeline.dynamics.rigid.frustum`."""
+        from pipeline.dynamics.rigid.frustum import column_constants
 
         return column_constants(self.inertia_transverse_hat, self.inertia_axial_hat, self.z_cm / self.R)
 

@@ -31,7 +31,7 @@ import xarray as xr
 from pipeline import models
 from pipeline.compliant import as_stack
 from pipeline.dataset import annotate, append_history
-from pipeline.dynamics import frustum as fk
+from pipeline.dynamics.rigid import frustum as fk
 from pipeline.dynamics.rigid import diagnostics as rd
 from pipeline.dynamics.rigid import layout as hy  # the rigid runs' layouts: S_*, PHASE_*
 from pipeline.dynamics.rigid import rocking as rk

@@ -75,7 +75,7 @@ def test_free_planar_rocking_restitution_at_every_landing(slenderness):
     # a rigid base: the impact map alone, no patch damping on the way down
     settings = ModelSettings(contact_tilt=math.degrees(1e-5), rtol=1e-11, atol=1e-13, normal_stiffness=math.inf)
     from pipeline.simulate import _run  # the landing log of the kernel
-    import pipeline.dynamics.frustum as fk
+    import pipeline.dynamics.rigid.frustum as fk
     y0 = np.zeros(fk.N_STATE)
     y0[fk.THETA] = math.radians(init.theta)
     raw = _run(col, settings, np.zeros((0, 3)), 1.0, y0, 8.0)

@@ -6,7 +6,7 @@ Compiled-code cache
 -------------------
 numba caches each ``cache=True`` function keyed on its own source file only,
 but the kernels inline one another (the rigid runs inline the integrator and
-the right-hand sides): editing ``frustum.py`` would leave a stale compiled
+the right-hand sides): editing ``rigid/frustum.py`` or ``excitation.py`` would leave a stale compiled
 ``rigid/run3d`` in the cache. So, unless the user sets ``NUMBA_CACHE_DIR``, the
 cache lives in a folder named after a digest of every source file here and in
 the family folders below (and the numba and Python versions): any edit gives a

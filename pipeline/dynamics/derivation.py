@@ -1,7 +1,7 @@
 """Symbolic derivation of the frustum's equations of motion (sympy).
 
 This script is the source of truth for the compiled right-hand side in
-:mod:`pipeline.dynamics.frustum`; ``tests/dynamics/test_derivation.py`` checks
+:mod:`pipeline.dynamics.rigid.frustum`; ``tests/dynamics/test_derivation.py`` checks
 that the compiled code evaluates exactly what is derived here.
 
 Model (the paper's assumptions a-c, Section 2)

@@ -14,7 +14,7 @@ import contextlib
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from pipeline.dynamics import frustum as fk
+from pipeline.dynamics.rigid import frustum as fk
 from pipeline.dynamics.rigid import phases3d, run3d
 from pipeline.dynamics.rigid.layout import EVENT_DIRECTIONS
 from pipeline.dynamics.integrator import Dop853Result

@@ -46,7 +46,7 @@ from numba import njit
 
 from pipeline.dynamics import joint as jl
 from pipeline.dynamics import stack as sk
-from pipeline.dynamics.frustum import ground_acceleration
+from pipeline.dynamics.excitation import ground_acceleration
 
 # Solves of one step's active set of clipped points at most (one when no point changes).
 MAX_PASSES = 4

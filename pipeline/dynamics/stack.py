@@ -37,7 +37,7 @@ import numpy as np
 from numba import njit
 
 from pipeline.dynamics import joint as jl
-from pipeline.dynamics.frustum import ground_acceleration
+from pipeline.dynamics.excitation import ground_acceleration
 from pipeline.dynamics.dopri5 import dopri5
 from pipeline.dynamics.integrator import dop853
 

@@ -20,7 +20,7 @@ _RIGID_CONTACT = (  # {pivot}: what the tipped column turns on, {rim}: where it 
     "(`damping`).")
 
 # Numerical thresholds of the rigid kernels (defaults; carried in the options array,
-# pipeline.dynamics.frustum.OPT_*, so that
+# pipeline.dynamics.rigid.frustum.OPT_*, so that
 # studies/thresholds can vary them). No physical result may depend on them:
 # studies/thresholds/results.md shows that none does.
 #

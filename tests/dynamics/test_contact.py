@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from pipeline.dynamics import frustum as fk
+from pipeline.dynamics.rigid import frustum as fk
 from pipeline.dynamics.rigid import contact
 from pipeline.geometry import Column
 

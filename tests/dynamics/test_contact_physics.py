@@ -302,7 +302,7 @@ def test_slip_onset_continues_the_rolling_accelerations_with_the_patch(held, dam
     With the viscous couple (``damping`` nu = 0.1) both sets carry it too (the slip
     equations lacked it until 2026-11-23: they then differed by 7e-3 of the largest acceleration).
     """
-    from pipeline.dynamics import frustum as fk
+    from pipeline.dynamics.rigid import frustum as fk
     from pipeline.dynamics.rigid import layout, phases3d, run3d
     from pipeline.simulate import _options
 
@@ -403,7 +403,7 @@ def test_planar_slip_onset_continues_the_rocking_acceleration(damping):
     viscous couple until 2026-11-23: theta'' then differed by 2.7e-2 of it at
     nu = 0.1 (measured), which this bound sees.
     """
-    from pipeline.dynamics import frustum as fk
+    from pipeline.dynamics.rigid import frustum as fk
     from pipeline.dynamics.rigid import phases2d
     from pipeline.simulate import _options
 

@@ -5,7 +5,7 @@ import pytest
 import sympy as sp
 
 from pipeline.dynamics import derivation as d
-from pipeline.dynamics import frustum as fk
+from pipeline.dynamics.rigid import frustum as fk
 from pipeline.geometry import Column
 
 

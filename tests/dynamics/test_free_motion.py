@@ -7,7 +7,7 @@ import pytest
 import sympy as sp
 from scipy.integrate import solve_ivp
 
-from pipeline.dynamics import frustum as fk
+from pipeline.dynamics.rigid import frustum as fk
 from pipeline.geometry import Column
 from pipeline.settings import InitialState, ModelSettings
 from pipeline.simulate import simulate_free

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from pipeline.dynamics import frustum as fk
+from pipeline.dynamics.rigid import frustum as fk
 from pipeline.dynamics.rigid import layout as lay
 from pipeline.dynamics.rigid.run3d import run_frustum
 from pipeline.dynamics.reference import run_frustum_scipy

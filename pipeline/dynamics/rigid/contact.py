@@ -22,7 +22,7 @@ import math
 import numpy as np
 from numba import njit
 
-from pipeline.dynamics import frustum as fk
+from pipeline.dynamics.rigid import frustum as fk
 
 
 @njit(cache=True)

@@ -11,7 +11,7 @@ import math
 
 from numba import njit
 
-from pipeline.dynamics import frustum as fk
+from pipeline.dynamics.rigid import frustum as fk
 from pipeline.dynamics.rigid import rocking as rk
 from pipeline.dynamics.rigid.layout import (
     PHASE_FLIGHT, PHASE_OVERTURNED, PHASE_REST, PHASE_ROLLING, PHASE_SLIDING, PHASE_SLIPPING

@@ -13,7 +13,7 @@ import math
 
 from numba import njit
 
-from pipeline.dynamics import frustum as fk
+from pipeline.dynamics.rigid import frustum as fk
 from pipeline.dynamics.rigid import contact
 from pipeline.dynamics.rigid.layout import (
     MAX_STALLS, PHASE_OVERTURNED, PHASE_REST, STATUS_STALLED, S_DISSIPATED, S_ENERGY_END, S_FLIGHT_TIME,

@@ -14,7 +14,7 @@ import math
 import numpy as np
 from numba import njit
 
-from pipeline.dynamics import frustum as fk
+from pipeline.dynamics.rigid import frustum as fk
 from pipeline.dynamics.integrator import dop853_monitored
 from pipeline.dynamics.rigid import patch
 from pipeline.dynamics.rigid import rocking as rk

@@ -29,7 +29,7 @@ import math
 
 from numba import njit
 
-from pipeline.dynamics import frustum as fk
+from pipeline.dynamics.rigid import frustum as fk
 
 
 @njit(cache=True)

@@ -28,7 +28,7 @@ import math
 
 from numba import njit
 
-from pipeline.dynamics import frustum as fk
+from pipeline.dynamics.rigid import frustum as fk
 
 THETA2, DTHETA2, WORK2, DISSIPATED2, FRICTION2, X2, V2, Z2, VZ2 = range(9)
 N_STATE2 = 9

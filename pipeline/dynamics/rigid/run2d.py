@@ -12,7 +12,7 @@ import math
 
 from numba import njit
 
-from pipeline.dynamics import frustum as fk
+from pipeline.dynamics.rigid import frustum as fk
 from pipeline.dynamics.rigid import rocking as rk
 from pipeline.dynamics.rigid.layout import (
     EV_LIE, EV_LIFT, EV_SLIP, EV_STICK, EV_TURN, MAX_STALLS, MAX_TRANSITIONS, PHASE_FLIGHT, PHASE_OVERTURNED,

@@ -17,7 +17,7 @@ import math
 import numpy as np
 from numba import njit
 
-from pipeline.dynamics import frustum as fk
+from pipeline.dynamics.rigid import frustum as fk
 from pipeline.dynamics.rigid import contact
 from pipeline.dynamics.rigid import rim
 from pipeline.dynamics.rigid.layout import (

@@ -44,6 +44,8 @@ import math
 import numpy as np
 from numba import njit
 
+from pipeline.dynamics.excitation import ground_acceleration
+
 # State indices.
 PHI, THETA, PSI, DPHI, DTHETA, OMEGA, XP, YP, WORK, DISSIPATED = range(10)
 FRICTION, SLIP_SPEED, SLIP_DIR, ZC, VX, VY, VZ = range(10, 17)
@@ -313,41 +315,6 @@ def sincos(phi):
             return 0.0, -1.0
         return -1.0, 0.0
     return math.sin(phi), math.cos(phi)
-
-
-@njit(cache=True)
-def ground_acceleration(t, record, dt):
-    """Ground acceleration at time t by linear interpolation of a record.
-
-    Parameters
-    ----------
-    t : float
-        Time [tau].
-    record : numpy.ndarray, shape (n, 3)
-        Samples of (a_X, a_Y, a_Z) [g] at times 0, dt, 2 dt, ...
-    dt : float
-        Sampling interval [tau].
-
-    Returns
-    -------
-    tuple of float
-        (a_X, a_Y, a_Z) [g]; zero before 0 and after the last sample.
-    """
-    n = record.shape[0]
-    x = t / dt
-    if x < 0.0 or n == 0:
-        return 0.0, 0.0, 0.0
-    k = int(x)
-    if k >= n - 1:
-        if k == n - 1 and x == k:
-            return record[k, 0], record[k, 1], record[k, 2]
-        return 0.0, 0.0, 0.0
-    w = x - k
-    return (
-        record[k, 0] + w * (record[k + 1, 0] - record[k, 0]),
-        record[k, 1] + w * (record[k + 1, 1] - record[k, 1]),
-        record[k, 2] + w * (record[k + 1, 2] - record[k, 2]),
-    )
 
 
 @njit(cache=True)
