@@ -53,7 +53,7 @@ from scipy.special import log_ndtr, ndtr
 from pipeline import dataset
 from pipeline.dataset import annotate, append_history, write_netcdf
 from pipeline.errors import InputError
-from pipeline.models import DEFAULT, REGISTRY
+from pipeline.models import DEFAULT, of_results
 
 DEFAULT_STATES = (0.25, 0.5, 1.0)
 
@@ -452,7 +452,7 @@ def _per_record(results, im, labels):
     # column): count each run once
     angle_weight = np.ones((len(models), results.sizes["angle"]))
     for i, m in enumerate(models):
-        if m in REGISTRY and REGISTRY[m].angle_invariant:
+        if getattr(of_results(results, m), "angle_invariant", False):
             angle_weight[i, 1:] = 0.0
     weight = valid * angle_weight.T[None, None, :, None, :]  # (column, record, angle, scale, model)
     return x, exceed, weight

@@ -48,12 +48,14 @@ KINDS = {
     "study": "results file of 'frustum study run'",
     "fragility": "fragility file of 'frustum fragility'",
     "risk": "risk file of 'frustum risk'",
+    "comparison": "model comparison of 'frustum report'",
 }
 
 #: CSV tables this project writes: how the messages name them and how their header row starts.
 CSV_HEADERS = {
     "risk-csv": ("CSV written by 'frustum risk'", "site,site_longitude,site_latitude,column,model,state,"),
     "summary-csv": ("summary.csv written by 'frustum report'", "column,model,R_m,r_m,"),
+    "comparison-csv": ("comparison.csv written by 'frustum report'", "column,reference,model,"),
 }
 
 #: The words every other file this project writes carries (see :func:`mark_text`).
@@ -190,6 +192,8 @@ def result_kind(path):
         return None
     if "site" in dims and "annual_frequency" in names:
         return "risk"
+    if "reference_model" in attrs:
+        return "comparison"
     if "intensity_measure" in attrs or ("state" in dims and "median" in names):
         return "fragility"
     if "time" in dims:

@@ -386,6 +386,53 @@ def plot_model_comparison(frag, stem, state="overturning", title=None):
     return _save(fig, stem)
 
 
+def plot_model_medians(comparison, stem, columns=None, title=None):
+    """Median intensity of overturning of every model with its bootstrap band, per column.
+
+    One panel per column (at most six): a row per model, the reference first, its band shaded
+    across the panel so that a model whose median falls inside it is seen at once.
+
+    Parameters
+    ----------
+    comparison : xarray.Dataset
+        From :func:`pipeline.comparison.compare_models`.
+    stem : str
+        Path without extension.
+    columns : list of str, optional
+        Columns drawn (default: the first six).
+    """
+    factor, label, _ = im_axis(comparison.attrs.get("intensity_measure", "pga"),
+                               comparison["median"].attrs.get("units", ""))
+    columns = [str(c) for c in comparison["column"].values][:6] if columns is None else columns
+    reference = comparison.attrs["reference_model"]
+    models = [str(m) for m in comparison["model"].values]
+    names = [reference] + models
+    fig, axes = plt.subplots(len(columns), 1, figsize=(7.0, 1.0 + 0.45 * len(names) * len(columns)),
+                             constrained_layout=True, squeeze=False)
+    for ax, c in zip(axes[:, 0], columns):
+        cell = comparison.sel(column=c)
+        ref = [float(cell[f"median_reference{k}"].values[0]) * factor for k in ("", "_lower", "_upper")]
+        rows = [ref] + [[float(cell[f"median{k}"].sel(model=m)) * factor for k in ("", "_lower", "_upper")]
+                        for m in models]
+        if np.isfinite(ref[1]) and np.isfinite(ref[2]):
+            ax.axvspan(ref[1], ref[2], color="C0", alpha=0.12, label="reference's band")
+        for y, (name, (med, lo, hi)) in enumerate(zip(names, rows)):
+            if np.isfinite(med):
+                err = [[med - lo if np.isfinite(lo) else 0.0], [hi - med if np.isfinite(hi) else 0.0]]
+                ax.errorbar([med], [y], xerr=err, fmt="o", color="C0" if y == 0 else "k", capsize=3)
+            else:
+                ax.annotate("no median (none or all overturned)", (0.02, y), xycoords=("axes fraction", "data"),
+                            va="center", fontsize="small", color="0.4")
+        ax.set_yticks(range(len(names)), [model_title(n) for n in names], fontsize="small")
+        ax.set_ylim(len(names) - 0.5, -0.5)
+        ax.set_title(f"column '{c}'", fontsize="small", loc="left")
+        ax.grid(True, axis="x", alpha=0.3)
+    axes[-1, 0].set_xlabel(f"median {label} of overturning, {100 * comparison.attrs.get('confidence_level', 0.9):g} % "
+                           "bootstrap band over records")
+    fig.suptitle(title or f"Median intensity of overturning: every model against '{reference}'", fontsize="medium")
+    return _save(fig, stem)
+
+
 def plot_column_grid(frag, values, stem, label, title, cmap="viridis", vmin=None, vmax=None, fmt="{:.2f}",
                      missing_text="n/a"):
     """A value per column drawn over slenderness h/R and conicity r/R (cells of the study grid).

@@ -31,11 +31,13 @@ import os
 
 import numpy as np
 
+from pipeline import comparison as C
 from pipeline import fragility as F
 from pipeline import models as MD
 from pipeline.models import planar_pair
 from pipeline import plotting_fragility as P
 from pipeline.atomic import atomic_folder, atomic_open
+from pipeline.dataset import write_netcdf
 from pipeline.errors import InputError
 from pipeline.paths import mark_text
 from pipeline.units import G
@@ -345,6 +347,8 @@ def _write_geojson(rows, path):
 
 
 CAPTIONS = (
+    ("median_model_vs_model", "Median PGA of overturning of every model with its bootstrap band over records; the "
+     "reference model first, its band shaded across the panel."),
     ("fragility_overturning", "Probability of overturning against PGA. Lines: fitted curves; markers: the fraction "
      "of runs that overturned at each intensity; shading: the uncertainty that comes from the choice of records."),
     ("fragility_states", "Probability of reaching each damage state: the peak tilt reaching a quarter, half or all "
@@ -385,7 +389,7 @@ def _values(results, name):
 
 def write_report(results, out_dir, pga_levels_g=DEFAULT_PGA_LEVELS_G, states=F.DEFAULT_STATES, bootstrap=200,
                  seed=0, confidence=F.DEFAULT_CONFIDENCE, title=None, trajectories=None, notes=None, focus=None,
-                 stripe_tables_max=4, hazard=None, years=50.0):
+                 stripe_tables_max=4, hazard=None, years=50.0, reference=None):
     """Write the report folder of a study.
 
     Parameters
@@ -419,6 +423,10 @@ def write_report(results, out_dir, pga_levels_g=DEFAULT_PGA_LEVELS_G, states=F.D
         a figure of the risk integrand.
     years : float
         Period of the probability stated with ``hazard`` [yr].
+    reference : str, optional
+        With several models, the one every other is compared with ("Model against model",
+        ``comparison.csv``, ``comparison.nc``; :func:`pipeline.comparison.compare_models`);
+        default the study's first model.
 
     Returns
     -------
@@ -429,17 +437,17 @@ def write_report(results, out_dir, pga_levels_g=DEFAULT_PGA_LEVELS_G, states=F.D
     dest = os.fspath(out_dir)
     with atomic_folder(dest) as tmp:
         out = _write_report_into(results, tmp, pga_levels_g, states, bootstrap, seed, confidence, title,
-                                 trajectories, notes, focus, stripe_tables_max, hazard, years)
+                                 trajectories, notes, focus, stripe_tables_max, hazard, years, reference)
 
     def moved(path):
         return None if path is None else os.path.join(dest, os.path.relpath(path, tmp))
 
-    return {k: ([moved(p) for p in v] if k == "figures" else v if k in ("frag", "risk") else moved(v))
+    return {k: ([moved(p) for p in v] if k == "figures" else v if k in ("frag", "risk", "comparison") else moved(v))
             for k, v in out.items()}
 
 
 def _write_report_into(results, out_dir, pga_levels_g, states, bootstrap, seed, confidence, title, trajectories, notes,
-                       focus, stripe_tables_max, hazard=None, years=50.0):
+                       focus, stripe_tables_max, hazard=None, years=50.0, reference=None):
     """:func:`write_report` into ``out_dir`` (a temporary folder); returns what it wrote there."""
     out_dir = os.fspath(out_dir)
     results = F._normalise(results, F._where(results))
@@ -512,6 +520,13 @@ def _write_report_into(results, out_dir, pga_levels_g, states, bootstrap, seed, 
     comparison = model_comparison(results, frag, pga_levels_g)
     if comparison:
         figs += P.plot_model_comparison(frag, os.path.join(fig_dir, "median_2d_vs_3d"))[:1]
+    versus = versus_path = versus_csv = None
+    if len(models) > 1:
+        versus = C.compare_models(results, frag, reference=reference)
+        versus_path = write_netcdf(versus, os.path.join(out_dir, "comparison.nc"))
+        versus_csv = os.path.join(out_dir, "comparison.csv")
+        _write_csv(C.comparison_rows(versus), versus_csv)
+        figs += P.plot_model_medians(versus, os.path.join(fig_dir, "median_model_vs_model"))[:1]
     if trajectories:
         figs += P.plot_trajectories(trajectories, os.path.join(fig_dir, "trajectories"),
                                     title="Paths on the ground of chosen runs")[:1]
@@ -536,15 +551,17 @@ def _write_report_into(results, out_dir, pga_levels_g, states, bootstrap, seed, 
     args = (results, frag, rows, comparison, pga_levels_g, figs, out_dir, title, notes, geo_path, stripe_tables_max)
     md_path = os.path.join(out_dir, "report.md")
     with _atomic_text(md_path) as fh:
-        fh.write(_markdown(*args, risk=(risk, hazard)) + f"\n<!-- {mark_text()} -->\n")
+        fh.write(_markdown(*args, risk=(risk, hazard), versus=versus) + f"\n<!-- {mark_text()} -->\n")
     html_path = os.path.join(out_dir, "report.html")
     with _atomic_text(html_path) as fh:
-        fh.write(_html(_markdown(*args, image=_data_uri, risk=(risk, hazard)),
+        fh.write(_html(_markdown(*args, image=_data_uri, risk=(risk, hazard), versus=versus),
                        title or results.attrs.get("title", "Study report")))
     out = {"report": md_path, "html": html_path, "csv": csv_path, "geojson": geo_path, "fragility": frag_path,
            "figures": figs, "frag": frag}
     if risk is not None:
         out.update(risk_nc=risk_path, risk_csv=risk_csv, risk=risk)
+    if versus is not None:
+        out.update(comparison_nc=versus_path, comparison_csv=versus_csv, comparison=versus)
     return out
 
 
@@ -757,7 +774,7 @@ def _caveats(rows):
 
 
 def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, title, notes, geo_path,
-              stripe_tables_max=4, image=None, risk=(None, None)):
+              stripe_tables_max=4, image=None, risk=(None, None), versus=None):
     """The report as Markdown; ``image(path)`` gives a figure's link (default: its path relative to the report)."""
     image = image or (lambda path: os.path.relpath(path, out_dir))
     n = results.sizes
@@ -925,6 +942,8 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
                 lines.append(f"| {first} | {second} | {_pct(r['fraction_3d'][k])} | {_pct(r['fraction_2d'][k])} |")
             lines.append("")
 
+    if versus is not None:
+        lines += C.markdown_section(versus)
     lines += ["## Figures", ""]
     for path in figs:
         stem = os.path.splitext(os.path.basename(path))[0]
@@ -947,6 +966,9 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
               "- `figures/`: every figure as PNG and PDF."]
     if geo_path:
         lines.append("- `columns.geojson`: the columns with their coordinates and results; opens in a GIS.")
+    if versus is not None:
+        lines.append("- `comparison.csv`, `comparison.nc`: every model against the reference, per column (medians "
+                     "and bands, cell-by-cell outcomes, peak-tilt ratios; spreadsheet and netCDF).")
     if risk[0] is not None:
         lines.append("- `risk.nc`, `risk.csv`: the risk at the site(s) of every column, model and damage state "
                      "(mean annual frequency, probability in the period, bounds; netCDF and spreadsheet).")

@@ -7,18 +7,21 @@ from pipeline.errors import InputError
 
 #: The files a report writes in its folder, checked against the inputs and the user's files before computing
 #: (the figures' names depend on the data: every existing figure there must be one a report wrote).
-REPORT_FILES = ("report.md", "report.html", "summary.csv", "columns.geojson", "fragility.nc", "figures/*.png",
-                "figures/*.pdf")
+REPORT_FILES = ("report.md", "report.html", "summary.csv", "columns.geojson", "fragility.nc", "comparison.nc",
+                "comparison.csv", "figures/*.png", "figures/*.pdf")
 #: The files ``--hazard`` adds.
 RISK_FILES = ("risk.nc", "risk.csv")
 #: How an existing file of each name is recognised as one a report wrote (others: the project's mark).
-REPORT_KINDS = {"fragility.nc": "fragility", "risk.nc": "risk", "summary.csv": "summary-csv", "risk.csv": "risk-csv"}
+REPORT_KINDS = {"fragility.nc": "fragility", "risk.nc": "risk", "summary.csv": "summary-csv", "risk.csv": "risk-csv",
+                "comparison.nc": "comparison", "comparison.csv": "comparison-csv"}
 
 _EXAMPLES = """\
 examples:
   frustum report out/quickstart.nc --out out/quickstart-report
   probabilities stated at 0.15, 0.3 and 0.45 g, 500 bootstrap replicates:
     frustum report out/quickstart.nc --out report --pga-levels 0.15,0.3,0.45 --bootstrap 500
+  several models (or variants) compared with the one named, not the study's first:
+    frustum report out/drums.nc --out report --reference stack
   with the chance of overturning in 50 years at the sites of an OpenQuake PGA hazard curve:
     frustum report out/quickstart.nc --out report --hazard hazard_curve-mean-PGA_12.csv
 """
@@ -51,6 +54,9 @@ def register(subparsers):
                    "[1/yr]'; adds 'Risk at the site' (chance of overturning in --years), risk.nc and risk.csv")
     p.add_argument("--years", type=float, default=50.0, metavar="T",
                    help="period of the chance stated with --hazard [yr] (default 50)")
+    p.add_argument("--reference", default=None, metavar="MODEL",
+                   help="with several models: the one every other is compared with in 'Model against model', "
+                   "comparison.csv and comparison.nc (default: the study's first model)")
     p.set_defaults(handler=run)
 
 
@@ -88,8 +94,10 @@ def run(args):
     check_output_folder(args.out, "--out", writes=writes, kinds=REPORT_KINDS, inputs=inputs)
     results = F.open_results(args.results)
     out = write_report(results, args.out, pga_levels_g=levels, states=parse_states(args.states),
-                       bootstrap=args.bootstrap, seed=args.seed, title=args.title, hazard=hazard, years=args.years)
+                       bootstrap=args.bootstrap, seed=args.seed, title=args.title, hazard=hazard, years=args.years,
+                       reference=args.reference)
     print(f"wrote {out['report']}, {out['html']}, {out['csv']}" + (f", {out['geojson']}" if out["geojson"] else "")
           + (f", {out['risk_nc']}, {out['risk_csv']}" if out.get("risk_nc") else "")
+          + (f", {out['comparison_nc']}, {out['comparison_csv']}" if out.get("comparison_nc") else "")
           + f" and {len(out['figures'])} figure(s)")
     return 0

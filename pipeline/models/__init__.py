@@ -14,7 +14,7 @@ from pipeline.models.rigid import PLANAR_ROCKING, ROLLING_FRUSTUM
 from pipeline.models.spec import Model, ModelDescription
 
 __all__ = ["Model", "ModelDescription", "REGISTRY", "DEFAULT", "names", "get", "describe", "title", "markdown",
-           "style", "planar_pair"]
+           "style", "planar_pair", "base_of", "of_results"]
 
 #: The models by name, in the order help and reports list them.
 REGISTRY = {m.name: m for m in (ROLLING_FRUSTUM, PLANAR_ROCKING, COMPLIANT_DRUMS)}
@@ -33,6 +33,24 @@ def get(name):
         return REGISTRY[name]
     except (KeyError, TypeError):
         raise InputError(f"model = {name!r} is unknown; choose one of {', '.join(REGISTRY)}") from None
+
+
+def base_of(results, name):
+    """The registry name of the model a results file calls ``name``.
+
+    A study may run variants of a registry model under names of their own (``[models.NAME]``
+    in the study file); its results say which model each one is in the variable
+    ``base_model`` (dim ``model``). Without it, or for a name it does not hold, the name is the
+    registry's own.
+    """
+    if "base_model" in getattr(results, "variables", ()) and name in results["model"].values:
+        return str(results["base_model"].sel(model=name).values)
+    return name
+
+
+def of_results(results, name):
+    """The registry entry of a results file's model ``name`` (:func:`base_of`), or None if unknown."""
+    return REGISTRY.get(base_of(results, name))
 
 
 def describe(name):

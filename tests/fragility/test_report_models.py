@@ -54,6 +54,7 @@ def test_the_compliant_model_is_described_by_its_bodies_joints_and_law():
 def test_a_compliant_report_names_its_model_and_no_model_it_did_not_run(models, tmp_path):
     text = _report(models, tmp_path)
     assert MD.markdown("3d-compliant") in text
+    assert ("## Model against model" in text) == (len(models) > 1)  # a report of one model compares none
     assert "3D compliant drums on joints (`3d-compliant`)" in text  # in the list of models
     assert "- 3D-COMPLIANT: in " in text and MD.describe("3d-compliant").sliding_onset in text
     for other in set(MD.REGISTRY) - set(models):
