@@ -27,10 +27,58 @@ from pipeline.fragility import RESULT_DIMS, _normalise, _valid, _where
 from pipeline.models import of_results, title
 from pipeline.units import G
 
-__all__ = ["compare_models", "outcome_agreement", "peak_ratio", "comparison_rows", "markdown_section"]
+__all__ = ["merge_results", "compare_models", "outcome_agreement", "peak_ratio", "comparison_rows",
+           "markdown_section"]
 
 #: The percentiles of the peak ratio stated beside its median [%].
 RATIO_PERCENTILES = (10.0, 90.0)
+
+
+def merge_results(datasets):
+    """Results of several files on the same cells as one, their models side by side.
+
+    For a comparison of models run apart: two studies of the same grid, or a peer engine's
+    cells written in the layout of a study's results. A variable one file lacks is NaN for its
+    models.
+
+    Parameters
+    ----------
+    datasets : sequence of xarray.Dataset
+        Study results (:func:`pipeline.fragility.open_results`), with the same columns, records,
+        incidence angles and scales, and models of distinct names.
+
+    Returns
+    -------
+    xarray.Dataset
+        Concatenated along ``model``; the attributes of the first, its ``history`` followed by
+        the others'.
+    """
+    datasets = [_normalise(ds, _where(ds)) for ds in datasets]
+    first = datasets[0]
+    seen = {}
+    for ds in datasets:
+        for dim in ("column", "record", "angle", "scale"):
+            a, b = np.asarray(first[dim].values), np.asarray(ds[dim].values)
+            same = a.shape == b.shape and (np.array_equal(a, b) if a.dtype.kind == "f" else list(a) == list(b))
+            if not same:
+                raise InputError(f"{_where(ds)}: its {dim} values differ from those of {_where(first)}; results "
+                                 "are compared cell by cell, so give files of the same columns, records, angles "
+                                 "and scales")
+        if ds["scale"].attrs.get("units", "1") != first["scale"].attrs.get("units", "1"):
+            raise InputError(f"{_where(ds)}: its scale is in {ds['scale'].attrs.get('units', '1')!r}, that of "
+                             f"{_where(first)} in {first['scale'].attrs.get('units', '1')!r}; scale both the same way")
+        for m in ds["model"].values:
+            if str(m) in seen:
+                raise InputError(f"model {str(m)!r} is in both {seen[str(m)]} and {_where(ds)}; each model may "
+                                 "come from one file")
+            seen[str(m)] = _where(ds)
+    if len(datasets) == 1:
+        return first
+    merged = xr.concat(datasets, dim="model", data_vars="minimal", coords="minimal", compat="override",
+                       join="outer", combine_attrs="override")
+    merged.attrs["history"] = "\n".join(str(ds.attrs.get("history", "")) for ds in datasets if ds.attrs.get("history"))
+    merged.attrs["source_file"] = ", ".join(_where(ds) for ds in datasets)
+    return merged
 
 
 def _cells(results, column, reference, model):

@@ -22,6 +22,8 @@ examples:
     frustum report out/quickstart.nc --out report --pga-levels 0.15,0.3,0.45 --bootstrap 500
   several models (or variants) compared with the one named, not the study's first:
     frustum report out/drums.nc --out report --reference stack
+  a peer engine's cells (written in the layout of a study's results) beside a study's models:
+    frustum report out/drums.nc out/pybullet.nc --out report --reference stack
   with the chance of overturning in 50 years at the sites of an OpenQuake PGA hazard curve:
     frustum report out/quickstart.nc --out report --hazard hazard_curve-mean-PGA_12.csv
 """
@@ -39,7 +41,9 @@ def register(subparsers):
         epilog=_EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("results", metavar="FILE.nc", help="study results written by 'frustum study run'")
+    p.add_argument("results", metavar="FILE.nc", nargs="+",
+                   help="study results written by 'frustum study run'; several files of the same columns, records, "
+                   "angles and scales are reported as one, their models compared side by side")
     p.add_argument("--out", required=True, metavar="DIR", help="folder to write (created)")
     p.add_argument("--pga-levels", default="0.1,0.2,0.3,0.5,0.8", metavar="G1,G2,...",
                    help="PGA levels [g] at which to state the probability of overturning (default 0.1,0.2,0.3,0.5,0.8)")
@@ -74,7 +78,7 @@ def run(args):
         raise InputError(f"--pga-levels {args.pga_levels!r}: give positive PGA values in g, e.g. 0.1,0.2,0.3")
     check_fit_options(args)
     hazard = None
-    inputs = [("results file", args.results)]
+    inputs = [("results file", path) for path in args.results]
     if args.hazard is not None:
         from pipeline import risk as R
 
@@ -92,7 +96,9 @@ def run(args):
         raise InputError("--years is the period of the chance stated with --hazard; give --hazard CURVE.csv too")
     writes = REPORT_FILES + (RISK_FILES if hazard is not None else ())
     check_output_folder(args.out, "--out", writes=writes, kinds=REPORT_KINDS, inputs=inputs)
-    results = F.open_results(args.results)
+    from pipeline.comparison import merge_results
+
+    results = merge_results([F.open_results(path) for path in args.results])
     out = write_report(results, args.out, pga_levels_g=levels, states=parse_states(args.states),
                        bootstrap=args.bootstrap, seed=args.seed, title=args.title, hazard=hazard, years=args.years,
                        reference=args.reference)

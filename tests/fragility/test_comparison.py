@@ -9,7 +9,7 @@ import pytest
 import xarray as xr
 from fragility_synthetic import make_results
 
-from pipeline.comparison import compare_models, comparison_rows, outcome_agreement, peak_ratio
+from pipeline.comparison import compare_models, comparison_rows, merge_results, outcome_agreement, peak_ratio
 from pipeline.errors import InputError
 from pipeline.fragility import fragility
 from pipeline.paths import result_kind
@@ -113,3 +113,16 @@ def test_the_report_compares_models_and_writes_the_tables(tmp_path):
     header = open(out["comparison_csv"], encoding="utf-8").readline()
     assert header.startswith("column,reference,model,median,")
     assert any(p.endswith("median_model_vs_model.png") for p in out["figures"])
+
+
+def test_results_of_two_files_merge_into_the_same_comparison(tmp_path):
+    ds = _pair()
+    a, b = ds.sel(model=["3d"]), ds.sel(model=["2d"]).drop_vars("n_impacts")  # a peer need not write everything
+    merged = merge_results([a, b])
+    assert list(merged["model"].values) == ["3d", "2d"]
+    assert np.isnan(merged["n_impacts"].sel(model="2d")).all()
+    assert outcome_agreement(merged, "paper", "3d", "2d") == outcome_agreement(ds, "paper", "3d", "2d")
+    with pytest.raises(InputError, match="record values differ"):
+        merge_results([a, b.isel(record=slice(1, None))])
+    with pytest.raises(InputError, match="model '3d' is in both"):
+        merge_results([a, a])
