@@ -1,6 +1,6 @@
 """The compliant-contact model: a column of rigid drums on joints of contact points.
 
-Friendly layer over :mod:`pipeline.dynamics.stack`: builds the dimensionless tables of a
+Friendly layer over :mod:`pipeline.dynamics.compliant.stack`: builds the dimensionless tables of a
 monolith or of a multi-drum column (:class:`pipeline.drums.DrumColumn`), sets the normal
 damping from a target coefficient of restitution (:func:`calibrated_damping`), runs the
 compiled kernel and returns a :class:`pipeline.response.Response` with the rigid models'
@@ -15,9 +15,9 @@ import numpy as np
 from scipy.optimize import brentq
 
 from pipeline.drums import DrumColumn
-from pipeline.dynamics import joint as jl
-from pipeline.dynamics import semi_implicit as si
-from pipeline.dynamics import stack as sk
+from pipeline.dynamics.compliant import joint as jl
+from pipeline.dynamics.compliant import semi_implicit as si
+from pipeline.dynamics.compliant import stack as sk
 from pipeline.errors import InputError
 from pipeline.geometry import Column
 from pipeline.models.compliant import COMPLIANT_DRUMS
@@ -33,7 +33,7 @@ class Assembly:
     Attributes
     ----------
     bodies, points, joint_start, joints : numpy.ndarray
-        Tables of :mod:`pipeline.dynamics.stack` (weights not yet set).
+        Tables of :mod:`pipeline.dynamics.compliant.stack` (weights not yet set).
     length : float
         Reference length L, the base radius [m].
     mass : float
@@ -95,7 +95,7 @@ def _per_joint(value, n, name, default):
 
 
 def assemble(column, settings, damping):
-    """Dimensionless tables of a column for :mod:`pipeline.dynamics.stack`.
+    """Dimensionless tables of a column for :mod:`pipeline.dynamics.compliant.stack`.
 
     Parameters
     ----------
@@ -206,7 +206,7 @@ def critical_damping(column, settings):
 
 
 def rest_state(params, settings):
-    """The upright state of static equilibrium (:func:`pipeline.dynamics.stack.rest_state`),
+    """The upright state of static equilibrium (:func:`pipeline.dynamics.compliant.stack.rest_state`),
     with the bodies' weights set to the joints' net forces as the settings' integrator sums
     them, so that a column left alone stays exactly still under either."""
     y = sk.rest_state(params)
@@ -401,7 +401,7 @@ def fixed_step(asm, params, y, settings):
     """The semi-implicit integrator's step for a column [s], and its stability limit [s].
 
     The limit is ``2 / omega_max`` of the stiffest joint mode in the state y
-    (:func:`pipeline.dynamics.semi_implicit.stiffest_frequency`); the step is
+    (:func:`pipeline.dynamics.compliant.semi_implicit.stiffest_frequency`); the step is
     ``settings.step`` if given (refused if above the limit), else ``step_safety`` times the limit.
 
     Raises
@@ -611,7 +611,7 @@ def joint_dislocations(asm, params, y):
     params : tuple
         The kernel parameters of ``asm`` (its scratch is overwritten).
     y : numpy.ndarray
-        A state of :mod:`pipeline.dynamics.stack` (dimensionless).
+        A state of :mod:`pipeline.dynamics.compliant.stack` (dimensionless).
 
     Returns
     -------

@@ -139,7 +139,7 @@ class ModelSettings:
         Integrator of the compliant-contact model: fixed steps of the
         semi-implicit scheme of DEM codes (default; springs explicit,
         dashpots implicit, friction by return to the Coulomb cone:
-        :mod:`pipeline.dynamics.semi_implicit`), or the adaptive DOPRI5 it
+        :mod:`pipeline.dynamics.compliant.semi_implicit`), or the adaptive DOPRI5 it
         is checked against (``rtol``, ``atol``), or DOP853 before it
         (:mod:`pipeline.dynamics.dopri5`). The rigid models always use DOP853.
     step : float or None

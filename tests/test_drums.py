@@ -95,7 +95,7 @@ def test_joint_dislocations_of_a_known_state():
     ground, drum 1 slid, twisted, tilted and lifted on drum 0 (in drum 0's frame). Every measure
     is the closed form of that placement, to round-off (1e-12 m and rad)."""
     from pipeline.compliant import assemble, dislocation_ratio, joint_dislocations
-    from pipeline.dynamics import stack as sk
+    from pipeline.dynamics.compliant import stack as sk
 
     asm = assemble(DrumColumn.equal(PAPER, 2), compliant(), damping=0.0)
     params = asm.params()
@@ -133,7 +133,7 @@ def test_joint_dislocations_of_a_known_state():
 def test_energy_budget_of_a_stack():
     """Three drums with anathyrosis and their own friction under a two-component record: with the
     adaptive reference (DOPRI5) the stack's energy budget closes to 1e-6 of the work (measured -8e-10) while drums rock and slide.
-    (The capital's terms are checked by the energy-rate identity, tests/dynamics/test_stack.py.)
+    (The capital's terms are checked by the energy-rate identity, tests/dynamics/compliant/test_stack.py.)
     """
     motion = clough_penzien(3, duration=3.0, dt=0.01, pga=0.45 * G, omega_f=3.0)
     s = simulate(DrumColumn.equal(PAPER, 3), motion, Excitation(angle=23.0),
@@ -197,7 +197,7 @@ def test_drum_geometry_and_bad_input():
     assert drums[0].R == 0.5 and drums[-1].r == 0.4 and drums[1].R == drums[0].r == pytest.approx(0.475)
     # the bearing faces are the kernel's: its contact points reach the rim of each (capital included)
     from pipeline.compliant import assemble
-    from pipeline.dynamics import stack as sk
+    from pipeline.dynamics.compliant import stack as sk
 
     capped = DrumColumn(PAPER, stack.cuts, Capital(1.2, 0.5))
     asm = assemble(capped, compliant(), damping=0.0)

@@ -1,6 +1,6 @@
 """The compliant model (``"3d-compliant"``): rigid bodies, a monolith or a stack of drums and a
 capital, on joints of contact points (:mod:`pipeline.compliant`, kernels in
-:mod:`pipeline.dynamics.stack` and :mod:`pipeline.dynamics.semi_implicit`)."""
+:mod:`pipeline.dynamics.compliant.stack` and :mod:`pipeline.dynamics.compliant.semi_implicit`)."""
 
 from types import MappingProxyType
 
@@ -37,19 +37,19 @@ COMPLIANT_DRUMS = Model(
     angle_invariant=False,  # its contact points are not axisymmetric: it feels the direction
     planar=False,
     # edge_band: width of the band past a face's edge over which a point's support runs off
-    # (pipeline.dynamics.joint.overlap), in spacings of the two outer rings of contact points [1];
+    # (pipeline.dynamics.compliant.joint.overlap), in spacings of the two outer rings of contact points [1];
     # step_safety: the fixed step as a fraction of the stability limit 2 / omega_max of the
-    # stiffest joint mode (pipeline.dynamics.semi_implicit) [1]: about 4 % frequency error on that
+    # stiffest joint mode (pipeline.dynamics.compliant.semi_implicit) [1]: about 4 % frequency error on that
     # mode, far above the rocking ones
     numerics=MappingProxyType({"edge_band": 0.5, "step_safety": 0.5}),
     # and of a column of drums: the largest residual slip of a bed joint over its diameter, the body
     # that fell first, the residual dislocation of every joint
     results=RESULTS + ("dislocation_ratio", "overturn_drum", "joint_slip", "joint_twist", "joint_tilt",
                        "joint_opening"),
-    entry_points=(("pipeline.dynamics.semi_implicit", "run"),),  # its default integrator's run
+    entry_points=(("pipeline.dynamics.compliant.semi_implicit", "run"),),  # its default integrator's run
     runner="pipeline.compliant:simulate_compliant",
     # fixed steps of the semi-implicit scheme (the default), or the adaptive ones it is checked
-    # against (pipeline.dynamics.stack.METHODS)
+    # against (pipeline.dynamics.compliant.stack.METHODS)
     integrators=("semi-implicit", "dopri5", "dop853"),
     style=MappingProxyType(dict(ls="-.", marker="^", filled=False, band_alpha=0.07)),
 )

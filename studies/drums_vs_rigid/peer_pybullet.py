@@ -357,7 +357,7 @@ def _quiet(world, seconds):
 def check_properties():
     """Masses and central inertias in PyBullet against ``pipeline.compliant.assemble``'s (4 drums)."""
     from pipeline.compliant import assemble
-    from pipeline.dynamics import stack as sk
+    from pipeline.dynamics.compliant import stack as sk
     from pipeline.settings import ModelSettings
 
     stack = paper_stack(4)

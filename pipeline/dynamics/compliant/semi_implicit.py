@@ -1,7 +1,7 @@
 """Fixed-step semi-implicit integrator of the compliant models (monolith and drum stacks).
 
 The integrator of DEM codes (3DEC, PFC) written for the joint law of
-:mod:`pipeline.dynamics.joint` and the bodies of :mod:`pipeline.dynamics.stack`, whose state
+:mod:`pipeline.dynamics.compliant.joint` and the bodies of :mod:`pipeline.dynamics.compliant.stack`, whose state
 layout, tables, monitor and statistics it shares. One step of size h:
 
 1. **Forces at the configuration q_n** (one evaluation per step): the elastic normal force of
@@ -36,7 +36,7 @@ work), friction as the spring energy lost in each return to the cone and in the 
 of unloaded springs. What remains of the budget is the scheme's error (first order in h; the
 summary states it).
 
-Kernel layer: dimensionless floats and arrays as in :mod:`pipeline.dynamics.stack`.
+Kernel layer: dimensionless floats and arrays as in :mod:`pipeline.dynamics.compliant.stack`.
 """
 
 import math
@@ -44,8 +44,8 @@ import math
 import numpy as np
 from numba import njit
 
-from pipeline.dynamics import joint as jl
-from pipeline.dynamics import stack as sk
+from pipeline.dynamics.compliant import joint as jl
+from pipeline.dynamics.compliant import stack as sk
 from pipeline.dynamics.excitation import ground_acceleration
 
 # Solves of one step's active set of clipped points at most (one when no point changes).
@@ -261,7 +261,7 @@ def assemble_system(y, bodies, joint_matrices, h, work, diag, off):
     """``M + h C`` as blocks (ground-frame velocities and angular velocities of each body).
 
     ``joint_matrices[j]``: the dashpot matrix of joint j (:func:`joint_matrix`); ``work``
-    holds each body's rotation matrix (:func:`pipeline.dynamics.stack._kinematics`).
+    holds each body's rotation matrix (:func:`pipeline.dynamics.compliant.stack._kinematics`).
     """
     n = bodies.shape[0]
     for b in range(n):
@@ -746,7 +746,7 @@ def step(t, y, h, params, s):
     """Advance the state y (in place) from t by one step h; returns the number of solves.
 
     ``s`` is the scratch tuple of :func:`make_scratch`. The per-joint monitor of ``params`` is
-    filled from the step's forces, as :func:`pipeline.dynamics.stack.update_statistics` reads
+    filled from the step's forces, as :func:`pipeline.dynamics.compliant.stack.update_statistics` reads
     it: the normal force as the step applied it at the new velocities (elastic and dashpot of
     a pressed point, none of a clipped one) and its elastic part; the tangential resultant of
     each point's shear spring and, sticking, its dashpot at the new velocities, held within
@@ -930,7 +930,7 @@ def run(params, y, t_mon, start, stop, h, stride, theta_commit, hist_y, hist_dia
     ``stride`` samples, from the state interpolated between the two steps around the sample
     (``between``: scratch (2, len(y)), the state before the last step and the interpolated one),
     so that neither the output grid nor the pieces change the steps. The statistics, histories
-    and summary are those of :func:`pipeline.dynamics.stack.run` (same arrays, same meaning),
+    and summary are those of :func:`pipeline.dynamics.compliant.stack.run` (same arrays, same meaning),
     so a long run can be done in pieces (progress, interruption) with the same result as in one.
 
     Returns

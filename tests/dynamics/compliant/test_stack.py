@@ -7,7 +7,7 @@ import pytest
 
 from pipeline.compliant import as_stack, assemble, critical_damping, released_state
 from pipeline.drums import Capital, DrumColumn
-from pipeline.dynamics import stack as sk
+from pipeline.dynamics.compliant import stack as sk
 from pipeline.geometry import Column
 from pipeline.settings import ModelSettings
 
@@ -168,7 +168,7 @@ def test_no_force_jumps_where_a_point_leaves_the_band_past_an_edge():
     change over 2 nm). With the linear ramp the band's pull (-1/2 k A d^2 ds/drho) jumped there
     by 1/2 k A d^2 / band, 9.4e-4 of the accelerations here, and a collapsing stack chattered on
     that jump with steps of nanoseconds."""
-    from pipeline.dynamics import joint as jl
+    from pipeline.dynamics.compliant import joint as jl
 
     asm, params = _params(DrumColumn.equal(Column(1.0, 1.0, 2.0), 2), ModelSettings(model="3d-compliant"))
     bodies, points, joint_start, joints = params[:4]

@@ -4,7 +4,7 @@ One kernel for the monolith (N = 1, the model ``"3d-compliant"``) and for multi-
 (N > 1): rigid bodies with six degrees of freedom each, stacked bottom (0) to top. The base
 of body 0 stands on the ground plane; the base of body i stands on the top face of body
 i - 1, a plane moving with it, and its points count only over that face. Every joint is a
-set of contact points carrying the joint law of :mod:`pipeline.dynamics.joint`.
+set of contact points carrying the joint law of :mod:`pipeline.dynamics.compliant.joint`.
 
 Everything is dimensionless: lengths per a reference length L (the base radius of the
 column), time per sqrt(L/g), masses per the total mass M, forces per M g, energies per
@@ -27,7 +27,7 @@ I_a about z (drums and square capitals alike).
 
 Exact rest: the weights used in the equations are the spring forces of the static state
 (:func:`set_static_weights`), and the points come in mirror pairs
-(:func:`pipeline.dynamics.joint.contact_points`), so that at rest every derivative is
+(:func:`pipeline.dynamics.compliant.joint.contact_points`), so that at rest every derivative is
 exactly zero and a column under no excitation stays exactly still.
 """
 
@@ -36,7 +36,7 @@ import math
 import numpy as np
 from numba import njit
 
-from pipeline.dynamics import joint as jl
+from pipeline.dynamics.compliant import joint as jl
 from pipeline.dynamics.excitation import ground_acceleration
 from pipeline.dynamics.dopri5 import dopri5
 from pipeline.dynamics.integrator import dop853

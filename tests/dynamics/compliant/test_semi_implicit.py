@@ -1,4 +1,4 @@
-"""The fixed-step semi-implicit integrator of the compliant models (pipeline.dynamics.semi_implicit).
+"""The fixed-step semi-implicit integrator of the compliant models (pipeline.dynamics.compliant.semi_implicit).
 
 Its pieces against independent dense constructions, its stability limit against the growth
 it prevents, and the guarantees a user relies on (refusal of an unstable step, a run in
@@ -13,8 +13,8 @@ import pytest
 
 from pipeline import compliant as cp
 from pipeline.drums import DrumColumn
-from pipeline.dynamics import semi_implicit as si
-from pipeline.dynamics import stack as sk
+from pipeline.dynamics.compliant import semi_implicit as si
+from pipeline.dynamics.compliant import stack as sk
 from pipeline.errors import InputError
 from pipeline.geometry import Column
 from pipeline.groundmotion import one_sine_pulse

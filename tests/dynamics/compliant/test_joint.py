@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from pipeline.dynamics import joint as jl
+from pipeline.dynamics.compliant import joint as jl
 
 
 @pytest.mark.parametrize("inner", [0.0, 0.6])
