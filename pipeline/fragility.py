@@ -631,6 +631,9 @@ def fragility(results, im="pga", states=DEFAULT_STATES, bootstrap=0, seed=0, con
     for name in ("column_R", "column_r", "column_h", "slenderness", "theta_crit", "latitude", "longitude"):
         if name in results.coords and results[name].dims == ("column",):
             ds.coords[name] = ("column", results[name].values, dict(results[name].attrs))
+    for name in ("base_model", "model_variant"):  # a study's variants: which model each is, and how
+        if name in results.variables and results[name].dims == ("model",):
+            ds.coords[name] = ("model", results[name].values, dict(results[name].attrs))
     if "beta" in results.variables and results["beta"].dims == ("column",):
         ds.coords["column_beta"] = ("column", results["beta"].values,
                                     {"units": "1", "long_name": "conicity r/R of the column"})

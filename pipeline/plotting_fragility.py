@@ -18,25 +18,43 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from pipeline.models import DEFAULT, REGISTRY, planar_pair  # noqa: E402
+from pipeline.models import DEFAULT, REGISTRY, base_of, flag, planar_pair  # noqa: E402
 from pipeline.models import style as _style  # noqa: E402  (each model's line, marker and band: its registry entry)
 from pipeline.models import title as model_title  # noqa: E402
 from pipeline.units import G  # noqa: E402
 
-_LINE_NAME = {"-": "solid", "--": "dashed", "-.": "dash-dotted", ":": "dotted"}
-_MARKER_NAME = {"o": "circles", "s": "squares", "^": "triangles"}
+_LINE_NAME = {"-": "solid", "--": "dashed", "-.": "dash-dotted", ":": "dotted", (0, (1, 1)): "densely dotted",
+              (0, (5, 1)): "densely dashed", (0, (3, 1, 1, 1, 1, 1)): "dash-dot-dotted"}
+_MARKER_NAME = {"o": "circles", "s": "squares", "^": "triangles", "d": "thin diamonds", "v": "down triangles",
+                "<": "left triangles", ">": "right triangles"}
+# A study's variants of a model (``[models.NAME]``) are drawn apart from it and from each other.
+_VARIANT_LINES = ("-.", (0, (1, 1)), (0, (5, 1)), (0, (3, 1, 1, 1, 1, 1)))
+_VARIANT_MARKERS = "dv<>"
 
 
-def line_key(models):
+def model_style(ds, name):
+    """How plots draw a dataset's model: its registry entry's style, a variant's its own."""
+    base = base_of(ds, name)
+    style = _style(base)
+    if base != name:
+        variants = [str(m) for m in ds["model"].values if base_of(ds, str(m)) != str(m)]
+        k = variants.index(name)
+        style.update(ls=_VARIANT_LINES[k % len(_VARIANT_LINES)], marker=_VARIANT_MARKERS[k % len(_VARIANT_MARKERS)])
+    return style
+
+
+def line_key(models, ds=None):
     """Which line is which model, in words: ``"3D (solid) and 2D (dashed)"``."""
-    keys = [f"{m.upper()} ({_LINE_NAME.get(_style(m)['ls'], _style(m)['ls'])})" for m in models]
+    styles = [model_style(ds, m) if ds is not None else _style(m) for m in models]
+    keys = [f"{m.upper()} ({_LINE_NAME.get(st['ls'], st['ls'])})" for m, st in zip(models, styles)]
     return ", ".join(keys[:-1]) + " and " + keys[-1] if len(keys) > 1 else "".join(keys)
 
 
-def _marker_key(models):
+def _marker_key(models, ds=None):
     """Which marker is which model, in words: ``"3D filled circles, 2D open squares"``."""
-    return ", ".join(f"{m.upper()} {'filled' if _style(m)['filled'] else 'open'} "
-                     f"{_MARKER_NAME.get(_style(m)['marker'], 'diamonds')}" for m in models)
+    styles = [model_style(ds, m) if ds is not None else _style(m) for m in models]
+    return ", ".join(f"{m.upper()} {'filled' if st['filled'] else 'open'} "
+                     f"{_MARKER_NAME.get(st['marker'], 'diamonds')}" for m, st in zip(models, styles))
 _STATE_COLORS = ["k", "C2", "C1", "C4", "C5", "C6"]
 
 
@@ -119,7 +137,8 @@ def plot_fragility(frag, stem, column=None, states=None, models=None, title=None
         width = 1.4 if state == "overturning" else 2.4
         for m in models:
             cell = frag.sel(state=state, column=column, model=m)
-            ls = _style(m)["ls"]
+            style = model_style(frag, m)
+            ls = style["ls"]
             med = float(cell["median"])
             bet = float(cell["beta"])
             pretty = _state_text(state, cell)
@@ -133,11 +152,11 @@ def plot_fragility(frag, stem, column=None, states=None, models=None, title=None
             keys.append((i, models.index(m)))
             if "probability_lower" in frag:
                 ax.fill_between(grid, cell["probability_lower"].values, cell["probability_upper"].values,
-                                color=color, alpha=_style(m)["band_alpha"], lw=0)
+                                color=color, alpha=style["band_alpha"], lw=0)
             frac = cell["stripe_fraction"].values
             ok = np.isfinite(frac)
             ax.plot(frag["stripe_im"].values[ok] * factor, frac[ok], ls="none",
-                    marker=_style(m)["marker"], mfc=color if _style(m)["filled"] else "none", mec=color, ms=5)
+                    marker=style["marker"], mfc=color if style["filled"] else "none", mec=color, ms=5)
     ax.set_xscale("log")
     _plain_log(ax.xaxis)
     ax.set_xlabel(xlabel)
@@ -146,7 +165,7 @@ def plot_fragility(frag, stem, column=None, states=None, models=None, title=None
     ax.set_ylim(-0.02, 1.02)
     ax.grid(True, which="both", alpha=0.3)
     band = f"; shaded: {100 * level:g} % bootstrap band over records" if level and "probability_lower" in frag else ""
-    ax.plot([], [], "o", color="0.3", label=f"markers: observed fraction per scale stripe ({_marker_key(models)})")
+    ax.plot([], [], "o", color="0.3", label=f"markers: observed fraction per scale stripe ({_marker_key(models, frag)})")
     handles, labels = ax.get_legend_handles_labels()
     order = sorted(range(len(keys)), key=lambda j: keys[j]) + [len(handles) - 1]
     ax.legend([handles[j] for j in order], [labels[j] for j in order], fontsize="small", loc="upper left",
@@ -249,7 +268,7 @@ def plot_angle_polar(results, stem, column, model=None, scales=None, title=None)
     """
     names = [str(m) for m in results["model"].values]
     if model is None:
-        model = next((m for m in names if m in REGISTRY and REGISTRY[m].planar), names[0])
+        model = next((m for m in names if flag(results, m, "planar")), names[0])
     one = results.sel(column=column, model=model)
     valid = one["status"] == 0 if "status" in one else True
     frac = (one["overturned"].where(valid) > 0).where(valid).mean("record")  # (angle, scale)
@@ -261,7 +280,7 @@ def plot_angle_polar(results, stem, column, model=None, scales=None, title=None)
     cmap = plt.get_cmap("viridis")
     units = results["scale"].attrs.get("units", "1")
     reference = None
-    spatial = REGISTRY[model].planar_of if model in REGISTRY else None
+    spatial = getattr(REGISTRY.get(base_of(results, model)), "planar_of", None)
     if spatial in names:
         ref = results.sel(column=column, model=spatial).isel(angle=0)
         ok = ref["status"] == 0 if "status" in ref else True

@@ -71,7 +71,7 @@ def assumptions(models, vertical=True, options=None):
     -------
     str
     """
-    compliant = any(MD.get(m).drums for m in models)
+    compliant = any(MD.REGISTRY[m].drums for m in models if m in MD.REGISTRY)
     shape = ("Each column is a conical frustum (a cone with its tip cut off): bottom radius R, top radius r, "
              "height h" + ("; the compliant model may cut it into drums and put a capital on top" if compliant
                            else "") + ". Its bodies are rigid and homogeneous: they do not bend, crack or break; "
@@ -82,7 +82,7 @@ def assumptions(models, vertical=True, options=None):
         f"components{' and the vertical one where recorded' if vertical else '; the vertical one is ignored'}); "
         "the ground itself is rigid: what gives is the contact of the base on it, as each model says below.",
     ]
-    lines += [MD.markdown(m) for m in models]
+    lines += [MD.markdown(m) for m in models]  # registry names (a study's variants: their models)
     if options:
         lines.append("- Model options of the study (the others at their defaults, docs/studies.md): "
                      + ", ".join(f"`{k}` = {v:g}" if isinstance(v, (int, float)) else f"`{k}` = {v}"
@@ -476,7 +476,7 @@ def _write_report_into(results, out_dir, pga_levels_g, states, bootstrap, seed, 
     figs += P.plot_fragility(frag, os.path.join(fig_dir, "fragility_overturning"), column=columns[0],
                              states=["overturning"],
                              title=f"Probability of overturning, column '{columns[0]}'"
-                             + (f": {P.line_key(models)}" if len(models) > 1 else ""))[:1]
+                             + (f": {P.line_key(models, frag)}" if len(models) > 1 else ""))[:1]
     for c in columns[:1] if grid_like else columns:
         figs += P.plot_fragility(frag, os.path.join(fig_dir, f"fragility_states_{c}"), column=c,
                                  models=[models[0]],
@@ -488,14 +488,14 @@ def _write_report_into(results, out_dir, pga_levels_g, states, bootstrap, seed, 
             med = frag["median"].sel(state="overturning", model=m).values / G
             figs += P.plot_column_grid(
                 frag, med, os.path.join(fig_dir, f"median_pga_grid_{m}"), "median PGA of overturning [g]",
-                f"{MD.title(m)}: median PGA of overturning [g] (n/a: none overturned up to "
+                f"{MD.results_title(results, m)}: median PGA of overturning [g] (n/a: none overturned up to "
                 f"{_fmt(float(results['pga'].max()) / G)} g)", cmap="viridis_r")[:1]
             level = _informative_level(frag, pga_levels_g)
             p = overturning_probabilities(frag, (level,))
             figs += P.plot_column_grid(
                 frag, [p[(c, m)][0] for c in frag["column"].values],
                 os.path.join(fig_dir, f"probability_grid_{m}"), "probability of overturning [1]",
-                f"{MD.title(m)}: probability of overturning at PGA = {level:g} g "
+                f"{MD.results_title(results, m)}: probability of overturning at PGA = {level:g} g "
                 f"({_fmt(level * G)} m/s²)", vmin=0, vmax=1)[:1]
         pair = planar_pair(models)
         if pair is not None:
@@ -512,8 +512,8 @@ def _write_report_into(results, out_dir, pga_levels_g, states, bootstrap, seed, 
         view = F.ida(results, im="pga", model=m, column=columns[0])
         figs += P.plot_ida(view, os.path.join(fig_dir, f"ida_{columns[0]}_{m}"),
                            title=f"IDA, column '{columns[0]}', {m.upper()} model"
-                           + ("" if MD.get(m).angle_invariant else " (largest over incidence angles)"))[:1]
-    planar = [m for m in models if MD.get(m).planar]
+                           + ("" if MD.flag(results, m, "angle_invariant") else " (largest over incidence angles)"))[:1]
+    planar = [m for m in models if MD.flag(results, m, "planar")]
     if planar and results.sizes["angle"] > 1:
         figs += P.plot_angle_polar(results, os.path.join(fig_dir, f"angle_polar_{columns[0]}"), columns[0],
                                    model=planar[0])[:1]
@@ -612,7 +612,7 @@ def _overturning_all_columns(frag, stem):
     for i, c in enumerate(frag["column"].values):
         for m in frag["model"].values:
             cell = frag.sel(state="overturning", column=c, model=m)
-            ax.plot(grid, cell["probability"].values, color=f"C{i}", ls=MD.style(str(m))["ls"], lw=1.5,
+            ax.plot(grid, cell["probability"].values, color=f"C{i}", ls=MD.style(MD.base_of(frag, str(m)))["ls"], lw=1.5,
                     label=f"{c}, {str(m).upper()} (h/R = {float(frag['slenderness'].sel(column=c)):.3g})"
                     if "slenderness" in frag.coords else f"{c}, {m}")
     ax.set_xscale("log")
@@ -692,7 +692,7 @@ def _risk_section(risk, hazard, frag):
                              f"{span} |")
                 if len(sentences) < RISK_SENTENCES_MAX:
                     where = _site_where(cell)
-                    text = (f"- At site {site}{where}, column '{c}' ({MD.title(str(m))}): **{R.one_in(p)} chance of "
+                    text = (f"- At site {site}{where}, column '{c}' ({MD.results_title(frag, str(m))}): **{R.one_in(p)} chance of "
                             f"overturning in {yrs}** ({_pct2(p)}" + (f"; bootstrap band {band}" if band != "n/a" else "")
                             + f"), on average once in {once}.")
                     if span != "n/a":
@@ -804,7 +804,7 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
                  (f" from {len(quakes)} earthquake(s): {', '.join(quakes)}" if quakes else "") +
                  (f" (ids {records[0]} ... {records[-1]})" if len(records) > 1 else f" ({records[0]})") + ".")
     angles = results["angle"].values
-    invariant = [m.upper() for m in models if MD.get(m).angle_invariant]
+    invariant = [m.upper() for m in models if MD.flag(results, m, "angle_invariant")]
     lines.append(f"- **{n['angle']} incidence angle(s)**: {', '.join(_fmt(a) for a in angles)} deg "
                  "(the direction in which the record hits the column" +
                  (f"; the {' and '.join(invariant)} results do not depend on it" if invariant else "") + ").")
@@ -821,24 +821,30 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
     pga = results["pga"]
     lines.append(f"- PGA (peak ground acceleration of the scaled record) ranges from {_g_and_ms2(float(pga.min()))} "
                  f"to {_g_and_ms2(float(pga.max()))}.")
-    lines.append(f"- **Model(s)**: {', '.join(f'{MD.title(m)} (`{m}`)' for m in models)}.")
+    lines.append(f"- **Model(s)**: {', '.join(f'{MD.results_title(results, m)} (`{m}`)' for m in models)}.")
     lines.append(f"- {n_total} simulations in the dataset, {n_failed} failed and left out.")
     for flag in ("sliding_onset", "lift_off"):  # each model says what its flag counts (its registry entry)
         if flag in results.variables:
             for m in models:
                 one = results.sel(model=m)
                 ok = F._valid(one)
-                if MD.get(m).angle_invariant:  # one run per angle set, broadcast
+                if MD.flag(results, m, "angle_invariant"):  # one run per angle set, broadcast
                     one, ok = one.isel(angle=[0]), ok.isel(angle=[0])
                 count = int(((one[flag] > 0) & ok).sum())
-                lines.append(f"- {m.upper()}: in {count} of {int(ok.sum())} runs {getattr(MD.describe(m), flag)}.")
+                lines.append(f"- {m.upper()}: in {count} of {int(ok.sum())} runs {getattr(MD.describe(MD.base_of(results, m)), flag)}.")
     lines += ["", "## Assumptions of the models" if len(models) > 1 else "## Assumptions of the model", ""]
     try:  # the study runner records the model options as JSON
         options = json.loads(results.attrs.get("model_options", "{}"))
     except (TypeError, ValueError):
         options = {}
-    lines.append(assumptions(models, vertical=results.attrs.get("vertical_component", "used") != "ignored",
-                             options=options))
+    lines.append(assumptions(list(dict.fromkeys(MD.base_of(results, m) for m in models)),
+                             vertical=results.attrs.get("vertical_component", "used") != "ignored", options=options))
+    variants = [m for m in models if MD.base_of(results, m) != m]
+    if variants:
+        lines += ["- Variants of these models run by the study, under names of their own: "
+                  + "; ".join(f"`{m}`: `{MD.base_of(results, m)}`"
+                              + (f" with {MD.variant_text(results, m)}" if MD.variant_text(results, m) else "")
+                              for m in variants) + ".", ""]
 
     lines += ["## Probability of overturning", ""]
     lines.append("Fitted lognormal fragility curves (maximum likelihood, Baker 2015) give the probability that "
@@ -951,11 +957,12 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
         lines += [f"![{name}]({image(path)})", ""]
         caption = next((text for prefix, text in CAPTIONS if stem.startswith(prefix)), None)
         for (prefix, kind), more in CAPTION_MODEL_NOTES.items():  # only what the models run draw
-            if caption and stem.startswith(prefix) and any(getattr(MD.get(m), kind) for m in models):
+            if caption and stem.startswith(prefix) and any(MD.flag(results, m, kind) for m in models):
                 caption = caption[:-1] + more
         if caption:
             lines += [f"*{caption}*", ""]
-    lines += ["## References", ""] + [f"- {MD.describe(m).reference}." for m in models if MD.describe(m).reference]
+    bases = list(dict.fromkeys(MD.base_of(results, m) for m in models))  # each model described once
+    lines += ["## References", ""] + [f"- {MD.describe(m).reference}." for m in bases if MD.describe(m).reference]
     lines += ["- Baker J.W. (2015), Efficient analytical fragility function fitting using dynamic structural "
               "analysis data, Earthquake Spectra 31(1), 579-599 (the fit).", ""]
     lines += ["## Files", "",

@@ -14,7 +14,7 @@ from pipeline.models.rigid import PLANAR_ROCKING, ROLLING_FRUSTUM
 from pipeline.models.spec import Model, ModelDescription
 
 __all__ = ["Model", "ModelDescription", "REGISTRY", "DEFAULT", "names", "get", "describe", "title", "markdown",
-           "style", "planar_pair", "base_of", "of_results"]
+           "style", "planar_pair", "base_of", "of_results", "flag", "results_title", "variant_text"]
 
 #: The models by name, in the order help and reports list them.
 REGISTRY = {m.name: m for m in (ROLLING_FRUSTUM, PLANAR_ROCKING, COMPLIANT_DRUMS)}
@@ -51,6 +51,29 @@ def base_of(results, name):
 def of_results(results, name):
     """The registry entry of a results file's model ``name`` (:func:`base_of`), or None if unknown."""
     return REGISTRY.get(base_of(results, name))
+
+
+def flag(results, name, attribute):
+    """A registry attribute (``drums``, ``planar``, ``angle_invariant``) of a results file's model;
+    False for a model the registry does not know (e.g. a peer engine's cells)."""
+    return bool(getattr(of_results(results, name), attribute, False))
+
+
+def variant_text(results, name):
+    """What makes a results file's model a variant of its registry model (``model_variant``), or ""."""
+    if "model_variant" in getattr(results, "variables", ()) and name in results["model"].values:
+        return str(results["model_variant"].sel(model=name).values)
+    return ""
+
+
+def results_title(results, name):
+    """Display name of a results file's model: the registry's title, and for a variant its own
+    name, model and what it changes (``"stack-wide: 3D compliant drums on joints, numerics edge_band = 1"``)."""
+    base = base_of(results, name)
+    if base == name:
+        return title(name)
+    variant = variant_text(results, name)
+    return f"{name}: {title(base)}" + (f", {variant}" if variant else "")
 
 
 def describe(name):
