@@ -32,8 +32,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from pipeline.study import load_motions, load_study
-from pipeline.sweep import Cluster, run_study, warm_up
+from pipeline.study import Cluster, load_motions, load_study, run_study
+from pipeline.study.kernels import warm_up
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -45,8 +45,7 @@ def one(study, motions, out, **kwargs):
 
 MEMORY_CHILD = """\
 import resource, sys, time
-from pipeline.study import load_study
-from pipeline.sweep import run_study
+from pipeline.study import load_study, run_study
 if __name__ == "__main__":
     study = load_study(sys.argv[1])
     if sys.argv[3] != "all":  # keep the first N records only
@@ -75,7 +74,9 @@ def memory(study_path):
 CEILING_CHILD = """\
 import sys, time
 from pipeline.study import load_motions, load_study
-from pipeline.sweep import plan, record_intensity, run_task, scale_factors, warm_up
+from pipeline.study.grid import plan, record_intensity, scale_factors
+from pipeline.study.kernels import warm_up
+from pipeline.study.run import run_task
 study = load_study(sys.argv[1], load_records=False)
 motions = load_motions(study)
 warm_up(study.models)

@@ -106,7 +106,7 @@ VARIABLES = {
     "drum_r": Var("m", "radius of the top of the drum (a capital: half its side)"),
     "drum_h": Var("m", "height of the drum"),
     "drum_z": Var("m", "height of the drum's base above the ground at rest"),
-    # study results (pipeline.sweep): one value per column, record, angle, scale, model
+    # study results (pipeline.study): one value per column, record, angle, scale, model
     "peak_theta": Var("rad", "peak inclination of the column axis from the vertical", degrees=True),
     "peak_theta_ratio": Var("1", "peak inclination over the critical (static overturning) inclination"),
     "peak_time": Var("s", "time of the peak inclination"),
@@ -379,7 +379,7 @@ def write_results(ds, path):
     Parameters
     ----------
     ds : xarray.Dataset
-        Results of :func:`pipeline.sweep.run_study`.
+        Results of :func:`pipeline.study.run_study`.
     path : str or os.PathLike
     """
     out = ds.copy()

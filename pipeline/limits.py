@@ -76,7 +76,7 @@ def results_bytes(n_cells, n_tasks, extra_cell_bytes=0):
     """Memory of a study's run [bytes]: its results grid and its plan of tasks.
 
     ``extra_cell_bytes``: what a cell holds beyond the rigid models' variables (the compliant
-    model's per-joint dislocations, :func:`pipeline.sweep.memory_estimate`), held and copied
+    model's per-joint dislocations, :func:`pipeline.study.grid.memory_estimate`), held and copied
     once as the rest.
     """
     return BASE_BYTES + n_cells * (RESULT_CELL_BYTES + extra_cell_bytes) + n_tasks * TASK_BYTES

@@ -147,7 +147,7 @@ def plot_study(ds, path):
     Parameters
     ----------
     ds : xarray.Dataset
-        Results of :func:`pipeline.sweep.run_study` (or
+        Results of :func:`pipeline.study.run_study` (or
         :func:`pipeline.dataset.open_results`).
     path : str or os.PathLike
     """

@@ -31,7 +31,7 @@ def _write_everything(folder):
     from pipeline import report
     from pipeline.dataset import write_netcdf
     from pipeline.groundmotion import synthesis
-    from pipeline.sweep import Checkpoint
+    from pipeline.study.checkpoint import Checkpoint
 
     paths = [folder / "a.nc"]
     write_netcdf(xr.Dataset({"v": ("t", np.arange(3.0))}), paths[0])

@@ -4,7 +4,7 @@ import dataclasses
 import os
 import re
 
-from pipeline import study
+from pipeline.study import studyfile
 from pipeline.settings import ModelSettings
 
 DOC = os.path.join(os.path.dirname(__file__), os.pardir, "docs", "studies.md")
@@ -29,8 +29,8 @@ def _option_rows():
 
 def test_every_study_option_has_one_line_and_no_other():
     rows = _option_rows()
-    missing = sorted(set(study._OPTIONS) - set(rows))
-    extra = sorted(set(rows) - set(study._OPTIONS))
+    missing = sorted(set(studyfile._OPTIONS) - set(rows))
+    extra = sorted(set(rows) - set(studyfile._OPTIONS))
     assert not missing, f"study options missing from docs/studies.md: {missing}"
     assert not extra, f"docs/studies.md lists options a study file refuses: {extra}"
 

@@ -25,8 +25,7 @@ from pipeline.geometry import Column
 from pipeline.groundmotion.synthesis import one_sine_pulse
 from pipeline.settings import Excitation, ModelSettings
 from pipeline.simulate import simulate
-from pipeline.study import load_study
-from pipeline.sweep import run_study
+from pipeline.study import load_study, run_study
 
 CF_TABLES = Path(__file__).parent / "data" / "cf"
 

@@ -288,7 +288,7 @@ def _progress_line(model, settings):
     with the fixed-step integrator (the only long single runs)."""
     if not REGISTRY[model].drums or settings.integrator != "semi-implicit":
         return None
-    from pipeline.sweep import Progress
+    from pipeline.study.progress import Progress
 
     bar = []
 

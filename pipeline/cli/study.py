@@ -53,8 +53,7 @@ def register(subparsers):
 def _load(path, out=None, plot=None):
     """The study and its records; everything that can be refused is refused before the records load."""
     from pipeline.paths import check_plot_file
-    from pipeline.study import load_motions, load_study
-    from pipeline.sweep import check_memory, check_study_output, study_inputs
+    from pipeline.study import check_memory, check_study_output, load_motions, load_study, study_inputs
 
     study = load_study(path, load_records=False)
     out = check_study_output(study, out)
@@ -67,7 +66,7 @@ def _load(path, out=None, plot=None):
 
 def describe(study):
     """A few lines that say what a study computes."""
-    from pipeline.sweep import block_size
+    from pipeline.study import block_size
 
     nc, nr, na, ns, nm = study.shape
     levels = "scales" if study.scales is not None else f"target {study.intensity.measure} levels"
@@ -83,7 +82,7 @@ def describe(study):
 def check_study_command(args):
     """Handler of ``frustum study check``."""
     from pipeline.limits import available_memory, size_text
-    from pipeline.sweep import memory_estimate
+    from pipeline.study import memory_estimate
 
     study, _ = _load(args.file)
     print(describe(study))
@@ -94,12 +93,12 @@ def check_study_command(args):
 
 def run_study_command(args):
     """Handler of ``frustum study run``."""
-    from pipeline.sweep import run_study
+    from pipeline.study import run_study
 
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers {args.workers}: give a positive number of worker processes")
     if args.scheduler:
-        from pipeline.sweep import scheduler_address
+        from pipeline.study import scheduler_address
 
         scheduler_address(args.scheduler)  # a malformed address is refused before the records load
     t0 = time.monotonic()

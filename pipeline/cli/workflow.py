@@ -121,7 +121,7 @@ def load_workflow(path):
     if scheduler is not None:
         if not isinstance(scheduler, str):
             fail("execution.scheduler", "must be an address string such as tcp://host:8786")
-        from pipeline.sweep import scheduler_address
+        from pipeline.study import scheduler_address
 
         try:
             scheduler_address(scheduler)
@@ -171,8 +171,7 @@ def _check_outputs(path, steps, log):
     its default output is then unknown here.
     """
     from pipeline.paths import check_output_file
-    from pipeline.study import load_study
-    from pipeline.sweep import study_inputs
+    from pipeline.study import load_study, study_inputs
 
     inputs = [("workflow file", str(path))] + [(f"study file of steps[{i}]", s["study"]) for i, s in enumerate(steps)]
     written = {}  # real path -> the field that writes it
@@ -268,7 +267,7 @@ def run_workflow(path, workers=None, scheduler=None, force=False, quiet=False):
     quiet : bool
         Print nothing on success; on failure, the run's lines.
     """
-    from pipeline.sweep import Cluster
+    from pipeline.study import Cluster
 
     wf = load_workflow(path)
     workers = workers or wf["workers"]
@@ -297,8 +296,7 @@ def run_workflow(path, workers=None, scheduler=None, force=False, quiet=False):
 
 def _run_steps(wf, log, cluster, force):
     """Run the workflow's steps in order on ``cluster``; returns the exit status."""
-    from pipeline.study import load_motions, load_study
-    from pipeline.sweep import run_study
+    from pipeline.study import load_motions, load_study, run_study
 
     for i, step in enumerate(wf["steps"]):
         t0 = time.monotonic()

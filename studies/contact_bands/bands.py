@@ -40,8 +40,7 @@ sys.path.insert(0, ROOT)
 
 from pipeline.fragility import fragility  # noqa: E402
 from pipeline.settings import housner_restitution  # noqa: E402
-from pipeline.study import load_motions, parse_study  # noqa: E402
-from pipeline.sweep import run_study  # noqa: E402
+from pipeline.study import load_motions, parse_study, run_study  # noqa: E402
 from pipeline.units import G  # noqa: E402
 
 #: study file -> labels of the columns rerun (the paper's column and the extremes of slenderness)

@@ -186,13 +186,14 @@ def files(tmp_path, results_nc, histories_nc, failed_results_nc):
 @pytest.mark.parametrize("argv, status, fragments", [c[1:] for c in CATALOGUE], ids=[c[0] for c in CATALOGUE])
 def test_bad_input(files, capsys, monkeypatch, argv, status, fragments):
     if "--serial" in argv and "{tmp}/s.nc" in argv:  # the study in which every simulation fails
-        from pipeline import sweep
+        from pipeline.study import orchestrate
+        from pipeline.study import run as task_run
 
         def fails(*args, **kwargs):
             raise ValueError("found no rebound peak")
 
-        monkeypatch.setattr(sweep, "simulate", fails)
-        monkeypatch.setattr(sweep, "prepare_kernels", lambda *a, **k: 0.0)
+        monkeypatch.setattr(task_run, "simulate", fails)
+        monkeypatch.setattr(orchestrate, "prepare_kernels", lambda *a, **k: 0.0)
     before = snapshot(*[p for p in files["tmp"].rglob("*") if p.is_file()])
     listing = sorted(os.listdir(files["tmp"]))
 

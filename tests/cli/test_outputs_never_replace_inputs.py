@@ -112,13 +112,14 @@ def test_unreachable_scheduler_leaves_no_checkpoint(user_files, tmp_path, capsys
 
 
 def test_study_in_which_every_cell_failed_exits_non_zero(user_files, tmp_path, capsys, monkeypatch):
-    from pipeline import sweep
+    from pipeline.study import orchestrate
+    from pipeline.study import run as task_run
 
     def fails(*args, **kwargs):
         raise ValueError("found no rebound peak")
 
-    monkeypatch.setattr(sweep, "simulate", fails)
-    monkeypatch.setattr(sweep, "prepare_kernels", lambda *a, **k: 0.0)
+    monkeypatch.setattr(task_run, "simulate", fails)
+    monkeypatch.setattr(orchestrate, "prepare_kernels", lambda *a, **k: 0.0)
     out = tmp_path / "tiny.nc"
     assert main(["study", "run", str(user_files["study.toml"]), "--out", str(out), "--serial", "--quiet"]) == 1
     err = _err(capsys)

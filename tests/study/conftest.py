@@ -86,7 +86,7 @@ block_columns = 1
 @pytest.fixture(scope="session", autouse=True)
 def warm_numba_cache():
     """Load (or, if stale, compile once) the kernels before any worker starts."""
-    from pipeline.sweep import warm_up
+    from pipeline.study.kernels import warm_up
 
     warm_up(("3d", "2d"))
 
@@ -106,8 +106,7 @@ def write_study(tmp_path):
 @pytest.fixture(scope="session")
 def small_reference(tmp_path_factory):
     """The small study run serially once: (study file, results Dataset)."""
-    from pipeline.study import load_study
-    from pipeline.sweep import run_study
+    from pipeline.study import load_study, run_study
 
     folder = tmp_path_factory.mktemp("reference")
     path = folder / "study.toml"
@@ -119,8 +118,7 @@ def small_reference(tmp_path_factory):
 @pytest.fixture(scope="session")
 def drum_reference(tmp_path_factory):
     """The drum study run serially once: (study file, results Dataset)."""
-    from pipeline.study import load_study
-    from pipeline.sweep import run_study
+    from pipeline.study import load_study, run_study
 
     folder = tmp_path_factory.mktemp("drum-reference")
     path = folder / "drums.toml"

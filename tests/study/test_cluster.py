@@ -18,8 +18,7 @@ import pytest
 
 from pipeline.cli import main
 from pipeline.dataset import open_results
-from pipeline.study import load_study
-from pipeline.sweep import run_study
+from pipeline.study import load_study, run_study
 
 DASK = Path(sys.executable).parent / "dask"
 START_TIMEOUT = 60.0  # [s] scheduler file and two workers
@@ -128,8 +127,8 @@ def test_both_workers_took_tasks(dask_cluster, write_study):
     report = run_study(load_study(write_study()), scheduler=dask_cluster, progress=False)
     assert len(report.computed) == 4
     with distributed.Client(dask_cluster, timeout="30s") as client:
-        # every worker has imported and run pipeline.sweep tasks
-        ran = client.run(lambda: "pipeline.sweep" in sys.modules)
+        # every worker has imported and run pipeline.study tasks
+        ran = client.run(lambda: "pipeline.study.run" in sys.modules)
     assert len(ran) == 2 and all(ran.values())
 
 
@@ -143,7 +142,7 @@ def test_local_cluster_equals_serial(write_study, small_reference, same_results,
 
 def test_one_cluster_serves_several_studies(write_study, small_reference, same_results):
     """run_study(cluster=...) leaves the cluster running: the next study runs on the same worker processes."""
-    from pipeline.sweep import Cluster
+    from pipeline.study import Cluster
 
     path = write_study()
     with Cluster(workers=2) as cluster:
@@ -162,11 +161,11 @@ def test_workflow_starts_its_local_cluster_once_and_only_when_needed(tmp_path, m
     import textwrap
 
     from conftest import SMALL_STUDY
-    from pipeline import sweep
+    from pipeline.study import cluster as study_cluster
 
     starts = []
-    real = sweep._connect
-    monkeypatch.setattr(sweep, "_connect", lambda *a: starts.append(a) or real(*a))
+    real = study_cluster._connect
+    monkeypatch.setattr(study_cluster, "_connect", lambda *a: starts.append(a) or real(*a))
     (tmp_path / "small.toml").write_text(SMALL_STUDY, encoding="utf-8")
     (tmp_path / "other.toml").write_text(SMALL_STUDY.replace("tail = 2.0", "tail = 1.0"), encoding="utf-8")
     wf = tmp_path / "wf.toml"
@@ -230,16 +229,16 @@ def test_a_worker_that_dies_costs_only_a_retry(tmp_path, write_study, same_resul
 
 def test_a_task_that_keeps_failing_marks_its_cells_failed(write_study, small_reference, monkeypatch):
     """A task that raises on every try (after Dask's retries) gives status 1 for its cells, not a dead study."""
-    from pipeline import sweep
+    from pipeline.study import orchestrate
 
-    real = sweep.run_task
+    real = orchestrate.run_task
 
     def broken(task, motion):  # a local function: cloudpickle ships it by value to the worker
         if task.index == 1:
             raise MemoryError("injected task failure")
         return real(task, motion)
 
-    monkeypatch.setattr(sweep, "run_task", broken)
+    monkeypatch.setattr(orchestrate, "run_task", broken)
     report = run_study(load_study(write_study()), workers=1, progress=False, keep_checkpoint=True)
     ds = report.dataset
     bad = ds.isel(record=0, column=slice(2, 4))  # task 1: record 0, columns 2-3

@@ -9,7 +9,8 @@ from pipeline.errors import InputError
 from pipeline.settings import Excitation
 from pipeline.simulate import simulate
 from pipeline.study import load_motions, load_study
-from pipeline.sweep import plan, run_study, scale_factors, record_intensity
+from pipeline.study import run_study
+from pipeline.study.grid import plan, record_intensity, scale_factors
 
 STUDY = """\
 title = "compliant"
@@ -166,7 +167,7 @@ def test_a_column_grid_with_drum_counts(write_study):
 def test_memory_estimate_counts_the_joint_arrays(write_study):
     """A study of drums holds per cell 4 joint variables x n_joints float64 and 2 scalars, copied once."""
     from pipeline.limits import results_bytes
-    from pipeline.sweep import memory_estimate, n_tasks
+    from pipeline.study.grid import memory_estimate, n_tasks
 
     study = load_study(write_study(DRUM_STUDY), load_records=False)
     plain = results_bytes(study.n_simulations, n_tasks(study))

@@ -12,8 +12,7 @@ import xarray as xr
 from pipeline.cli import main
 from pipeline.dataset import open_results
 from pipeline.errors import InputError
-from pipeline.study import load_study
-from pipeline.sweep import run_study
+from pipeline.study import load_study, run_study
 
 from conftest import SMALL_STUDY  # noqa: E402
 
@@ -92,9 +91,9 @@ def test_a_grid_that_cannot_fit_is_refused_with_its_size(write_study, capsys, mo
     ('"/proc/small.nc"', "field output '/proc/small.nc': /proc cannot be written"),
 ])
 def test_bad_outputs_are_refused_before_computing(write_study, capsys, monkeypatch, output, message):
-    from pipeline import sweep
+    from pipeline.study import orchestrate
 
-    monkeypatch.setattr(sweep, "run_task", lambda *a: pytest.fail("computed before refusing"))
+    monkeypatch.setattr(orchestrate, "run_task", lambda *a: pytest.fail("computed before refusing"))
     path = write_study(SMALL_STUDY.replace('output = "small.nc"', f"output = {output}"))
     for command in (["study", "check", str(path)], ["study", "run", str(path), "--serial", "--quiet"]):
         if "/proc" in output and command[1] == "check":
@@ -107,9 +106,9 @@ def test_bad_outputs_are_refused_before_computing(write_study, capsys, monkeypat
 
 
 def test_plot_and_out_are_checked_before_computing(write_study, capsys, monkeypatch, tmp_path):
-    from pipeline import sweep
+    from pipeline.study import orchestrate
 
-    monkeypatch.setattr(sweep, "run_task", lambda *a: pytest.fail("computed before refusing"))
+    monkeypatch.setattr(orchestrate, "run_task", lambda *a: pytest.fail("computed before refusing"))
     path = write_study()
     for extra, message in [(["--plot", "x.txt"], "--plot 'x.txt': not a figure format"),
                            (["--out", str(tmp_path)], f"--out '{tmp_path}' is a folder")]:
@@ -141,11 +140,11 @@ def test_a_full_disk_keeps_the_checkpoint_and_the_rerun_finishes(write_study, sm
 
 
 def test_a_full_disk_while_checkpointing_keeps_what_was_saved(write_study, capsys, monkeypatch):
-    from pipeline import sweep
+    from pipeline.study.checkpoint import Checkpoint
 
     path = write_study()
     checkpoint = str(path.parent / "small.nc") + ".checkpoint"
-    real_save = sweep.Checkpoint.save
+    real_save = Checkpoint.save
     saved = []
 
     def save(self, result):
@@ -154,7 +153,7 @@ def test_a_full_disk_while_checkpointing_keeps_what_was_saved(write_study, capsy
         saved.append(result["index"])
         real_save(self, result)
 
-    monkeypatch.setattr(sweep.Checkpoint, "save", save)
+    monkeypatch.setattr(Checkpoint, "save", save)
     assert main(["study", "run", str(path), "--serial", "--quiet"]) == 2
     err = capsys.readouterr().err.splitlines()
     assert err[-1] == (f"frustum: error: {checkpoint}: cannot write the checkpoint (No space left on device); the 2 "
@@ -163,10 +162,10 @@ def test_a_full_disk_while_checkpointing_keeps_what_was_saved(write_study, capsy
 
 
 def test_ctrl_c_prints_one_line_exits_130_and_keeps_the_checkpoint(write_study, capsys, monkeypatch):
-    from pipeline import sweep
+    from pipeline.study import orchestrate
 
     calls = []
-    real = sweep.run_task
+    real = orchestrate.run_task
 
     def interrupted(task, motion):
         calls.append(task.index)
@@ -174,7 +173,7 @@ def test_ctrl_c_prints_one_line_exits_130_and_keeps_the_checkpoint(write_study, 
             raise KeyboardInterrupt
         return real(task, motion)
 
-    monkeypatch.setattr(sweep, "run_task", interrupted)
+    monkeypatch.setattr(orchestrate, "run_task", interrupted)
     path = write_study()
     capsys.readouterr()
     assert main(["study", "run", str(path), "--serial", "--quiet"]) == 130
@@ -182,6 +181,6 @@ def test_ctrl_c_prints_one_line_exits_130_and_keeps_the_checkpoint(write_study, 
     assert err[1:] == ["frustum: interrupted: run again to resume"]  # after the line that says what it computes
     assert len(_task_files(str(path.parent / "small.nc") + ".checkpoint")) == 2
 
-    monkeypatch.setattr(sweep, "run_task", real)
+    monkeypatch.setattr(orchestrate, "run_task", real)
     report = run_study(load_study(path), serial=True, progress=False)
     assert len(report.computed) == N_TASKS - 2

@@ -3,7 +3,7 @@
 import io
 import time
 
-from pipeline import sweep
+from pipeline.study import kernels, orchestrate, progress
 
 
 def test_a_cold_cache_is_announced_once_and_the_other_model_compiles_beside(monkeypatch):
@@ -19,14 +19,14 @@ def test_a_cold_cache_is_announced_once_and_the_other_model_compiles_beside(monk
             return 0
 
     calls = []
-    monkeypatch.setattr(sweep, "kernels_cached", lambda models: False)
-    monkeypatch.setattr(sweep, "warm_up", lambda models: calls.append(tuple(models)))
+    monkeypatch.setattr(kernels, "kernels_cached", lambda models: False)
+    monkeypatch.setattr(kernels, "warm_up", lambda models: calls.append(tuple(models)))
     monkeypatch.setattr(subprocess, "Popen", FakeHelper)
-    monkeypatch.setattr(sweep.os, "cpu_count", lambda: 2)
+    monkeypatch.setattr(kernels.os, "cpu_count", lambda: 2)
     out = io.StringIO()
-    seconds = sweep.prepare_kernels(("3d", "2d"), out)
+    seconds = kernels.prepare_kernels(("3d", "2d"), out)
     lines = out.getvalue().splitlines()
-    assert lines == [sweep.COMPILE_NOTICE, f"frustum: kernels ready after {seconds:.0f} s"]
+    assert lines == [kernels.COMPILE_NOTICE, f"frustum: kernels ready after {seconds:.0f} s"]
     assert "once" in lines[0] and "one to two minutes" in lines[0]
     assert len(started) == 1 and "warm_up(('2d',))" in started[0][-1]  # 2D compiles in a helper meanwhile
     assert calls == [("3d",), ("2d",)]  # then this process loads 2D from the cache
@@ -36,12 +36,12 @@ def test_the_cache_index_tells_cold_from_warm(tmp_path):
     import subprocess
     import sys
 
-    from pipeline.sweep import kernels_cached
+    from pipeline.study.kernels import kernels_cached
 
     assert kernels_cached(("3d", "2d")) is True  # the session's fixture loaded them
     # the compliant model too (its kernels were not listed: a cold cache read as warm, so its
     # studies compiled in every worker, unannounced)
-    probe = ("from pipeline.sweep import kernels_cached; "
+    probe = ("from pipeline.study.kernels import kernels_cached; "
              "print(kernels_cached(('3d', '2d')), kernels_cached(('3d-compliant',)))")
     env = {**__import__("os").environ, "NUMBA_CACHE_DIR": str(tmp_path)}
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, env=env, timeout=120)
@@ -49,20 +49,20 @@ def test_the_cache_index_tells_cold_from_warm(tmp_path):
 
 
 def test_an_unreadable_index_falls_back_to_the_clock(monkeypatch):
-    monkeypatch.setattr(sweep, "kernels_cached", lambda models: None)
-    monkeypatch.setattr(sweep, "COMPILE_NOTICE_AFTER", 0.05)
-    monkeypatch.setattr(sweep, "warm_up", lambda models: time.sleep(0.3) if models else None)
+    monkeypatch.setattr(kernels, "kernels_cached", lambda models: None)
+    monkeypatch.setattr(kernels, "COMPILE_NOTICE_AFTER", 0.05)
+    monkeypatch.setattr(kernels, "warm_up", lambda models: time.sleep(0.3) if models else None)
     out = io.StringIO()
-    sweep.prepare_kernels(("3d",), out)
-    assert out.getvalue().splitlines()[0] == sweep.COMPILE_NOTICE
+    kernels.prepare_kernels(("3d",), out)
+    assert out.getvalue().splitlines()[0] == kernels.COMPILE_NOTICE
 
 
 def test_a_warm_cache_says_nothing(monkeypatch):
     calls = []
-    monkeypatch.setattr(sweep, "kernels_cached", lambda models: True)
-    monkeypatch.setattr(sweep, "warm_up", lambda models: calls.append(tuple(models)))
+    monkeypatch.setattr(kernels, "kernels_cached", lambda models: True)
+    monkeypatch.setattr(kernels, "warm_up", lambda models: calls.append(tuple(models)))
     out = io.StringIO()
-    sweep.prepare_kernels(("3d", "2d"), out)
+    kernels.prepare_kernels(("3d", "2d"), out)
     assert out.getvalue() == "" and calls == [("3d",), ("2d",)]
 
 
@@ -73,13 +73,13 @@ def test_the_study_loads_the_kernels_before_the_workers_and_the_progress_bar(mon
     from pipeline.study import load_study
 
     events = []
-    monkeypatch.setattr(sweep, "prepare_kernels", lambda models, stream: events.append(("kernels", tuple(models))))
-    real_progress = sweep.Progress
-    monkeypatch.setattr(sweep, "Progress", lambda *a, **k: events.append(("progress",)) or real_progress(*a, **k))
-    monkeypatch.setattr(sweep, "_run_dask", lambda pending, *a, **k: events.append(("cluster", len(pending))))
+    monkeypatch.setattr(orchestrate, "prepare_kernels", lambda models, stream: events.append(("kernels", tuple(models))))
+    real_progress = orchestrate.Progress
+    monkeypatch.setattr(orchestrate, "Progress", lambda *a, **k: events.append(("progress",)) or real_progress(*a, **k))
+    monkeypatch.setattr(orchestrate, "run_on_cluster", lambda tasks, *a, **k: events.append(("cluster", len(tasks))))
     path = tmp_path / "study.toml"
     path.write_text(SMALL_STUDY, encoding="utf-8")
-    report = sweep.run_study(load_study(path), progress=False)
+    report = orchestrate.run_study(load_study(path), progress=False)
     assert report.failed == report.grid_size  # the faked cluster computed nothing: every cell failed
     assert events == [("kernels", ("3d", "2d")), ("progress",), ("cluster", 4)]
 
@@ -92,7 +92,7 @@ def test_the_eta_counts_computing_not_starting_the_cluster():
             return True  # a line per task
 
     out = Terminal()
-    bar = sweep.Progress(20, stream=out)
+    bar = progress.Progress(20, stream=out)
     bar.start -= 60.0  # a minute of cluster start-up and kernel loading
     bar.restart()
     bar.advance()

@@ -8,8 +8,8 @@ import pytest
 import xarray as xr
 
 from pipeline.dataset import FLAGS, open_results
-from pipeline.study import load_study
-from pipeline.sweep import RESULT_VARIABLES, run_study
+from pipeline.study import load_study, run_study
+from pipeline.study.results import RESULT_VARIABLES
 
 GLOBAL = ("title", "summary", "history", "source", "references", "Conventions", "study_file", "study_sha256")
 

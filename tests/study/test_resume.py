@@ -10,8 +10,9 @@ import time
 import numpy as np
 
 from pipeline.dataset import open_results
-from pipeline.study import load_study
-from pipeline.sweep import Checkpoint, run_study
+from pipeline.study import load_study, run_study
+from pipeline.study.checkpoint import Checkpoint
+from pipeline.study.results import DTYPES
 
 # The child runs the small study (serially, or on a local cluster of two workers) with
 # every task slowed down by 0.4 s, so that the parent can kill it after a few
@@ -21,18 +22,17 @@ CHILD = textwrap.dedent("""\
     import signal, sys, time
     # as from a terminal: a shell starting a background job has SIGINT ignored, and Python keeps that
     signal.signal(signal.SIGINT, signal.default_int_handler)
-    from pipeline import sweep
-    from pipeline.study import load_study
-    real = sweep.run_task
+    from pipeline.study import load_study, orchestrate
+    real = orchestrate.run_task
     def slow(task, motion):
         time.sleep(0.4)
         return real(task, motion)
-    sweep.run_task = slow
+    orchestrate.run_task = slow
     if sys.argv[2] == "cli":  # the command, as a user runs it
         from pipeline.cli import main
         sys.exit(main(["study", "run", sys.argv[1], "--serial", "--quiet"]))
     mode = {"serial": True} if sys.argv[2] == "serial" else {"workers": 2}
-    sweep.run_study(load_study(sys.argv[1]), progress=False, **mode)
+    orchestrate.run_study(load_study(sys.argv[1]), progress=False, **mode)
 """)
 
 MANY_TASKS = 'block_columns = 1'  # 4 columns x 2 records = 8 tasks
@@ -135,7 +135,7 @@ def test_changed_study_discards_the_old_checkpoint(write_study):
 def test_checkpoint_roundtrip(tmp_path):
     result = {"index": 3, "record": 1, "start": 0, "stop": 2, "runs": 5, "seconds": 0.1, "errors": [],
               "arrays": {name: np.arange(4, dtype=dt).reshape(2, 1, 2, 1)
-                         for name, dt in __import__("pipeline.sweep", fromlist=["_DTYPES"])._DTYPES.items()}}
+                         for name, dt in DTYPES.items()}}
     ck = Checkpoint(str(tmp_path / "c"), "key")
     ck.save(result)
     assert ck.done() == {3}

@@ -5,10 +5,11 @@ import math
 import numpy as np
 import pytest
 
-from pipeline import sweep
 from pipeline.settings import Excitation
 from pipeline.simulate import simulate
-from pipeline.study import load_motions, load_study
+from pipeline.study import load_motions, load_study, run_study
+from pipeline.study import run as task_run
+from pipeline.study.grid import block_size, longest_first, plan, record_intensity, scale_factors
 
 from conftest import SMALL_STUDY  # noqa: E402
 
@@ -65,23 +66,23 @@ def test_2d_depends_on_the_angle(small_reference):
 def test_task_layout_and_count(write_study):
     study = load_study(write_study())
     motions = load_motions(study)
-    factors = sweep.scale_factors(study, [sweep.record_intensity(m) for m in motions])
-    tasks = sweep.plan(study, factors)
+    factors = scale_factors(study, [record_intensity(m) for m in motions])
+    tasks = plan(study, factors)
     assert len(tasks) == 2 * 2  # two records x two blocks of two columns
     assert sum(t.n_simulations for t in tasks) == 4 * 2 * 3 * (1 + 3)  # 3d once, 2d per angle
     assert [(t.record, t.start, t.stop) for t in tasks] == [(0, 0, 2), (0, 2, 4), (1, 0, 2), (1, 2, 4)]
 
 
 def test_failed_simulation_is_flagged_not_fatal(write_study, monkeypatch):
-    real = sweep.simulate
+    real = task_run.simulate
 
     def flaky(column, motion, excitation, settings, histories=False):
         if column.name == "squat" and settings.model == "2d" and excitation.scale == 2.0:
             raise FloatingPointError("injected failure")
         return real(column, motion, excitation, settings, histories=histories)
 
-    monkeypatch.setattr(sweep, "simulate", flaky)
-    report = sweep.run_study(load_study(write_study()), serial=True, progress=False)
+    monkeypatch.setattr(task_run, "simulate", flaky)
+    report = run_study(load_study(write_study()), serial=True, progress=False)
     ds = report.dataset
     bad = ds.sel(column="squat", model="2d", scale=2.0)
     assert (bad.status == 1).all() and bad.peak_theta.isnull().all()
@@ -91,13 +92,13 @@ def test_failed_simulation_is_flagged_not_fatal(write_study, monkeypatch):
 
 
 def test_same_study_same_numbers(write_study, small_reference, same_results):
-    report = sweep.run_study(load_study(write_study()), serial=True, progress=False)
+    report = run_study(load_study(write_study()), serial=True, progress=False)
     same_results(report.dataset, small_reference[1])
 
 
 def test_intensity_levels_scale_each_record_to_the_target(write_study):
     text = SMALL_STUDY.replace("scales = [0.5, 1.0, 2.0]", 'intensity = {measure = "pgv", units = "m/s", values = [0.2, 0.4]}')
-    ds = sweep.run_study(load_study(write_study(text)), serial=True, progress=False).dataset
+    ds = run_study(load_study(write_study(text)), serial=True, progress=False).dataset
     np.testing.assert_allclose(ds.pgv.values, [[0.2, 0.4], [0.2, 0.4]], rtol=1e-12)
     assert ds.scale.attrs["units"] == "m s-1"
     assert not np.allclose(ds.scale_factor.sel(record="ricker"), ds.scale_factor.sel(record="kt-1"))
@@ -111,8 +112,8 @@ def test_pga_is_the_peak_of_the_horizontal_vector_and_angle_independent(small_re
     expected = np.max(np.hypot(kt.acc_x, kt.acc_y))
     np.testing.assert_allclose(ds.pga.sel(record="kt-1").values, expected * np.array([0.5, 1.0, 2.0]), rtol=1e-12)
     turned = kt.rotated(30.0)
-    assert sweep.record_intensity(turned)["pga"] == pytest.approx(expected, rel=1e-12)
-    assert sweep.record_intensity(turned)["pgv"] == pytest.approx(sweep.record_intensity(kt)["pgv"], rel=1e-12)
+    assert record_intensity(turned)["pga"] == pytest.approx(expected, rel=1e-12)
+    assert record_intensity(turned)["pgv"] == pytest.approx(record_intensity(kt)["pgv"], rel=1e-12)
 
 
 def test_automatic_blocks_are_even(write_study):
@@ -126,9 +127,9 @@ def test_automatic_blocks_are_even(write_study):
     study = load_study(write_study(text))
     assert len(study.columns) == 10 and study.block_columns is None
     # per column: 5 scales x (3d once + 2d at 1 angle) = 10 simulations; ceil(64 / 10) = 7 would leave 7 + 3
-    assert sweep.block_size(study) == 5
+    assert block_size(study) == 5
     motions = load_motions(study)
-    tasks = sweep.plan(study, sweep.scale_factors(study, [sweep.record_intensity(m) for m in motions]))
+    tasks = plan(study, scale_factors(study, [record_intensity(m) for m in motions]))
     assert [t.n_simulations for t in tasks] == [50] * 4
 
 
@@ -136,8 +137,8 @@ def test_longest_tasks_go_first(write_study):
     """The submission order is a permutation of the tasks, longest record first, then the more slender block."""
     study = load_study(write_study())
     motions = load_motions(study)
-    tasks = sweep.plan(study, sweep.scale_factors(study, [sweep.record_intensity(m) for m in motions]))
-    order = sweep.longest_first(tasks, motions)
+    tasks = plan(study, scale_factors(study, [record_intensity(m) for m in motions]))
+    order = longest_first(tasks, motions)
     assert sorted(t.index for t in order) == [t.index for t in tasks]
     durations = [motions[t.record].duration for t in order]
     assert durations == sorted(durations, reverse=True) and durations[0] > durations[-1]

@@ -24,14 +24,15 @@ def _workflow(tmp_path, study_name="small.toml", extra=""):
 
 
 def test_second_run_recomputes_nothing(tmp_path, monkeypatch):
-    from pipeline import sweep
+    import pipeline.study
+    from pipeline.study import orchestrate
 
     calls = []
-    real = sweep.run_task
-    monkeypatch.setattr(sweep, "run_task", lambda task, motion: calls.append(task.index) or real(task, motion))
+    real = orchestrate.run_task
+    monkeypatch.setattr(orchestrate, "run_task", lambda task, motion: calls.append(task.index) or real(task, motion))
     # the test runs the studies in-process (serial) to count tasks; the workflow's own default is a local cluster
-    real_run = sweep.run_study
-    monkeypatch.setattr(sweep, "run_study", lambda *a, **k: real_run(*a, **dict(k, serial=True)))
+    real_run = pipeline.study.run_study
+    monkeypatch.setattr(pipeline.study, "run_study", lambda *a, **k: real_run(*a, **dict(k, serial=True)))
 
     wf = _workflow(tmp_path)
     assert main(["workflow", "run", str(wf)]) == 0
@@ -96,10 +97,10 @@ def test_shipped_workflow_and_units_only_call_frustum_workflow_run(tmp_path, cap
 
 
 def test_quiet_run_prints_nothing_on_success_and_the_log_on_failure(tmp_path, capsys, monkeypatch):
-    from pipeline import sweep
+    import pipeline.study
 
-    real_run = sweep.run_study
-    monkeypatch.setattr(sweep, "run_study", lambda *a, **k: real_run(*a, **dict(k, serial=True)))
+    real_run = pipeline.study.run_study
+    monkeypatch.setattr(pipeline.study, "run_study", lambda *a, **k: real_run(*a, **dict(k, serial=True)))
     wf = _workflow(tmp_path)
     assert main(["workflow", "run", "--quiet", str(wf)]) == 0
     printed = capsys.readouterr()

@@ -1,0 +1,135 @@
+"""A study's results: the arrays every task fills, and the Dataset the whole grid becomes.
+
+One value per cell of the grid (``DIMS``: column, record, angle, scale, model) for each of
+``RESULT_VARIABLES``; a study that runs the compliant model also holds ``COMPLIANT_VARIABLES``
+and, per joint, ``JOINT_VARIABLES``. :func:`blank_arrays` makes them,
+:func:`pipeline.study.run.run_task` fills a block of them, and :func:`assemble` turns the whole
+grid into the CF Dataset that is written to netCDF (docs/studies.md has the schema).
+"""
+
+import json
+import math
+import os
+
+import numpy as np
+import xarray as xr
+
+from pipeline import __version__
+from pipeline.dataset import STUDY_VARIABLES, annotate
+from pipeline.models import REGISTRY
+
+FLOAT_VARIABLES = ("peak_theta", "peak_theta_ratio", "peak_time", "overturn_time", "uplift_time", "peak_mu_mob",
+                   "residual_rotation", "residual_displacement", "work_ground", "energy_balance_error")
+FLAG_VARIABLES = ("overturned", "uplifted", "sliding_onset", "lift_off", "status")
+INT_VARIABLES = ("n_impacts",)
+RESULT_VARIABLES = FLOAT_VARIABLES + INT_VARIABLES + FLAG_VARIABLES
+DTYPES = {**{n: np.float64 for n in FLOAT_VARIABLES}, **{n: np.int32 for n in INT_VARIABLES},
+           **{n: np.int8 for n in FLAG_VARIABLES}}
+DIMS = ("column", "record", "angle", "scale", "model")
+# A study that runs the compliant model also holds (pipeline.compliant): the largest residual
+# slip of a bed joint over its diameter, the body that fell first (-1: none), and per joint
+# (dimension ``joint``; joint k is the base of body k) the residual dislocation. NaN for the
+# rigid models and for the joints a column does not have.
+COMPLIANT_VARIABLES = ("dislocation_ratio", "overturn_drum")
+JOINT_VARIABLES = ("joint_slip", "joint_twist", "joint_tilt", "joint_opening")
+DTYPES.update({"dislocation_ratio": np.float64, "overturn_drum": np.int32,
+                **{n: np.float64 for n in JOINT_VARIABLES}})
+
+
+def result_variables(n_joints=0):
+    """Names of a study's result arrays: the common ones, and the compliant model's if ``n_joints`` > 0."""
+    return RESULT_VARIABLES + (COMPLIANT_VARIABLES + JOINT_VARIABLES if n_joints else ())
+
+
+def result_shape(name, shape, n_joints):
+    """Shape of one result array: ``shape``, with the ``joint`` dimension last for a joint variable."""
+    return tuple(shape) + ((n_joints,) if name in JOINT_VARIABLES else ())
+
+
+def blank_arrays(shape, status, n_joints=0):
+    """Result arrays of ``shape`` before any simulation: floats NaN, counts and flags 0 (``overturn_drum``
+    -1), ``status`` as given; with ``n_joints`` > 0 also the compliant model's."""
+    arrays = {name: np.zeros(result_shape(name, shape, n_joints), dtype=DTYPES[name])
+              for name in result_variables(n_joints)}
+    for name, values in arrays.items():
+        if values.dtype.kind == "f":
+            values[...] = np.nan
+    arrays["status"][...] = status
+    if n_joints:
+        arrays["overturn_drum"][...] = -1
+    return arrays
+
+
+def assemble(study, motions, measures, factors, arrays):
+    """The results Dataset of a study (see docs/studies.md for the schema)."""
+    n_joints = study.n_joints
+    ds = xr.Dataset({name: (DIMS + (("joint",) if name in JOINT_VARIABLES else ()), arrays[name])
+                     for name in result_variables(n_joints)})
+    cols = [c.column for c in study.columns]
+    coords = {
+        "column": ("column", [c.label for c in study.columns]),
+        "record": ("record", [s.id for s in study.records]),
+        "angle": ("angle", np.asarray(study.angles, dtype=np.float64)),
+        "scale": ("scale", np.asarray(study.levels, dtype=np.float64)),
+        "model": ("model", list(study.models)),
+        "column_R": ("column", [c.R for c in cols]),
+        "column_r": ("column", [c.r for c in cols]),
+        "column_h": ("column", [c.h for c in cols]),
+        "slenderness": ("column", [c.slenderness for c in cols]),
+        "beta": ("column", [c.beta for c in cols]),
+        "theta_crit": ("column", [c.critical_tilt for c in cols]),
+        "earthquake": ("record", [str(m.metadata.get("event") or m.metadata.get("generator") or "unknown")
+                                  for m in motions]),
+        "station": ("record", [str(m.metadata.get("station") or "unknown") for m in motions]),
+        "year": ("record", np.array([int(m.metadata.get("year") or -1) for m in motions], dtype=np.int32)),
+        "magnitude": ("record", np.array([float(m.metadata.get("magnitude") or math.nan) for m in motions])),
+        "record_sha256": ("record", [m.sha256() for m in motions]),
+        "scale_factor": (("record", "scale"), factors),
+        "pga": (("record", "scale"), factors * np.array([[m["pga"]] for m in measures])),
+        "pgv": (("record", "scale"), factors * np.array([[m["pgv"]] for m in measures])),
+    }
+    if any(math.isfinite(c.latitude) for c in study.columns):
+        coords["latitude"] = ("column", [c.latitude for c in study.columns])
+        coords["longitude"] = ("column", [c.longitude for c in study.columns])
+    if study.sa_period is not None:
+        coords["sa"] = (("record", "scale"), factors * np.array([[m["sa"]] for m in measures]))
+    if n_joints:
+        diameters = np.full((len(cols), n_joints), np.nan)
+        for ci, info in enumerate(study.columns):
+            faces = info.stack.joint_diameters() if info.stack is not None else (2.0 * info.column.R,)
+            diameters[ci, :len(faces)] = faces
+        coords["joint"] = ("joint", np.arange(n_joints, dtype=np.int32))
+        coords["joint_diameter"] = (("column", "joint"), diameters)
+        coords["n_drums"] = ("column", np.array([1 if c.stack is None else c.stack.n_drums for c in study.columns],
+                                                dtype=np.int32))
+    ds = ds.assign_coords(coords)
+    annotate(ds, STUDY_VARIABLES)
+    if study.intensity is not None:
+        units = {"pga": "m s-2", "pgv": "m s-1"}[study.intensity.measure]
+        ds["scale"].attrs.update(units=units, long_name=f"target {study.intensity.measure} of the scaled record "
+                                 "(peak of the horizontal vector); the factor is scale_factor",
+                                 comment=f"the study file states the targets in {study.intensity.units}: "
+                                 + ", ".join(f"{v:g}" for v in study.intensity.stated))
+    if study.sa_period is not None:
+        ds["sa"].attrs["period"] = study.sa_period
+        ds["sa"].attrs["long_name"] += f" (period {study.sa_period:g} s)"
+    ds["angle"].attrs["comment"] = "degrees counter-clockwise; 3D results do not depend on it (axisymmetry)"
+    ds["model"].attrs["comment"] = "; ".join(
+        [f"{m.name}: {m.in_short}" for m in REGISTRY.values()]
+        + ["the rigid models run a column of drums as a monolith of its shaft"])
+    ds.attrs.update({
+        "title": study.title,
+        "summary": study.summary or (
+            f"Earthquake response of {len(cols)} free-standing column(s) modelled as rigid conical frustums "
+            f"to {len(motions)} record(s), {len(study.angles)} incidence angle(s), {len(study.levels)} scale "
+            f"level(s), model(s) {', '.join(study.models)}."),
+        # the module that wrote results files before pipeline/study/ (kept: the files stay the same)
+        "source": f"frustum-pipeline {__version__} (pipeline.sweep)",
+        "study_file": os.path.basename(study.path),
+        "study_path": study.path,
+        "study_sha256": study.digest,
+        "model_options": json.dumps(dict(study.options), sort_keys=True),
+        "vertical_component": "used" if study.vertical else "ignored",
+        "energy_units": "energies and work per unit weight, E/(m g) [m]",
+    })
+    return ds
