@@ -6,7 +6,8 @@ close, the first times of uplift, sliding and flight, the peak tilt, the step
 monitor's peak mobilized friction and lowest normal force, the rest phase up
 to the column's departure (found exactly on the piecewise-linear record), the
 booking of an integrated phase with its stall count, lying down, the landing
-log, and the rim hold of infinite friction.
+log, and the rim hold of infinite friction; and the run itself,
+:func:`run_events`, into which each model passes its own parts.
 """
 
 import math
@@ -16,7 +17,8 @@ from numba import njit
 from pipeline.dynamics.rigid import frustum as fk
 from pipeline.dynamics.rigid import contact
 from pipeline.dynamics.rigid.layout import (
-    MAX_STALLS, PHASE_OVERTURNED, PHASE_REST, STATUS_STALLED, S_DISSIPATED, S_ENERGY_END, S_FLIGHT_TIME,
+    EV_LIE, MAX_STALLS, MAX_TRANSITIONS, PHASE_FLIGHT, PHASE_OVERTURNED, PHASE_REST, PHASE_SLIPPING,
+    STATUS_STALLED, S_DISSIPATED, S_END_TIME, S_ENERGY_END, S_ENERGY_START, S_FINAL_PHASE, S_FLIGHT_TIME,
     S_FRICTION, S_MIN_NORMAL, S_NFEV, S_N_IMPACTS, S_OVERTURN_TIME, S_PEAK_MU, S_PEAK_THETA, S_PEAK_TIME,
     S_SLIDE_TIME, S_STATUS, S_STEPS, S_UPLIFT_TIME, S_WORK
 )
@@ -152,6 +154,15 @@ def lie_down(summary, t, theta, y, y_out, phase_out, out_i):
 
 
 @njit(cache=True)
+def note_entry(summary, t, phase):
+    """The first slip or flight, if ``phase``, entered at t, is one."""
+    if phase == PHASE_SLIPPING:
+        first_time(summary, S_SLIDE_TIME, t)
+    elif phase == PHASE_FLIGHT:
+        first_time(summary, S_FLIGHT_TIME, t)
+
+
+@njit(cache=True)
 def book_peak(summary, t, theta):
     if theta > summary[S_PEAK_THETA]:
         summary[S_PEAK_THETA] = theta
@@ -174,3 +185,97 @@ def holds_rim(opts, gap_acceleration):
         return False
     opts[fk.OPT_RIM_HELD] = 1.0
     return True
+
+
+@njit(inline="always")
+def run_events(energy, tilt, depart, advance, handle, finish, params, restitution, phase, y, ledger, scratch, t_end,
+               t_out, y_out, phase_out, t_breaks, rtol, atol, summary, impacts):
+    """The event-driven run both rigid models share: rest, phases up to their events, the summary.
+
+    At rest until the column departs (:func:`rest_until_departure`), then
+    each phase integrated up to its first event and booked
+    (:func:`book_phase`), lying down ending the run (:func:`lie_down`), every
+    other event mapped to the phase that follows, until the record and its
+    tail end, an integration fails or stalls, or ``MAX_TRANSITIONS`` events
+    that restart the integration have passed (status -10).
+
+    The model's parts are compiled functions passed in, which numba
+    specialises this loop for; it is inlined into each model's run (numba's
+    IR), because a compiled function that passes functions on as values
+    cannot be cached ("dynamic globals") and an inlined one can. The state
+    layouts are the parts' own:
+
+    - ``energy(phase, y, c)``: mechanical energy [m g R] of a state;
+    - ``tilt(y)``: theta [rad], how far the column leans;
+    - ``depart(t, y, p, scratch)``: the map out of rest at the departure time
+      t, returning the phase it departs in;
+    - ``advance(p, phase, t, y, t_end, t_out, y_out, out_i, t_breaks, rtol, atol, h)``:
+      integrate the phase from t up to its first event or ``t_end``
+      (:data:`pipeline.dynamics.integrator.Dop853Result`);
+    - ``handle(ev, t, y, p, phase, impacts, restitution, planar_e, settle_kinetic, scratch)``:
+      the map at event ``ev`` (any but ``EV_LIE``), returning the phase that
+      follows and whether the event restarts the integration (a transition);
+    - ``finish(y, c, opts, summary, phase, scratch)``: the base's position at
+      the end.
+
+    ``p`` is ``(c, record, dt, opts, summary)``, ``phase`` the starting
+    phase, ``y`` the state (changed in place), ``ledger`` the state's slots
+    of the work done by the ground, the energy dissipated by the contact
+    couples and by friction, ``scratch`` whatever else the model keeps
+    through the run; the other arguments as
+    :func:`pipeline.dynamics.rigid.run3d.run_frustum`'s. Returns the next
+    output row.
+    """
+    c, record, dt, opts = params
+    p = (c, record, dt, opts, summary)
+    zc = c[fk.C_ZC]
+    opts[fk.OPT_RIM_HELD] = 0.0
+    ratio = departure_ratio(zc, opts[fk.OPT_MU])
+    planar_e = restitution if restitution >= 0.0 else max(0.0, 1.0 - 2.0 / c[fk.C_IY])
+    settle_kinetic = settling_kinetic_energy(opts[fk.OPT_THETA_C], zc, opts[fk.OPT_MIN_REBOUND])
+    init_summary(summary)
+    summary[S_ENERGY_START] = energy(phase, y, c)
+    moving = phase  # the phase the column lies down from
+    t = 0.0
+    out_i = 0
+    h = 0.0
+    n_transitions = 0
+    stalls = 0
+    while n_transitions < MAX_TRANSITIONS:
+        if phase == PHASE_REST:
+            t_dep, out_i = rest_until_departure(record, dt, ratio, t, t_end, t_out, y_out, phase_out, out_i,
+                                                 y, summary)
+            if t_dep >= t_end:
+                t = t_end
+                break
+            t = t_dep
+            h = 0.0
+            n_transitions += 1
+            phase = depart(t, y, p, scratch)
+            continue
+        opts[fk.OPT_PHASE] = phase
+        res = advance(p, phase, t, y, t_end, t_out, y_out, out_i, t_breaks, rtol, atol, h)
+        out_i, stalls = book_phase(res, phase, phase_out, out_i, summary, y, t, stalls)
+        t, h = res.t, res.h_next
+        if res.status <= 0 or stalls > MAX_STALLS:  # end, failure or stall (status in the summary)
+            break
+        ev = res.event_index
+        if ev == EV_LIE:
+            out_i = lie_down(summary, t, tilt(y), y, y_out, phase_out, out_i)
+            moving = phase
+            phase = PHASE_OVERTURNED
+            break
+        phase, restarts = handle(ev, t, y, p, phase, impacts, restitution, planar_e, settle_kinetic, scratch)
+        if restarts:
+            h = 0.0
+            n_transitions += 1
+    if n_transitions >= MAX_TRANSITIONS:
+        summary[S_STATUS] = -10
+    summary[S_END_TIME] = t
+    summary[S_FINAL_PHASE] = phase
+    close_budget(summary, energy(phase if phase != PHASE_OVERTURNED else moving, y, c),
+                 y[ledger[0]], y[ledger[1]], y[ledger[2]])
+    finish(y, c, opts, summary, phase, scratch)
+    if summary[S_MIN_NORMAL] == math.inf:
+        summary[S_MIN_NORMAL] = math.nan
+    return out_i

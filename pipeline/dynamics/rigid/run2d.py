@@ -5,7 +5,9 @@ frustum's own inertia about its rim), with sliding and flight, through one
 record and its tail. Its phases are :mod:`pipeline.dynamics.rigid.phases2d`'s,
 its events those of the three-dimensional run; its impacts are planar: the
 pivot moves to the other rim point with the restitution ``e``, and a flying
-column comes down on its lowest base corner with Coulomb friction.
+column comes down on its lowest base corner with Coulomb friction. The loop is
+:func:`pipeline.dynamics.rigid.loop.run_events`, shared with the
+three-dimensional run; this module gives it the planar parts.
 """
 
 import math
@@ -15,14 +17,10 @@ from numba import njit
 from pipeline.dynamics.rigid import frustum as fk
 from pipeline.dynamics.rigid import rocking as rk
 from pipeline.dynamics.rigid.layout import (
-    EV_LIE, EV_LIFT, EV_SLIP, EV_STICK, EV_TURN, MAX_STALLS, MAX_TRANSITIONS, PHASE_FLIGHT, PHASE_OVERTURNED,
-    PHASE_REST, PHASE_ROLLING, PHASE_SLIDING, PHASE_SLIPPING, S_BASE_X, S_END_TIME, S_ENERGY_START, S_FINAL_PHASE,
-    S_FLIGHT_TIME, S_MIN_NORMAL, S_N_IMPACTS, S_SLIDE_TIME, S_STATUS, S_TRANSITION, S_UPLIFT_TIME
+    EV_LIFT, EV_SLIP, EV_STICK, EV_TURN, PHASE_FLIGHT, PHASE_REST, PHASE_ROLLING, PHASE_SLIDING,
+    PHASE_SLIPPING, S_BASE_X, S_FLIGHT_TIME, S_N_IMPACTS, S_SLIDE_TIME, S_TRANSITION, S_UPLIFT_TIME
 )
-from pipeline.dynamics.rigid.loop import (
-    book_peak, book_phase, close_budget, departure_ratio, first_time, holds_rim, init_summary, lie_down,
-    log_impact, rest_until_departure, settling_kinetic_energy
-)
+from pipeline.dynamics.rigid.loop import book_peak, first_time, holds_rim, log_impact, note_entry, run_events
 from pipeline.dynamics.rigid.phases2d import (
     energy2d, flight_gap_acceleration2d, integrate2d, rocking_contact, rocking_slip
 )
@@ -123,6 +121,192 @@ def _touch_down_corner(y, c, mu):
     return slip
 
 
+@njit(cache=True)
+def _tilt2d(y):
+    return abs(y[rk.THETA2])
+
+
+@njit(cache=True)
+def _depart2d(t, y, params, scratch):
+    """Rest -> flat flight, flat sliding or uplift onto a base corner at the departure time t; returns the phase."""
+    c, record, dt, opts, summary = params
+    zc = c[fk.C_ZC]
+    mu = opts[fk.OPT_MU]
+    theta_c = opts[fk.OPT_THETA_C]
+    a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
+    _clear_free_slots2d(y)
+    y[rk.THETA2] = 0.0
+    y[rk.DTHETA2] = 0.0
+    if 1.0 + a_z <= 0.0:
+        y[rk.Z2] = zc
+        first_time(summary, S_FLIGHT_TIME, t)
+        return PHASE_FLIGHT
+    # the inertial force -a_u pushes towards -u
+    toward = -1.0 if a_u > 0.0 else 1.0
+    if mu < 1.0 / zc:
+        opts[fk.OPT_SIGN] = toward
+        first_time(summary, S_SLIDE_TIME, t)
+        return PHASE_SLIDING
+    y[rk.THETA2] = toward * theta_c  # a signed zero when theta_c = 0
+    y[rk.X2] += toward * math.cos(theta_c)  # the pivot on that side of the base
+    opts[fk.OPT_PIVOT] = toward
+    summary[S_TRANSITION] += rk.energy(theta_c, 0.0, c) - zc
+    first_time(summary, S_UPLIFT_TIME, t)
+    phase = _enter_contact2d(t, y, params)
+    if phase == PHASE_SLIPPING:
+        first_time(summary, S_SLIDE_TIME, t)
+    return phase
+
+
+@njit(cache=True)
+def _advance2d(params, phase, t, y, t_end, t_out, y_out, out_i, t_breaks, rtol, atol, h):
+    return integrate2d(params, t, y, t_end, t_out, y_out, out_i, t_breaks, rtol, atol, h)
+
+
+@njit(cache=True)
+def _on_event2d(ev, t, y, params, phase, impacts, restitution, e, settle_kinetic, scratch):
+    """The map at an event of a planar phase; returns the next phase and whether the integration restarts."""
+    c, record, dt, opts, summary = params
+    zc = c[fk.C_ZC]
+    mu = opts[fk.OPT_MU]
+    theta_c = opts[fk.OPT_THETA_C]
+    rest_energy = zc
+    theta = abs(y[rk.THETA2])
+    if ev == EV_TURN:
+        y[rk.DTHETA2] = 0.0  # exactly a turning point (see run3d._on_event3d)
+        book_peak(summary, t, theta)
+        if phase == PHASE_ROLLING and theta < (1.0 - opts[fk.OPT_LANDING_MARGIN]) * theta_c:
+            # at rest below the tilt of full contact (reached without a landing, e.g.
+            # tipped from sliding at mu = R / z_cm): the base is down. Rocking on there
+            # turned every 2.5e-5 s at 1e-11 rad and never ended (FEMA-FF-13, squat cylinder)
+            summary[S_TRANSITION] += rest_energy - energy2d(phase, y, c)
+            _down_on_base2d(y, opts[fk.OPT_PIVOT])
+            return PHASE_REST, False
+        return phase, False
+    # the events below restart the integration
+    if ev == EV_SLIP:
+        phase = _enter_contact2d(t, y, params)
+        first_time(summary, S_SLIDE_TIME, t)
+        return phase, True
+    if ev == EV_STICK:
+        y[rk.V2] = 0.0
+        if phase == PHASE_SLIPPING:
+            return _enter_contact2d(t, y, params), True
+        a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
+        if abs(a_u) > mu * (1.0 + a_z):
+            opts[fk.OPT_SIGN] = -1.0 if a_u > 0.0 else 1.0
+            return phase, True
+        return PHASE_REST, True
+    if ev == EV_LIFT:
+        if phase == PHASE_ROLLING:
+            if opts[fk.OPT_RIM_HELD] != 0.0:
+                # the hold ends: N pushes again (rolling on), or the flight now rises
+                # (whichever of -N and -gap'' reached 0, the minimum in the event function)
+                opts[fk.OPT_RIM_HELD] = 0.0
+                a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
+                if (rocking_contact(y[rk.THETA2], y[rk.DTHETA2], a_u, a_z, c, opts)[1]
+                        >= flight_gap_acceleration2d(y[rk.THETA2], y[rk.DTHETA2], a_z, c)):
+                    return phase, True
+            elif holds_rim(opts, flight_gap_acceleration2d(
+                    y[rk.THETA2], y[rk.DTHETA2], fk.ground_acceleration(t, record, dt)[2], c)):
+                return phase, True
+        first_time(summary, S_FLIGHT_TIME, t)
+        if phase == PHASE_SLIDING:
+            y[rk.Z2] = zc
+            y[rk.VZ2] = 0.0
+        else:
+            _to_flight2d(y, c)
+        return PHASE_FLIGHT, True
+    # EV_LAND
+    if phase == PHASE_FLIGHT:
+        return _touch_down2d(t, y, params, impacts, theta), True
+    return _land2d(t, y, params, phase, impacts, e, settle_kinetic, theta), True
+
+
+@njit(cache=True)
+def _touch_down2d(t, y, params, impacts, theta):
+    """A flying column comes down: flat on its base (sliding, tipping or at rest), or on a base corner."""
+    c, summary, opts = params[0], params[4], params[3]
+    zc = c[fk.C_ZC]
+    mu = opts[fk.OPT_MU]
+    theta_c = opts[fk.OPT_THETA_C]
+    phase = PHASE_FLIGHT
+    e_before = energy2d(phase, y, c)
+    summary[S_N_IMPACTS] += 1
+    if theta < theta_c:
+        left = abs(y[rk.V2]) - mu * abs(y[rk.VZ2])
+        sense = 1.0 if y[rk.V2] > 0.0 else -1.0
+        y[rk.X2] -= zc * math.sin(y[rk.THETA2])  # centre of mass -> base centre
+        y[rk.THETA2] = 0.0
+        y[rk.DTHETA2] = 0.0
+        _clear_free_slots2d(y)
+        if left > 0.0:
+            y[rk.V2] = sense * left
+            opts[fk.OPT_SIGN] = sense
+            phase = PHASE_SLIDING
+            if mu * zc >= 1.0:  # tips onto the leading corner
+                y[rk.THETA2] = sense * theta_c
+                y[rk.X2] += sense * math.cos(theta_c)
+                opts[fk.OPT_PIVOT] = sense
+                phase = PHASE_SLIPPING
+        else:
+            phase = PHASE_REST
+    else:
+        opts[fk.OPT_PIVOT] = math.copysign(1.0, y[rk.THETA2])
+        slip = _touch_down_corner(y, c, mu)
+        if slip != 0.0:
+            opts[fk.OPT_SIGN] = 1.0 if slip > 0.0 else -1.0
+            phase = PHASE_SLIPPING
+        else:
+            phase = _enter_contact2d(t, y, params)
+    e_after = energy2d(phase, y, c)
+    summary[S_TRANSITION] += e_after - e_before
+    log_impact(impacts, summary, t, 0.0, y[rk.DTHETA2], e_after - e_before)
+    return phase
+
+
+@njit(cache=True)
+def _land2d(t, y, params, phase, impacts, e, settle_kinetic, theta):
+    """A landing near full contact: the pivot moves to the other rim point with theta' scaled by e, or it settles."""
+    c, opts, summary = params[0], params[3], params[4]
+    rest_energy = c[fk.C_ZC]
+    e_before = energy2d(phase, y, c)
+    new_rate = e * y[rk.DTHETA2]
+    kinetic = 0.5 * c[fk.C_IY] * new_rate * new_rate
+    settles = kinetic < settle_kinetic
+    e_after = rk.energy(theta, new_rate, c)
+    if y[rk.DTHETA2] != 0.0:  # touching back down with no speed at all is no impact
+        summary[S_N_IMPACTS] += 1
+        log_impact(impacts, summary, t, y[rk.DTHETA2], 0.0 if settles else new_rate,
+                   (rest_energy if settles else e_after) - e_before)
+    side = opts[fk.OPT_PIVOT]
+    if settles:
+        summary[S_TRANSITION] += rest_energy - e_before
+        _down_on_base2d(y, side)
+        return PHASE_REST
+    summary[S_TRANSITION] += e_after - e_before
+    _clear_free_slots2d(y)
+    y[rk.X2] -= 2.0 * side * math.cos(y[rk.THETA2])  # to the other rim point, across the base
+    # the other rim point: its side explicitly (theta ~ 0 has no reliable sign)
+    opts[fk.OPT_PIVOT] = -side
+    y[rk.THETA2] = math.copysign(abs(y[rk.THETA2]), -side)
+    y[rk.DTHETA2] = new_rate
+    phase = _enter_contact2d(t, y, params)
+    note_entry(summary, t, phase)
+    return phase
+
+
+@njit(cache=True)
+def _finish2d(y, c, opts, summary, phase, scratch):
+    """The base centre at the end of a planar run."""
+    if phase == PHASE_REST or phase == PHASE_SLIDING:
+        summary[S_BASE_X] = y[rk.X2]
+    elif phase == PHASE_FLIGHT:
+        summary[S_BASE_X] = y[rk.X2] - c[fk.C_ZC] * math.sin(y[rk.THETA2])
+    else:
+        summary[S_BASE_X] = y[rk.X2] - opts[fk.OPT_PIVOT] * math.cos(y[rk.THETA2])
+
+
 @njit(cache=True, nogil=True)
 def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_breaks, rtol, atol, summary, impacts):
     """Run classical planar rocking, with sliding and flight.
@@ -134,199 +318,11 @@ def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
     negative ``restitution`` selects the angular-momentum value
     ``1 - 2 / Iy`` (clipped at 0).
     """
-    c, record, dt, opts = params
-    p = (c, record, dt, opts, summary)
-    zc = c[fk.C_ZC]
-    mu = opts[fk.OPT_MU]
-    theta_c = opts[fk.OPT_THETA_C]
-    opts[fk.OPT_RIM_HELD] = 0.0
-    ratio = departure_ratio(zc, mu)
-    e = restitution if restitution >= 0.0 else max(0.0, 1.0 - 2.0 / c[fk.C_IY])
-    init_summary(summary)
     y = y0.copy()
-    rest_energy = zc
-    settle_kinetic = settling_kinetic_energy(theta_c, zc, opts[fk.OPT_MIN_REBOUND])
     phase = PHASE_REST
     if y0[rk.THETA2] != 0.0:
         phase = PHASE_ROLLING
-        opts[fk.OPT_PIVOT] = math.copysign(1.0, y0[rk.THETA2])
-    summary[S_ENERGY_START] = energy2d(phase, y, c)
-    moving = phase
-    t = 0.0
-    out_i = 0
-    h = 0.0
-    n_transitions = 0
-    stalls = 0
-    while n_transitions < MAX_TRANSITIONS:
-        if phase == PHASE_REST:
-            t_dep, out_i = rest_until_departure(record, dt, ratio, t, t_end, t_out, y_out, phase_out, out_i,
-                                                 y, summary)
-            if t_dep >= t_end:
-                t = t_end
-                break
-            t = t_dep
-            h = 0.0
-            n_transitions += 1
-            a_u, _unused, a_z = fk.ground_acceleration(t_dep, record, dt)
-            _clear_free_slots2d(y)
-            y[rk.THETA2] = 0.0
-            y[rk.DTHETA2] = 0.0
-            if 1.0 + a_z <= 0.0:
-                y[rk.Z2] = zc
-                first_time(summary, S_FLIGHT_TIME, t)
-                phase = PHASE_FLIGHT
-                continue
-            # the inertial force -a_u pushes towards -u
-            toward = -1.0 if a_u > 0.0 else 1.0
-            if mu < 1.0 / zc:
-                opts[fk.OPT_SIGN] = toward
-                first_time(summary, S_SLIDE_TIME, t)
-                phase = PHASE_SLIDING
-                continue
-            y[rk.THETA2] = toward * theta_c  # a signed zero when theta_c = 0
-            y[rk.X2] += toward * math.cos(theta_c)  # the pivot on that side of the base
-            opts[fk.OPT_PIVOT] = toward
-            summary[S_TRANSITION] += rk.energy(theta_c, 0.0, c) - rest_energy
-            first_time(summary, S_UPLIFT_TIME, t)
-            phase = _enter_contact2d(t, y, p)
-            if phase == PHASE_SLIPPING:
-                first_time(summary, S_SLIDE_TIME, t)
-            continue
-        opts[fk.OPT_PHASE] = phase
-        res = integrate2d(p, t, y, t_end, t_out, y_out, out_i, t_breaks, rtol, atol, h)
-        out_i, stalls = book_phase(res, phase, phase_out, out_i, summary, y, t, stalls)
-        t, h = res.t, res.h_next
-        if res.status <= 0 or stalls > MAX_STALLS:
-            break
-        ev = res.event_index
-        theta = abs(y[rk.THETA2])
-        if ev == EV_TURN:
-            y[rk.DTHETA2] = 0.0  # exactly a turning point (see run3d.run_frustum)
-            book_peak(summary, t, theta)
-            if phase == PHASE_ROLLING and theta < (1.0 - opts[fk.OPT_LANDING_MARGIN]) * theta_c:
-                # at rest below the tilt of full contact (reached without a landing, e.g.
-                # tipped from sliding at mu = R / z_cm): the base is down. Rocking on there
-                # turned every 2.5e-5 s at 1e-11 rad and never ended (FEMA-FF-13, squat cylinder)
-                summary[S_TRANSITION] += rest_energy - energy2d(phase, y, c)
-                _down_on_base2d(y, opts[fk.OPT_PIVOT])
-                phase = PHASE_REST
-            continue
-        if ev == EV_LIE:
-            out_i = lie_down(summary, t, theta, y, y_out, phase_out, out_i)
-            moving = phase
-            phase = PHASE_OVERTURNED
-            break
-        h = 0.0
-        n_transitions += 1
-        if ev == EV_SLIP:
-            phase = _enter_contact2d(t, y, p)
-            first_time(summary, S_SLIDE_TIME, t)
-            continue
-        if ev == EV_STICK:
-            y[rk.V2] = 0.0
-            if phase == PHASE_SLIPPING:
-                phase = _enter_contact2d(t, y, p)
-                continue
-            a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
-            if abs(a_u) > mu * (1.0 + a_z):
-                opts[fk.OPT_SIGN] = -1.0 if a_u > 0.0 else 1.0
-            else:
-                phase = PHASE_REST
-            continue
-        if ev == EV_LIFT:
-            if phase == PHASE_ROLLING:
-                if opts[fk.OPT_RIM_HELD] != 0.0:
-                    # the hold ends: N pushes again (rolling on), or the flight now rises
-                    # (whichever of -N and -gap'' reached 0, the minimum in the event function)
-                    opts[fk.OPT_RIM_HELD] = 0.0
-                    a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
-                    if (rocking_contact(y[rk.THETA2], y[rk.DTHETA2], a_u, a_z, c, opts)[1]
-                            >= flight_gap_acceleration2d(y[rk.THETA2], y[rk.DTHETA2], a_z, c)):
-                        continue
-                elif holds_rim(opts, flight_gap_acceleration2d(
-                        y[rk.THETA2], y[rk.DTHETA2], fk.ground_acceleration(t, record, dt)[2], c)):
-                    continue
-            first_time(summary, S_FLIGHT_TIME, t)
-            if phase == PHASE_SLIDING:
-                y[rk.Z2] = zc
-                y[rk.VZ2] = 0.0
-            else:
-                _to_flight2d(y, c)
-            phase = PHASE_FLIGHT
-            continue
-        # EV_LAND
-        e_before = energy2d(phase, y, c)
-        if phase == PHASE_FLIGHT:
-            summary[S_N_IMPACTS] += 1
-            if theta < theta_c:
-                left = abs(y[rk.V2]) - mu * abs(y[rk.VZ2])
-                sense = 1.0 if y[rk.V2] > 0.0 else -1.0
-                y[rk.X2] -= zc * math.sin(y[rk.THETA2])  # centre of mass -> base centre
-                y[rk.THETA2] = 0.0
-                y[rk.DTHETA2] = 0.0
-                _clear_free_slots2d(y)
-                if left > 0.0:
-                    y[rk.V2] = sense * left
-                    opts[fk.OPT_SIGN] = sense
-                    phase = PHASE_SLIDING
-                    if mu * zc >= 1.0:  # tips onto the leading corner
-                        y[rk.THETA2] = sense * theta_c
-                        y[rk.X2] += sense * math.cos(theta_c)
-                        opts[fk.OPT_PIVOT] = sense
-                        phase = PHASE_SLIPPING
-                else:
-                    phase = PHASE_REST
-            else:
-                opts[fk.OPT_PIVOT] = math.copysign(1.0, y[rk.THETA2])
-                slip = _touch_down_corner(y, c, mu)
-                if slip != 0.0:
-                    opts[fk.OPT_SIGN] = 1.0 if slip > 0.0 else -1.0
-                    phase = PHASE_SLIPPING
-                else:
-                    phase = _enter_contact2d(t, y, p)
-            e_after = energy2d(phase, y, c)
-            summary[S_TRANSITION] += e_after - e_before
-            log_impact(impacts, summary, t, 0.0, y[rk.DTHETA2], e_after - e_before)
-            continue
-        # landing near full contact: pivot to the other rim point, theta' scaled by e
-        new_rate = e * y[rk.DTHETA2]
-        kinetic = 0.5 * c[fk.C_IY] * new_rate * new_rate
-        settles = kinetic < settle_kinetic
-        e_after = rk.energy(theta, new_rate, c)
-        if y[rk.DTHETA2] != 0.0:  # touching back down with no speed at all is no impact
-            summary[S_N_IMPACTS] += 1
-            log_impact(impacts, summary, t, y[rk.DTHETA2], 0.0 if settles else new_rate,
-                        (rest_energy if settles else e_after) - e_before)
-        side = opts[fk.OPT_PIVOT]
-        if settles:
-            summary[S_TRANSITION] += rest_energy - e_before
-            _down_on_base2d(y, side)
-            phase = PHASE_REST
-        else:
-            summary[S_TRANSITION] += e_after - e_before
-            _clear_free_slots2d(y)
-            y[rk.X2] -= 2.0 * side * math.cos(y[rk.THETA2])  # to the other rim point, across the base
-            # the other rim point: its side explicitly (theta ~ 0 has no reliable sign)
-            opts[fk.OPT_PIVOT] = -side
-            y[rk.THETA2] = math.copysign(abs(y[rk.THETA2]), -side)
-            y[rk.DTHETA2] = new_rate
-            phase = _enter_contact2d(t, y, p)
-            if phase == PHASE_SLIPPING:
-                first_time(summary, S_SLIDE_TIME, t)
-            elif phase == PHASE_FLIGHT:
-                first_time(summary, S_FLIGHT_TIME, t)
-    if n_transitions >= MAX_TRANSITIONS:
-        summary[S_STATUS] = -10
-    summary[S_END_TIME] = t
-    summary[S_FINAL_PHASE] = phase
-    close_budget(summary, energy2d(phase if phase != PHASE_OVERTURNED else moving, y, c),
-                  y[rk.WORK2], y[rk.DISSIPATED2], y[rk.FRICTION2])
-    if phase == PHASE_REST or phase == PHASE_SLIDING:
-        summary[S_BASE_X] = y[rk.X2]
-    elif phase == PHASE_FLIGHT:
-        summary[S_BASE_X] = y[rk.X2] - zc * math.sin(y[rk.THETA2])
-    else:
-        summary[S_BASE_X] = y[rk.X2] - opts[fk.OPT_PIVOT] * math.cos(y[rk.THETA2])
-    if summary[S_MIN_NORMAL] == math.inf:
-        summary[S_MIN_NORMAL] = math.nan
-    return out_i
+        params[3][fk.OPT_PIVOT] = math.copysign(1.0, y0[rk.THETA2])
+    return run_events(energy2d, _tilt2d, _depart2d, _advance2d, _on_event2d, _finish2d, params, restitution, phase,
+                      y, (rk.WORK2, rk.DISSIPATED2, rk.FRICTION2), None, t_end, t_out, y_out, phase_out, t_breaks,
+                      rtol, atol, summary, impacts)

@@ -9,7 +9,10 @@ touch-down on the rim with Coulomb friction, a landing near full contact (the
 angular-momentum impact of :mod:`pipeline.dynamics.rigid.contact`), a partial
 slap at a passage near full contact, the drilling pivot held or let go, the
 slaved slip direction's layer entered or left. Every jump of mechanical energy
-is booked in ``summary[S_TRANSITION]``.
+is booked in ``summary[S_TRANSITION]``. The loop itself is
+:func:`pipeline.dynamics.rigid.loop.run_events`, shared with planar rocking;
+this module gives it the 3D parts: the departure from rest, the phase's
+integration, the maps at events and the summary's end.
 """
 
 import math
@@ -21,15 +24,11 @@ from pipeline.dynamics.rigid import frustum as fk
 from pipeline.dynamics.rigid import contact
 from pipeline.dynamics.rigid import rim
 from pipeline.dynamics.rigid.layout import (
-    EV_LIE, EV_LIFT, EV_MODE, EV_PIVOT, EV_SLIP, EV_STICK, EV_TURN, MAX_STALLS, MAX_TRANSITIONS, PHASE_FLIGHT,
-    PHASE_OVERTURNED, PHASE_REST, PHASE_ROLLING, PHASE_SLIDING, PHASE_SLIPPING, S_BASE_X, S_BASE_Y, S_END_TIME,
-    S_ENERGY_START, S_FINAL_PHASE, S_FLIGHT_TIME, S_MIN_NORMAL, S_N_IMPACTS, S_ROTATION, S_SLIDE_TIME, S_STATUS,
-    S_TRANSITION, S_UPLIFT_TIME
+    EV_LIFT, EV_MODE, EV_PIVOT, EV_SLIP, EV_STICK, EV_TURN, PHASE_FLIGHT, PHASE_REST, PHASE_ROLLING, PHASE_SLIDING,
+    PHASE_SLIPPING, S_BASE_X, S_BASE_Y, S_FLIGHT_TIME, S_N_IMPACTS, S_ROTATION, S_SLIDE_TIME, S_TRANSITION,
+    S_UPLIFT_TIME
 )
-from pipeline.dynamics.rigid.loop import (
-    book_peak, book_phase, close_budget, departure_ratio, first_time, holds_rim, init_summary, lie_down,
-    log_impact, rest_until_departure, settling_kinetic_energy
-)
+from pipeline.dynamics.rigid.loop import book_peak, first_time, holds_rim, log_impact, note_entry, run_events
 from pipeline.dynamics.rigid.phases3d import (
     along_slip, consistent_direction, energy3d, flat_direction, flight_gap_acceleration, horizontal_spin,
     integrate3d, layer_edge, layer_exit, rhs_rolling, rhs_sliding, rhs_slipping, rolling_contact, rolling_state,
@@ -422,6 +421,267 @@ def _tip_onto_rim(y, theta_c):
     y[fk.YP] = by - cp * math.cos(theta_c)
 
 
+@njit(cache=True)
+def _clear_but_budget(y):
+    """Zero the state but its energy budget (WORK, DISSIPATED, FRICTION): the column is down flat."""
+    work, dissipated, friction = y[fk.WORK], y[fk.DISSIPATED], y[fk.FRICTION]
+    y[:] = 0.0
+    y[fk.WORK], y[fk.DISSIPATED], y[fk.FRICTION] = work, dissipated, friction
+
+
+@njit(cache=True)
+def _tilt3d(y):
+    return y[fk.THETA]
+
+
+@njit(cache=True)
+def _depart3d(t, y, params, scratch):
+    """Rest -> flat flight, flat sliding or uplift onto the rim at the departure time t; returns the phase."""
+    c, record, dt, opts, summary = params
+    zc = c[fk.C_ZC]
+    mu = opts[fk.OPT_MU]
+    theta_c = opts[fk.OPT_THETA_C]
+    ax, ay, az = fk.ground_acceleration(t, record, dt)
+    bx, by = y[fk.XP], y[fk.YP]
+    _clear_but_budget(y)
+    if 1.0 + az <= 0.0:  # the ground falls faster than gravity: flat flight
+        y[fk.XP], y[fk.YP], y[fk.ZC] = bx, by, zc
+        first_time(summary, S_FLIGHT_TIME, t)
+        return PHASE_FLIGHT
+    if mu < 1.0 / zc:  # slides before it can uplift
+        y[fk.XP], y[fk.YP] = bx, by
+        _start_slip(y, opts, math.atan2(-ay, -ax), 1.0 + az)
+        first_time(summary, S_SLIDE_TIME, t)
+        return PHASE_SLIDING
+    phi = contact.uplift_azimuth(ax, ay)
+    s_phi, c_phi = fk.sincos(phi)
+    y[fk.PHI] = phi
+    y[fk.PSI] = scratch[1][0] - phi  # the rotation it rested with
+    y[fk.THETA] = theta_c
+    y[fk.XP] = bx + s_phi * math.cos(theta_c)  # pivot: opposite the acceleration
+    y[fk.YP] = by - c_phi * math.cos(theta_c)
+    summary[S_TRANSITION] += fk.energy(theta_c, 0.0, 0.0, 0.0, c) - zc
+    first_time(summary, S_UPLIFT_TIME, t)
+    phase = _enter_contact(t, y, params)
+    if phase == PHASE_SLIPPING:
+        first_time(summary, S_SLIDE_TIME, t)
+    return phase
+
+
+@njit(cache=True)
+def _advance3d(params, phase, t, y, t_end, t_out, y_out, out_i, t_breaks, rtol, atol, h):
+    """Integrate a phase up to its first event, the slaved slip direction set before and synced after."""
+    opts = params[3]
+    if phase == PHASE_SLIPPING or phase == PHASE_SLIDING:
+        _leave_layer_if_past(t, y, params, phase)
+        _book_slaved_turn(t, y, params, phase)
+    opts[fk.OPT_MAX_STEP] = _slaved_step(t, y, params, phase)
+    res = integrate3d(params, t, y, t_end, t_out, y_out, out_i, t_breaks, rtol, atol, h)
+    _sync_direction(res.t, res.y, params, phase)  # the state the run goes on from (book_phase copies it)
+    return res
+
+
+@njit(cache=True)
+def _on_event3d(ev, t, y, params, phase, impacts, restitution, planar_e, settle_kinetic, scratch):
+    """The map at an event of a 3D phase; returns the next phase and whether the integration restarts."""
+    c, record, dt, opts, summary = params
+    zc = c[fk.C_ZC]
+    mu = opts[fk.OPT_MU]
+    if ev == EV_TURN:
+        # a turning point: theta' is zero there, its 1e-17 residue is
+        # round-off that could make the next call find this root again
+        y[fk.DTHETA] = 0.0
+        book_peak(summary, t, y[fk.THETA])
+        if phase != PHASE_FLIGHT and opts[fk.OPT_THETA_K] > 0.0:
+            _near_contact_passage(t, y, params, phase, planar_e)
+        return phase, False
+    if ev == EV_MODE:  # in or out of the slaved-direction layer (direction synced after the call)
+        opts[fk.OPT_SLAVED] = 1.0 - opts[fk.OPT_SLAVED]
+        if opts[fk.OPT_SLAVED] != 0.0:
+            opts[fk.OPT_SLAVED_SPEED] = y[fk.SLIP_SPEED]
+            opts[fk.OPT_PHI_REF] = y[fk.PHI]
+        return phase, False
+    if ev == EV_PIVOT:  # the pivot's turning stopped, its hold gave way, or the unloaded patch loads
+        if opts[fk.OPT_PIVOT_HELD] == 0.0 and opts[fk.OPT_DRILL_SIGN] != 0.0:
+            # stopped: make it exact (the spin that cancels omega_Z at this tilt)
+            e_before = energy3d(phase, y, c)
+            y[fk.OMEGA] = -y[fk.DPHI] * math.sin(y[fk.THETA]) ** 2 / math.cos(y[fk.THETA])
+            summary[S_TRANSITION] += energy3d(phase, y, c) - e_before
+        if phase == PHASE_ROLLING and mu < math.inf:
+            # a new drilling couple changes the friction rolling asks (a stopped pivot that
+            # turns back flips it): sticking is checked again, which sets the pivot's mode
+            phase = _enter_contact(t, y, params)
+            note_entry(summary, t, phase)
+        else:
+            _pivot_mode(t, y, params, phase)
+        return phase, False
+    if ev == EV_SLIP and phase == PHASE_FLIGHT:
+        # the axis passes the vertical: the same orientation is (phi + pi, -theta, psi - pi)
+        y[fk.PHI] = y[fk.PHI] - math.pi if y[fk.PHI] > 0.0 else y[fk.PHI] + math.pi
+        y[fk.PSI] -= math.pi
+        y[fk.THETA] = -y[fk.THETA]
+        y[fk.DTHETA] = -y[fk.DTHETA]
+        return phase, False
+    # the events below restart the integration
+    if ev == EV_SLIP:  # rolling -> slipping: against the friction sticking would need
+        phase = _enter_contact(t, y, params)
+        first_time(summary, S_SLIDE_TIME, t)
+        return phase, True
+    if ev == EV_STICK:
+        if phase == PHASE_SLIPPING:
+            y[fk.SLIP_SPEED] = 0.0
+            return _enter_contact(t, y, params), True
+        # flat sliding stopped: rest, or sliding on in the new direction
+        ax, ay, az = fk.ground_acceleration(t, record, dt)
+        y[fk.SLIP_SPEED] = 0.0
+        if math.hypot(ax, ay) > mu * (1.0 + az):
+            _start_slip(y, opts, math.atan2(-ay, -ax), 1.0 + az)
+            return phase, True
+        return PHASE_REST, True
+    if ev == EV_LIFT:
+        if phase == PHASE_ROLLING:
+            if opts[fk.OPT_RIM_HELD] != 0.0:
+                # the hold ends: N pushes again (rolling on), or the flight now rises
+                # (whichever of -N and -gap'' reached 0, the minimum in the event function)
+                opts[fk.OPT_RIM_HELD] = 0.0
+                if rolling_state(t, y, params)[5] >= _gap_acceleration(t, y, params):
+                    return phase, True
+            elif holds_rim(opts, _gap_acceleration(t, y, params)):
+                return phase, True
+        first_time(summary, S_FLIGHT_TIME, t)
+        if phase == PHASE_SLIDING:
+            speed, cx, sx = y[fk.SLIP_SPEED], math.cos(y[fk.SLIP_DIR]), math.sin(y[fk.SLIP_DIR])
+            y[fk.ZC] = zc
+            y[fk.VX], y[fk.VY], y[fk.VZ] = speed * cx, speed * sx, 0.0
+            y[fk.SLIP_SPEED] = 0.0
+        else:
+            _to_flight(y, c, phase == PHASE_SLIPPING)
+        return PHASE_FLIGHT, True
+    # EV_LAND
+    if phase == PHASE_FLIGHT:
+        return _touch_down3d(t, y, params, impacts, scratch[1]), True
+    return _land3d(t, y, params, phase, impacts, restitution, settle_kinetic, scratch), True
+
+
+@njit(cache=True)
+def _touch_down3d(t, y, params, impacts, rest_rotation):
+    """A flying column comes down: flat on its base (sliding, tipping or at rest), or on its rim.
+
+    Returns the phase after the impact; a column down flat keeps its rotation in ``rest_rotation[0]``.
+    """
+    c, record, dt, opts, summary = params
+    zc = c[fk.C_ZC]
+    mu = opts[fk.OPT_MU]
+    theta_c = opts[fk.OPT_THETA_C]
+    phase = PHASE_FLIGHT
+    e_before = energy3d(phase, y, c)
+    if y[fk.THETA] < theta_c:
+        # flat on the ground: the base stops the fall and the rotation;
+        # friction takes at most mu times the vertical impulse
+        speed = math.hypot(y[fk.VX], y[fk.VY])
+        cx = y[fk.VX] / speed if speed > 0.0 else 1.0
+        sx = y[fk.VY] / speed if speed > 0.0 else 0.0
+        left = speed - mu * abs(y[fk.VZ])
+        s_phi, c_phi = fk.sincos(y[fk.PHI])
+        lean = zc * math.sin(y[fk.THETA])
+        x, yy = y[fk.XP] - s_phi * lean, y[fk.YP] + c_phi * lean
+        rest_rotation[0] = y[fk.PHI] + y[fk.PSI]
+        _clear_but_budget(y)
+        y[fk.XP], y[fk.YP] = x, yy
+        if left > 0.0:
+            y[fk.SLIP_SPEED] = left
+            _az = fk.ground_acceleration(t, record, dt)[2]
+            _start_slip(y, opts, math.atan2(sx, cx), 1.0 + _az)
+            phase = PHASE_SLIDING
+            if mu * zc >= 1.0:
+                _tip_onto_rim(y, theta_c)
+                opts[fk.OPT_PHI_REF] = y[fk.PHI]
+                phase = PHASE_SLIPPING
+        else:
+            phase = PHASE_REST
+    else:
+        slides = _touch_down_rim(y, c, mu)
+        if slides:
+            _pivot_mode(t, y, params, PHASE_SLIPPING)
+            _start_slip(y, opts, y[fk.SLIP_DIR], slip_with(t, y, params, y[fk.SLIP_DIR])[0])
+            phase = PHASE_SLIPPING
+        else:
+            phase = _enter_contact(t, y, params)
+    summary[S_N_IMPACTS] += 1
+    e_after = energy3d(phase, y, c)
+    summary[S_TRANSITION] += e_after - e_before
+    log_impact(impacts, summary, t, 0.0, y[fk.DTHETA], e_after - e_before)
+    return phase
+
+
+@njit(cache=True)
+def _land3d(t, y, params, phase, impacts, restitution, settle_kinetic, scratch):
+    """A landing near full contact (:func:`contact.landing_impact`): on the other rim point, or settled flat.
+
+    Returns the phase after it; ``scratch`` is the run's (the new state's
+    array, the rotation kept at rest).
+    """
+    c, summary = params[0], params[4]
+    y_new, rest_rotation = scratch
+    rest_energy = c[fk.C_ZC]  # V at theta = 0
+    e_before = energy3d(phase, y, c)
+    theta_land = y[fk.THETA]
+    slip_xi = 0.0
+    slip_n = 0.0
+    if phase == PHASE_SLIPPING:
+        sp_, cp = fk.sincos(y[fk.PHI])
+        speed, cx, sx = y[fk.SLIP_SPEED], math.cos(y[fk.SLIP_DIR]), math.sin(y[fk.SLIP_DIR])
+        slip_xi = speed * (cx * cp + sx * sp_)
+        slip_n = speed * (-cx * sp_ + sx * cp)
+    contact.landing_impact(y, theta_land, c, y_new, slip_xi, slip_n)
+    _clear_free_slots(y_new)
+    if restitution >= 0.0 and y_new[fk.DTHETA] != 0.0:
+        scale = restitution * abs(y[fk.DTHETA]) / y_new[fk.DTHETA]
+        y_new[fk.DTHETA] *= scale
+        y_new[fk.DPHI] *= scale
+        y_new[fk.OMEGA] *= scale
+    e_after = energy3d(PHASE_ROLLING, y_new, c)
+    kinetic = e_after - fk.energy(theta_land, 0.0, 0.0, 0.0, c)
+    settles = y_new[fk.DTHETA] <= 0.0 or kinetic < settle_kinetic
+    if y[fk.DTHETA] != 0.0:  # touching back down with no speed at all is no impact
+        summary[S_N_IMPACTS] += 1
+        log_impact(impacts, summary, t, y[fk.DTHETA], 0.0 if settles else y_new[fk.DTHETA],
+                   (rest_energy if settles else e_after) - e_before)
+    if settles:
+        # full base contact, at rest on the ground
+        s_phi, c_phi = fk.sincos(y[fk.PHI])
+        rest_rotation[0] = y[fk.PHI] + y[fk.PSI]
+        bx = y[fk.XP] - s_phi * math.cos(theta_land)
+        by = y[fk.YP] + c_phi * math.cos(theta_land)
+        _clear_but_budget(y)
+        y[fk.XP], y[fk.YP] = bx, by
+        summary[S_TRANSITION] += rest_energy - e_before
+        return PHASE_REST
+    summary[S_TRANSITION] += e_after - e_before
+    y[:] = y_new
+    phase = _enter_contact(t, y, params)
+    note_entry(summary, t, phase)
+    return phase
+
+
+@njit(cache=True)
+def _finish3d(y, c, opts, summary, phase, scratch):
+    """The rotation and the base centre at the end of a 3D run."""
+    if phase == PHASE_REST or phase == PHASE_SLIDING:
+        summary[S_ROTATION] = scratch[1][0]
+        summary[S_BASE_X], summary[S_BASE_Y] = y[fk.XP], y[fk.YP]
+    else:
+        s_phi, c_phi = fk.sincos(y[fk.PHI])
+        summary[S_ROTATION] = y[fk.PHI] + y[fk.PSI]
+        if phase == PHASE_FLIGHT:
+            lean = c[fk.C_ZC] * math.sin(y[fk.THETA])  # the centre of mass leans away from the base centre
+            summary[S_BASE_X] = y[fk.XP] - s_phi * lean
+            summary[S_BASE_Y] = y[fk.YP] + c_phi * lean
+        else:
+            summary[S_BASE_X] = y[fk.XP] - s_phi * math.cos(y[fk.THETA])
+            summary[S_BASE_Y] = y[fk.YP] + c_phi * math.cos(y[fk.THETA])
+
+
 @njit(cache=True, nogil=True)
 def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_breaks, rtol, atol, summary, impacts):
     """Run the three-dimensional frustum through the record and its tail.
@@ -429,7 +689,7 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
     Parameters
     ----------
     params : tuple
-        ``(c, record, dt, opts)`` as :func:`pipeline.dynamics.frustum.rhs`; the
+        ``(c, record, dt, opts)`` as :func:`pipeline.dynamics.rigid.frustum.rhs`; the
         options array is used as scratch for the phase (``OPT_PHASE``).
     y0 : float64[N_STATE]
         Initial state: theta = 0 (and zero rates) starts at rest with the
@@ -457,267 +717,11 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
         Filled with the first k landings: time [tau], theta' before and
         after [1/tau], energy jump [m g R] (after settling, theta' after is 0).
     """
-    c, record, dt, opts = params
-    p = (c, record, dt, opts, summary)
-    zc = c[fk.C_ZC]
-    mu = opts[fk.OPT_MU]
-    theta_c = opts[fk.OPT_THETA_C]
-    opts[fk.OPT_RIM_HELD] = 0.0
-    opts[fk.OPT_FRICTION_EXCESS] = 0.0
-    ratio = departure_ratio(zc, mu)
-    planar_e = restitution if restitution >= 0.0 else max(0.0, 1.0 - 2.0 / c[fk.C_IY])
-    init_summary(summary)
-    y = y0.copy()  # at rest: XP, YP hold the base centre
-    y_new = y0.copy()
-    rotation = y0[fk.PHI] + y0[fk.PSI]  # body rotation about the vertical while at rest
-    rest_energy = zc  # V at theta = 0
-    settle_kinetic = settling_kinetic_energy(theta_c, zc, opts[fk.OPT_MIN_REBOUND])
+    params[3][fk.OPT_FRICTION_EXCESS] = 0.0
+    # kept through the run: the state after a landing's impact, and the body's rotation about the
+    # vertical while it rests (at rest and sliding the state holds no angles)
+    scratch = (y0.copy(), np.array([y0[fk.PHI] + y0[fk.PSI]]))
     phase = PHASE_ROLLING if y0[fk.THETA] > 0.0 else PHASE_REST
-    summary[S_ENERGY_START] = energy3d(phase, y, c)
-    moving = phase  # the phase the column lies down from
-    t = 0.0
-    out_i = 0
-    h = 0.0
-    n_transitions = 0
-    stalls = 0
-    while n_transitions < MAX_TRANSITIONS:
-        if phase == PHASE_REST:
-            t_dep, out_i = rest_until_departure(record, dt, ratio, t, t_end, t_out, y_out, phase_out, out_i,
-                                                 y, summary)
-            if t_dep >= t_end:
-                t = t_end
-                break
-            t = t_dep
-            h = 0.0
-            n_transitions += 1
-            ax, ay, az = fk.ground_acceleration(t_dep, record, dt)
-            bx, by = y[fk.XP], y[fk.YP]
-            work, dissipated, friction = y[fk.WORK], y[fk.DISSIPATED], y[fk.FRICTION]
-            y[:] = 0.0
-            y[fk.WORK], y[fk.DISSIPATED], y[fk.FRICTION] = work, dissipated, friction
-            if 1.0 + az <= 0.0:  # the ground falls faster than gravity: flat flight
-                y[fk.XP], y[fk.YP], y[fk.ZC] = bx, by, zc
-                first_time(summary, S_FLIGHT_TIME, t)
-                phase = PHASE_FLIGHT
-                continue
-            if mu < 1.0 / zc:  # slides before it can uplift
-                y[fk.XP], y[fk.YP] = bx, by
-                _start_slip(y, opts, math.atan2(-ay, -ax), 1.0 + az)
-                first_time(summary, S_SLIDE_TIME, t)
-                phase = PHASE_SLIDING
-                continue
-            phi = contact.uplift_azimuth(ax, ay)
-            s_phi, c_phi = fk.sincos(phi)
-            y[fk.PHI] = phi
-            y[fk.PSI] = rotation - phi
-            y[fk.THETA] = theta_c
-            y[fk.XP] = bx + s_phi * math.cos(theta_c)  # pivot: opposite the acceleration
-            y[fk.YP] = by - c_phi * math.cos(theta_c)
-            summary[S_TRANSITION] += fk.energy(theta_c, 0.0, 0.0, 0.0, c) - rest_energy
-            first_time(summary, S_UPLIFT_TIME, t)
-            phase = _enter_contact(t, y, p)
-            if phase == PHASE_SLIPPING:
-                first_time(summary, S_SLIDE_TIME, t)
-            continue
-        opts[fk.OPT_PHASE] = phase
-        if phase == PHASE_SLIPPING or phase == PHASE_SLIDING:
-            _leave_layer_if_past(t, y, p, phase)
-            _book_slaved_turn(t, y, p, phase)
-        opts[fk.OPT_MAX_STEP] = _slaved_step(t, y, p, phase)
-        res = integrate3d(p, t, y, t_end, t_out, y_out, out_i, t_breaks, rtol, atol, h)
-        out_i, stalls = book_phase(res, phase, phase_out, out_i, summary, y, t, stalls)
-        t, h = res.t, res.h_next
-        _sync_direction(t, y, p, phase)
-        if res.status <= 0 or stalls > MAX_STALLS:  # end, failure or stall (status in the summary)
-            break
-        ev = res.event_index
-        if ev == EV_TURN:
-            # a turning point: theta' is zero there, its 1e-17 residue is
-            # round-off that could make the next call find this root again
-            y[fk.DTHETA] = 0.0
-            book_peak(summary, t, y[fk.THETA])
-            if phase != PHASE_FLIGHT and opts[fk.OPT_THETA_K] > 0.0:
-                _near_contact_passage(t, y, p, phase, planar_e)
-            continue
-        if ev == EV_MODE:  # in or out of the slaved-direction layer (direction synced above)
-            opts[fk.OPT_SLAVED] = 1.0 - opts[fk.OPT_SLAVED]
-            if opts[fk.OPT_SLAVED] != 0.0:
-                opts[fk.OPT_SLAVED_SPEED] = y[fk.SLIP_SPEED]
-                opts[fk.OPT_PHI_REF] = y[fk.PHI]
-            continue
-        if ev == EV_PIVOT:  # the pivot's turning stopped, its hold gave way, or the unloaded patch loads
-            if opts[fk.OPT_PIVOT_HELD] == 0.0 and opts[fk.OPT_DRILL_SIGN] != 0.0:
-                # stopped: make it exact (the spin that cancels omega_Z at this tilt)
-                e_before = energy3d(phase, y, c)
-                y[fk.OMEGA] = -y[fk.DPHI] * math.sin(y[fk.THETA]) ** 2 / math.cos(y[fk.THETA])
-                summary[S_TRANSITION] += energy3d(phase, y, c) - e_before
-            if phase == PHASE_ROLLING and mu < math.inf:
-                # a new drilling couple changes the friction rolling asks (a stopped pivot that
-                # turns back flips it): sticking is checked again, which sets the pivot's mode
-                phase = _enter_contact(t, y, p)
-                if phase == PHASE_SLIPPING:
-                    first_time(summary, S_SLIDE_TIME, t)
-                elif phase == PHASE_FLIGHT:
-                    first_time(summary, S_FLIGHT_TIME, t)
-            else:
-                _pivot_mode(t, y, p, phase)
-            continue
-        if ev == EV_SLIP and phase == PHASE_FLIGHT:
-            # the axis passes the vertical: the same orientation is (phi + pi, -theta, psi - pi)
-            y[fk.PHI] = y[fk.PHI] - math.pi if y[fk.PHI] > 0.0 else y[fk.PHI] + math.pi
-            y[fk.PSI] -= math.pi
-            y[fk.THETA] = -y[fk.THETA]
-            y[fk.DTHETA] = -y[fk.DTHETA]
-            continue
-        if ev == EV_LIE:
-            out_i = lie_down(summary, t, y[fk.THETA], y, y_out, phase_out, out_i)
-            moving = phase
-            phase = PHASE_OVERTURNED
-            break
-        h = 0.0
-        n_transitions += 1
-        if ev == EV_SLIP:  # rolling -> slipping: against the friction sticking would need
-            phase = _enter_contact(t, y, p)
-            first_time(summary, S_SLIDE_TIME, t)
-            continue
-        if ev == EV_STICK:
-            if phase == PHASE_SLIPPING:
-                y[fk.SLIP_SPEED] = 0.0
-                phase = _enter_contact(t, y, p)
-                continue
-            # flat sliding stopped: rest, or sliding on in the new direction
-            ax, ay, az = fk.ground_acceleration(t, record, dt)
-            y[fk.SLIP_SPEED] = 0.0
-            if math.hypot(ax, ay) > mu * (1.0 + az):
-                _start_slip(y, opts, math.atan2(-ay, -ax), 1.0 + az)
-            else:
-                phase = PHASE_REST
-            continue
-        if ev == EV_LIFT:
-            if phase == PHASE_ROLLING:
-                if opts[fk.OPT_RIM_HELD] != 0.0:
-                    # the hold ends: N pushes again (rolling on), or the flight now rises
-                    # (whichever of -N and -gap'' reached 0, the minimum in the event function)
-                    opts[fk.OPT_RIM_HELD] = 0.0
-                    if rolling_state(t, y, p)[5] >= _gap_acceleration(t, y, p):
-                        continue
-                elif holds_rim(opts, _gap_acceleration(t, y, p)):
-                    continue
-            first_time(summary, S_FLIGHT_TIME, t)
-            if phase == PHASE_SLIDING:
-                speed, cx, sx = y[fk.SLIP_SPEED], math.cos(y[fk.SLIP_DIR]), math.sin(y[fk.SLIP_DIR])
-                y[fk.ZC] = zc
-                y[fk.VX], y[fk.VY], y[fk.VZ] = speed * cx, speed * sx, 0.0
-                y[fk.SLIP_SPEED] = 0.0
-            else:
-                _to_flight(y, c, phase == PHASE_SLIPPING)
-            phase = PHASE_FLIGHT
-            continue
-        # EV_LAND
-        if phase == PHASE_FLIGHT:
-            e_before = energy3d(phase, y, c)
-            if y[fk.THETA] < theta_c:
-                # flat on the ground: the base stops the fall and the rotation;
-                # friction takes at most mu times the vertical impulse
-                speed = math.hypot(y[fk.VX], y[fk.VY])
-                cx = y[fk.VX] / speed if speed > 0.0 else 1.0
-                sx = y[fk.VY] / speed if speed > 0.0 else 0.0
-                left = speed - mu * abs(y[fk.VZ])
-                s_phi, c_phi = fk.sincos(y[fk.PHI])
-                lean = zc * math.sin(y[fk.THETA])
-                x, yy = y[fk.XP] - s_phi * lean, y[fk.YP] + c_phi * lean
-                rotation = y[fk.PHI] + y[fk.PSI]
-                work, dissipated, friction = y[fk.WORK], y[fk.DISSIPATED], y[fk.FRICTION]
-                y[:] = 0.0
-                y[fk.WORK], y[fk.DISSIPATED], y[fk.FRICTION] = work, dissipated, friction
-                y[fk.XP], y[fk.YP] = x, yy
-                if left > 0.0:
-                    y[fk.SLIP_SPEED] = left
-                    _az = fk.ground_acceleration(t, record, dt)[2]
-                    _start_slip(y, opts, math.atan2(sx, cx), 1.0 + _az)
-                    phase = PHASE_SLIDING
-                    if mu * zc >= 1.0:
-                        _tip_onto_rim(y, theta_c)
-                        opts[fk.OPT_PHI_REF] = y[fk.PHI]
-                        phase = PHASE_SLIPPING
-                else:
-                    phase = PHASE_REST
-            else:
-                slides = _touch_down_rim(y, c, mu)
-                if slides:
-                    _pivot_mode(t, y, p, PHASE_SLIPPING)
-                    _start_slip(y, opts, y[fk.SLIP_DIR], slip_with(t, y, p, y[fk.SLIP_DIR])[0])
-                    phase = PHASE_SLIPPING
-                else:
-                    phase = _enter_contact(t, y, p)
-            summary[S_N_IMPACTS] += 1
-            e_after = energy3d(phase, y, c)
-            summary[S_TRANSITION] += e_after - e_before
-            log_impact(impacts, summary, t, 0.0, y[fk.DTHETA], e_after - e_before)
-            continue
-        # landing near full contact
-        e_before = energy3d(phase, y, c)
-        theta_land = y[fk.THETA]
-        slip_xi = 0.0
-        slip_n = 0.0
-        if phase == PHASE_SLIPPING:
-            sp_, cp = fk.sincos(y[fk.PHI])
-            speed, cx, sx = y[fk.SLIP_SPEED], math.cos(y[fk.SLIP_DIR]), math.sin(y[fk.SLIP_DIR])
-            slip_xi = speed * (cx * cp + sx * sp_)
-            slip_n = speed * (-cx * sp_ + sx * cp)
-        contact.landing_impact(y, theta_land, c, y_new, slip_xi, slip_n)
-        _clear_free_slots(y_new)
-        if restitution >= 0.0 and y_new[fk.DTHETA] != 0.0:
-            scale = restitution * abs(y[fk.DTHETA]) / y_new[fk.DTHETA]
-            y_new[fk.DTHETA] *= scale
-            y_new[fk.DPHI] *= scale
-            y_new[fk.OMEGA] *= scale
-        e_after = energy3d(PHASE_ROLLING, y_new, c)
-        kinetic = e_after - fk.energy(theta_land, 0.0, 0.0, 0.0, c)
-        settles = y_new[fk.DTHETA] <= 0.0 or kinetic < settle_kinetic
-        if y[fk.DTHETA] != 0.0:  # touching back down with no speed at all is no impact
-            summary[S_N_IMPACTS] += 1
-            log_impact(impacts, summary, t, y[fk.DTHETA], 0.0 if settles else y_new[fk.DTHETA],
-                        (rest_energy if settles else e_after) - e_before)
-        if settles:
-            # full base contact, at rest on the ground
-            s_phi, c_phi = fk.sincos(y[fk.PHI])
-            rotation = y[fk.PHI] + y[fk.PSI]
-            bx = y[fk.XP] - s_phi * math.cos(theta_land)
-            by = y[fk.YP] + c_phi * math.cos(theta_land)
-            work, dissipated, friction = y[fk.WORK], y[fk.DISSIPATED], y[fk.FRICTION]
-            y[:] = 0.0
-            y[fk.XP], y[fk.YP] = bx, by
-            y[fk.WORK], y[fk.DISSIPATED], y[fk.FRICTION] = work, dissipated, friction
-            summary[S_TRANSITION] += rest_energy - e_before
-            phase = PHASE_REST
-        else:
-            summary[S_TRANSITION] += e_after - e_before
-            y[:] = y_new
-            phase = _enter_contact(t, y, p)
-            if phase == PHASE_SLIPPING:
-                first_time(summary, S_SLIDE_TIME, t)
-            elif phase == PHASE_FLIGHT:
-                first_time(summary, S_FLIGHT_TIME, t)
-    if n_transitions >= MAX_TRANSITIONS:
-        summary[S_STATUS] = -10
-    summary[S_END_TIME] = t
-    summary[S_FINAL_PHASE] = phase
-    close_budget(summary, energy3d(phase if phase != PHASE_OVERTURNED else moving, y, c),
-                  y[fk.WORK], y[fk.DISSIPATED], y[fk.FRICTION])
-    if phase == PHASE_REST or phase == PHASE_SLIDING:
-        summary[S_ROTATION] = rotation
-        summary[S_BASE_X], summary[S_BASE_Y] = y[fk.XP], y[fk.YP]
-    else:
-        s_phi, c_phi = fk.sincos(y[fk.PHI])
-        summary[S_ROTATION] = y[fk.PHI] + y[fk.PSI]
-        if phase == PHASE_FLIGHT:
-            lean = zc * math.sin(y[fk.THETA])  # the centre of mass leans away from the base centre
-            summary[S_BASE_X] = y[fk.XP] - s_phi * lean
-            summary[S_BASE_Y] = y[fk.YP] + c_phi * lean
-        else:
-            summary[S_BASE_X] = y[fk.XP] - s_phi * math.cos(y[fk.THETA])
-            summary[S_BASE_Y] = y[fk.YP] + c_phi * math.cos(y[fk.THETA])
-    if summary[S_MIN_NORMAL] == math.inf:
-        summary[S_MIN_NORMAL] = math.nan
-    return out_i
+    return run_events(energy3d, _tilt3d, _depart3d, _advance3d, _on_event3d, _finish3d, params, restitution, phase,
+                      y0.copy(), (fk.WORK, fk.DISSIPATED, fk.FRICTION), scratch, t_end, t_out, y_out, phase_out,
+                      t_breaks, rtol, atol, summary, impacts)
