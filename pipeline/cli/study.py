@@ -72,6 +72,14 @@ def describe(study):
     levels = "scales" if study.scales is not None else f"target {study.intensity.measure} levels"
     text = (f"{study.title}: {nc} column(s) x {nr} record(s) x {na} angle(s) x {ns} {levels} x "
             f"{nm} model(s) = {study.n_simulations} results; {block_size(study)} column(s) per task")
+    variants = [study.variant(m) for m in study.models if study.variant(m).name != study.variant(m).model
+                or study.variant(m).describe()]
+    if variants:
+        text += "\nmodels: " + "; ".join(f"{v.name} = {v.model}" + (f" ({v.describe()})" if v.describe() else "")
+                                          for v in variants)
+    if study.calibration is not None:
+        text += (f"\none bed for every model: the dashpots of '{study.calibration}' calibrated on each column's "
+                 "outline, and the restitution they reach")
     stacks = [c for c in study.columns if c.stack is not None]
     if stacks:
         text += ("\ncolumns of drums (the compliant model runs them, the rigid models their shafts): "

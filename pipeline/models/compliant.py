@@ -52,4 +52,10 @@ COMPLIANT_DRUMS = Model(
     # against (pipeline.dynamics.compliant.stack.METHODS)
     integrators=("semi-implicit", "dopri5", "dop853"),
     style=MappingProxyType(dict(ls="-.", marker="^", filled=False, band_alpha=0.07)),
+    # the base's friction and stiffness, the dashpots (or the restitution they are calibrated to), the
+    # joints' points and law, the integrator and its step (rtol, atol: the adaptive ones)
+    options=("restitution", "friction", "normal_stiffness", "contact_damping", "tail", "joint_stiffness",
+             "stiffness_ratio", "contact_rings", "contact_sectors", "joint_friction", "anathyrosis",
+             "base_anathyrosis", "monitor_step", "integrator", "step", "rtol", "atol"),
+    calibration="pipeline.compliant:calibrated_damping",
 )

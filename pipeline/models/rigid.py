@@ -60,7 +60,10 @@ RESULTS = ("peak_theta", "peak_theta_ratio", "peak_time", "overturn_time", "upli
            "overturned", "uplifted", "sliding_onset", "lift_off")
 # what both rigid models share: a monolith, the same kernels' thresholds and results, one runner
 _RIGID = dict(drums=False, numerics=MappingProxyType(NUMERICS), results=RESULTS,
-              runner="pipeline.simulate:simulate_rigid")
+              runner="pipeline.simulate:simulate_rigid",
+              # its impact law, contact tilt and couple, friction, contact patch (k_n, c_n), tail, tolerances
+              options=("restitution", "contact_tilt", "damping", "friction", "normal_stiffness", "contact_damping",
+                       "tail", "rtol", "atol"))
 
 ROLLING_FRUSTUM = Model(
     name="3d",

@@ -91,6 +91,13 @@ class Model:
     style : mapping
         How plots draw it: line style ``ls``, ``marker``, ``filled`` marker, ``band_alpha``
         (opacity of its bootstrap band).
+    options : tuple of str
+        The fields of :class:`pipeline.settings.ModelSettings` it reads that a study may set (its
+        ``[options]`` take any model's; a variant ``[models.NAME]`` only its model's).
+    calibration : str
+        ``"module:function"`` that calibrates its contact dashpots on a column's outline,
+        called as ``function(column, settings)`` and returning ``(c_n [Pa s/m], restitution
+        reached [1])`` (``[calibration] bed`` of a study); "" for a model that cannot.
     """
 
     name: str
@@ -106,6 +113,8 @@ class Model:
     integrators: tuple = ()
     style: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
     planar_of: str | None = None
+    options: tuple = ()
+    calibration: str = ""
 
     @property
     def title(self):
@@ -116,6 +125,12 @@ class Model:
         """The response of ``column`` to ``motion`` in this model (see :func:`pipeline.simulate.simulate`)."""
         module, function = self.runner.split(":")
         return getattr(import_module(module), function)(column, motion, excitation, settings, histories, progress)
+
+    def calibrate(self, column, settings):
+        """``(c_n [Pa s/m], restitution reached [1])`` of its dashpots on ``column``'s outline (:attr:`calibration`)."""
+        module, function = self.calibration.split(":")
+        damping, reached = getattr(import_module(module), function)(column, settings)
+        return float(damping), float(reached)
 
     def markdown(self):
         """The model's description as one Markdown bullet (the report's assumptions)."""

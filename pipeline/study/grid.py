@@ -45,6 +45,11 @@ class Task:
         or None (the monolith); empty: every column a monolith.
     n_joints : int
         Length of the ``joint`` dimension of the results (0: no compliant model).
+    drums : tuple of bool
+        Per model, whether it runs a column's drums (empty: each model as its registry entry says).
+    beds : tuple
+        Per column, ``(c_n [Pa s/m], restitution [1])`` of the calibrated bed every model gets,
+        or empty (no calibration).
     """
 
     index: int
@@ -58,6 +63,8 @@ class Task:
     vertical: bool
     stacks: tuple = ()
     n_joints: int = 0
+    drums: tuple = ()
+    beds: tuple = ()
 
     @property
     def shape(self):
@@ -156,7 +163,7 @@ def block_size(study):
     n = len(study.columns)
     if study.block_columns:
         return min(study.block_columns, n)
-    per_column = len(study.levels) * sum(1 if REGISTRY[m].angle_invariant else len(study.angles)
+    per_column = len(study.levels) * sum(1 if REGISTRY[study.variant(m).model].angle_invariant else len(study.angles)
                                          for m in study.models)
     size = max(1, min(n, math.ceil(TARGET_SIMULATIONS_PER_TASK / per_column)))
     return math.ceil(n / math.ceil(n / size))
@@ -178,6 +185,8 @@ def plan(study, factors):
     size = block_size(study)
     angles = tuple(float(a) for a in study.angles)
     settings = tuple(study.settings(m) for m in study.models)
+    drums = tuple(study.variant(m).drums for m in study.models) if study.variants else ()
+    bed = study.beds()
     columns = [c.column for c in study.columns]
     stacks = [c.stack for c in study.columns]
     tasks = []
@@ -186,7 +195,7 @@ def plan(study, factors):
             stop = min(start + size, len(columns))
             tasks.append(Task(len(tasks), ri, start, stop, tuple(columns[start:stop]), angles,
                               tuple(float(f) for f in factors[ri]), settings, study.vertical,
-                              tuple(stacks[start:stop]), study.n_joints))
+                              tuple(stacks[start:stop]), study.n_joints, drums, tuple(bed[start:stop])))
     return tasks
 
 

@@ -196,7 +196,7 @@ def _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, clust
     report.first_error = errors[0] if errors else ""
     t0 = time.monotonic()
     if pending:  # compiled once, here, before any worker starts and before the progress bar's clock
-        prepare_kernels(study.models, sys.stderr if progress else None)
+        prepare_kernels(study.registry_models, sys.stderr if progress else None)
     bar = Progress(len(tasks), len(done), enabled=progress)
 
     def finish(result, save=True):
@@ -236,7 +236,7 @@ def _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, clust
 
             # the longest tasks first, each carrying its record; the workers load the kernels first
             run_on_cluster(longest_first(pending, motions), run_task, lambda task: (motions[task.record],), finish,
-                           failed, cluster, window=window, prepare=partial(warm_up, study.models), started=started)
+                           failed, cluster, window=window, prepare=partial(warm_up, study.registry_models), started=started)
     report.seconds = time.monotonic() - t0
     bar.show(final=True)
     ds = assemble(study, motions, measures, factors, arrays)

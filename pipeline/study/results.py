@@ -102,6 +102,18 @@ def assemble(study, motions, measures, factors, arrays):
         coords["joint_diameter"] = (("column", "joint"), diameters)
         coords["n_drums"] = ("column", np.array([1 if c.stack is None else c.stack.n_drums for c in study.columns],
                                                 dtype=np.int32))
+    if study.variants:  # the study's own names: which registry model each is, and how it differs
+        coords["base_model"] = ("model", [study.variant(m).model for m in study.models],
+                                {"long_name": "registry model of each of the study's models"})
+        coords["model_variant"] = ("model", [study.variant(m).describe() for m in study.models],
+                                   {"long_name": "what the study changes of the registry model"})
+    bed = study.beds()
+    if bed:
+        coords["bed_damping"] = ("column", [b[0] for b in bed], {
+            "units": "Pa s m-1", "long_name": "normal contact dashpots per unit area given to every model",
+            "comment": f"calibrated on the column's outline by the model '{study.calibration}'"})
+        coords["bed_restitution"] = ("column", [b[1] for b in bed], {
+            "units": "1", "long_name": "planar restitution the calibrated dashpots reach, given to every model"})
     ds = ds.assign_coords(coords)
     annotate(ds, STUDY_VARIABLES)
     if study.intensity is not None:
@@ -116,6 +128,9 @@ def assemble(study, motions, measures, factors, arrays):
     ds["angle"].attrs["comment"] = "degrees counter-clockwise; 3D results do not depend on it (axisymmetry)"
     ds["model"].attrs["comment"] = "; ".join(
         [f"{m.name}: {m.in_short}" for m in REGISTRY.values()]
+        + [f"{m}: the model {study.variant(m).model}" + (f" with {study.variant(m).describe()}"
+                                                        if study.variant(m).describe() else "")
+           for m in study.models if m not in REGISTRY]
         + ["the rigid models run a column of drums as a monolith of its shaft"])
     ds.attrs.update({
         "title": study.title,

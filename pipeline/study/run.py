@@ -14,6 +14,7 @@ end a study.
 """
 
 import time
+from dataclasses import replace
 
 from pipeline.models import REGISTRY
 from pipeline.settings import Excitation
@@ -44,8 +45,12 @@ def run_task(task, motion):
         stack = task.stacks[ci] if task.stacks else None
         for mi, settings in enumerate(task.settings):
             model = REGISTRY[settings.model]
-            # a model of drums runs the drums; a model of monoliths the shaft as a monolith
-            column = stack if (stack is not None and model.drums) else shaft
+            # a model of drums runs the drums (unless its variant runs the outline); a model of
+            # monoliths the shaft as a monolith
+            drums = task.drums[mi] if task.drums else model.drums
+            column = stack if (stack is not None and drums) else shaft
+            if task.beds:  # the study's calibrated bed, the same for every model
+                settings = replace(settings, contact_damping=task.beds[ci][0], restitution=task.beds[ci][1])
             for si, factor in enumerate(task.factors):
                 # angle-invariant: one run at the first angle, broadcast (axisymmetry, module docstring)
                 angle_runs = [(task.angles[0], slice(None))] if model.angle_invariant else \

@@ -13,7 +13,49 @@ from pipeline.geometry import Column
 from pipeline.models import REGISTRY
 from pipeline.settings import ModelSettings
 
-__all__ = ["Study", "ColumnInfo", "RecordSpec", "Intensity"]
+__all__ = ["Study", "ModelVariant", "ColumnInfo", "RecordSpec", "Intensity"]
+
+#: What a variant may run instead of its model's own body: the column's outline as one body.
+BODIES = ("outline",)
+
+
+@dataclass(frozen=True)
+class ModelVariant:
+    """A model of a study: a registry model under a name of its own (``[models.NAME]``).
+
+    Attributes
+    ----------
+    name : str
+        Its name in the study and the results (``model`` coordinate).
+    model : str
+        The registry model it runs.
+    options : tuple of (str, object)
+        Keyword arguments of :class:`pipeline.settings.ModelSettings` over the study's ``[options]``.
+    numerics : tuple of (str, float)
+        Overrides of the model's numerical choices (``ModelSettings.numerics``).
+    body : str
+        ``""``: what the model runs (the drums for a model of drums); ``"outline"``: the
+        column's outline as one body.
+    """
+
+    name: str
+    model: str
+    options: tuple = ()
+    numerics: tuple = ()
+    body: str = ""
+
+    @property
+    def drums(self):
+        """Whether it runs a column's drums (a model of drums, not told to run the outline)."""
+        return REGISTRY[self.model].drums and self.body != "outline"
+
+    def describe(self):
+        """What makes it a variant, in words (``"body = outline; numerics edge_band = 1"``), or ""."""
+        parts = [f"body = {self.body}"] if self.body else []
+        parts += [f"numerics {k} = {v:g}" for k, v in self.numerics]
+        parts += [f"options {k} = {v:g}" if isinstance(v, (int, float)) else f"options {k} = {v}"
+                  for k, v in self.options]
+        return "; ".join(parts)
 
 
 @dataclass(frozen=True)
@@ -46,9 +88,9 @@ class ColumnInfo:
         """Rigid bodies of the compliant model: drums and capital (1 for a monolith)."""
         return 1 if self.stack is None else self.stack.n_bodies
 
-    def body(self, model):
-        """What ``model`` (a name) runs: the drums for a model of drums, else the shaft as a monolith."""
-        return self.stack if (self.stack is not None and REGISTRY[model].drums) else self.column
+    def body(self, variant):
+        """What a :class:`ModelVariant` runs: the drums for a model of drums, else the shaft as a monolith."""
+        return self.stack if (self.stack is not None and variant.drums) else self.column
 
 
 @dataclass(frozen=True)
@@ -152,6 +194,12 @@ class Study:
         Factors on the records, or None with ``intensity``.
     intensity : Intensity or None
     models : tuple of str
+        Names of the study's models (the registry's, or the study's variants').
+    variants : tuple of ModelVariant
+        With ``[models.NAME]`` tables: one per model, in order; empty for a list of registry names.
+    calibration : str or None
+        The model whose contact dashpots are calibrated on each column's outline and given,
+        with the restitution they reach, to every model (``[calibration] bed``).
     vertical : bool
         Use the records' vertical components.
     sa_period : float or None
@@ -177,6 +225,8 @@ class Study:
     sa_period: float | None
     options: tuple
     block_columns: int | None
+    variants: tuple = ()
+    calibration: str | None = None
 
     @property
     def levels(self):
@@ -197,10 +247,48 @@ class Study:
     def n_joints(self):
         """Length of the results' ``joint`` dimension: the most bodies of a column when the
         compliant model is run (joint k is the base of body k), else 0 (no such dimension)."""
-        if not any(REGISTRY[m].drums for m in self.models):
+        if not any(self.variant(m).drums for m in self.models):
             return 0
         return max(c.n_bodies for c in self.columns)
 
-    def settings(self, model):
-        """:class:`pipeline.settings.ModelSettings` of one model."""
-        return ModelSettings(model=model, **dict(self.options))
+    @property
+    def registry_models(self):
+        """The registry models the study runs, each once (its variants' models)."""
+        return tuple(dict.fromkeys(self.variant(m).model for m in self.models))
+
+    def beds(self):
+        """The calibrated bed of every column: ``(c_n [Pa s/m], restitution [1])`` each, or () without one.
+
+        The dashpots of the :attr:`calibration` model calibrated on each column's outline (its
+        registry entry's :meth:`pipeline.models.spec.Model.calibrate`, cached per process), and
+        the restitution they reach: every model of the study gets both, so that a difference
+        between the models is the models', not their beds'.
+        """
+        if self.calibration is None:
+            return ()
+        settings = self.settings(self.calibration)
+        model = REGISTRY[settings.model]
+        return tuple(model.calibrate(c.column, settings) for c in self.columns)
+
+    def variant(self, name):
+        """The :class:`ModelVariant` of a model of the study (a registry name: that model as it is)."""
+        return next((v for v in self.variants if v.name == name), None) or ModelVariant(name, name)
+
+    def settings(self, name, bed=None):
+        """:class:`pipeline.settings.ModelSettings` of one model of the study.
+
+        Parameters
+        ----------
+        name : str
+            A name of :attr:`models`.
+        bed : tuple of float, optional
+            ``(c_n [Pa s/m], restitution [1])`` of the calibrated bed (:attr:`calibration`),
+            given to the model as ``contact_damping`` and ``restitution``.
+        """
+        variant = self.variant(name)
+        options = {**dict(self.options), **dict(variant.options)}
+        if bed is not None:
+            options.update(contact_damping=bed[0], restitution=bed[1])
+        if variant.numerics:
+            options["numerics"] = variant.numerics
+        return ModelSettings(model=variant.model, **options)

@@ -12,6 +12,12 @@ see docs/studies.md for the full reference)::
     title = "Quickstart"
     output = "out/quickstart.nc"     # relative to the study file's folder
     models = ["3d", "2d"]            # default ["3d"]; also "3d-compliant" (run at every angle)
+    # or, instead of the list, the study's models under names of their own (variants):
+    # [models.stack-wide]
+    # model = "3d-compliant"         # the registry model (default: the table's name)
+    # numerics = { edge_band = 1.0 } # its numerical choices; options = {...}; body = "outline"
+    # [calibration]
+    # bed = "stack-wide"             # its dashpots, calibrated on each column, for every model
 
     [[columns]]                      # explicit dimensions ...
     name = "paper"
@@ -69,13 +75,13 @@ from pipeline.geometry import Column
 from pipeline.limits import check_tolerance
 from pipeline.models import DEFAULT, REGISTRY
 from pipeline.settings import INTEGRATORS, ModelSettings, check_column
-from pipeline.study.spec import ColumnInfo, Intensity, RecordSpec, Study
+from pipeline.study.spec import BODIES, ColumnInfo, Intensity, ModelVariant, RecordSpec, Study
 from pipeline.units import G
 
 __all__ = ["load_study", "load_motions", "parse_study"]
 
-_TOP = {"title", "summary", "output", "models", "columns", "column_grid", "records", "excitation", "options",
-        "execution"}
+_TOP = {"title", "summary", "output", "models", "calibration", "columns", "column_grid", "records", "excitation",
+        "options", "execution"}
 _COLUMN = {"name", "R", "r", "h", "named"}
 _DRUMS = {"drums", "drum_heights", "capital"}  # a column of drums (the compliant model)
 _GRID = {"R", "slenderness", "beta"}
@@ -84,13 +90,10 @@ _RECORDS = {"ids", "sets", "files", "synthetic"}
 _FILE = {"path", "units", "id", "components", "missing_y", "dt", "processing"}
 _EXCITATION = {"angles", "scales", "intensity", "vertical", "sa_period"}
 _INTENSITY = {"measure", "values", "units"}
-_OPTIONS = {"restitution", "contact_tilt", "damping", "friction", "tail", "rtol", "atol",
-            # the joints of contact points (normal_stiffness and contact_damping also set the rigid
-            # models' contact patch; the others only the compliant model, models = ["3d-compliant"])
-            "normal_stiffness", "joint_stiffness", "stiffness_ratio", "contact_damping", "contact_rings",
-            "contact_sectors", "joint_friction", "anathyrosis", "base_anathyrosis", "monitor_step",
-            # the compliant model's integrator: its name, and the fixed step of the semi-implicit one
-            "integrator", "step"}
+# [options] may set what any model reads (each reads its own: Model.options); a variant only its model's
+_OPTIONS = set().union(*(m.options for m in REGISTRY.values()))
+_VARIANT = {"model", "options", "numerics", "body"}
+_CALIBRATION = {"bed"}
 _EXECUTION = {"block_columns"}
 _GENERATORS = ("one_sine_pulse", "cycloidal_pulse", "rectangular_pulse", "ricker_wavelet",
                "mavroeidis_papageorgiou", "harmonic", "kanai_tajimi", "clough_penzien")
@@ -228,38 +231,21 @@ def parse_study(data, path="<study>", digest=""):
         ck.fail("output", f"{given!r} is a folder; give the path of a file, e.g. out/{path.stem}.nc "
                 "(its checkpoint folder, FILE.checkpoint, goes beside it)")
     output = str(output)
-    models = data.get("models", [DEFAULT])
-    models = tuple(ck.strings(models, "models"))
-    if not models:
-        ck.fail("models", f"is empty: give one or more of {', '.join(REGISTRY)}")
-    for i, m in enumerate(models):
-        if m not in REGISTRY:
-            ck.fail(f"models[{i}]", f"{m!r} is unknown; choose from {', '.join(REGISTRY)}")
-    if len(set(models)) != len(models):
-        ck.fail("models", "has repeated models")
+    models, variants = _models(data.get("models", [DEFAULT]), ck)
     columns = _columns(data, ck)
     records = _records(data.get("records"), ck, path)
     angles, scales, intensity, vertical, sa_period = _excitation(data.get("excitation"), ck)
-    options = ck.table(data.get("options", {}), "options", _OPTIONS)
-    for key, value in options.items():
-        if key == "restitution":
-            ck.number(value, "options.restitution", lo=0.0, hi=1.0)
-        elif key == "integrator":
-            if value not in INTEGRATORS:
-                ck.fail("options.integrator", f"{value!r} is unknown; choose one of {', '.join(INTEGRATORS)}")
-        elif key in ("rtol", "atol"):
-            try:
-                check_tolerance(key, value, "value")
-            except InputError as exc:
-                ck.fail(f"options.{key}", str(exc))
-        else:
-            ck.number(value, f"options.{key}")
-    options = tuple(sorted((k, v if k == "integrator" else float(v)) for k, v in options.items()))
+    options = _options(ck, data.get("options", {}), "options", _OPTIONS)
     for m in models:
+        variant = next((v for v in variants if v.name == m), None)
+        field = "options" if variant is None else f"models.{m}"
         try:
-            ModelSettings(model=m, **dict(options))
+            ModelSettings(model=m if variant is None else variant.model,
+                          **{**dict(options), **dict(variant.options if variant else ())},
+                          **({"numerics": variant.numerics} if variant is not None and variant.numerics else {}))
         except InputError as exc:
-            ck.fail("options", str(exc))
+            ck.fail(field, str(exc))
+    calibration = _calibration(data.get("calibration"), ck, models, variants)
     execution = ck.table(data.get("execution", {}), "execution", _EXECUTION)
     block = execution.get("block_columns")
     if block is not None and (isinstance(block, bool) or not isinstance(block, int) or block < 1):
@@ -267,8 +253,85 @@ def parse_study(data, path="<study>", digest=""):
     return Study(
         path=str(path), digest=digest, title=title, summary=summary, output=output, columns=columns,
         records=records, angles=angles, scales=scales, intensity=intensity, models=models, vertical=vertical,
-        sa_period=sa_period, options=options, block_columns=block,
+        sa_period=sa_period, options=options, block_columns=block, variants=variants, calibration=calibration,
     )
+
+
+def _options(ck, table, field, allowed):
+    """Checked model options of a table (``[options]`` or a variant's ``options``), sorted by name."""
+    options = ck.table(table, field, allowed)
+    for key, value in options.items():
+        if key == "restitution":
+            ck.number(value, f"{field}.restitution", lo=0.0, hi=1.0)
+        elif key == "integrator":
+            if value not in INTEGRATORS:
+                ck.fail(f"{field}.integrator", f"{value!r} is unknown; choose one of {', '.join(INTEGRATORS)}")
+        elif key in ("rtol", "atol"):
+            try:
+                check_tolerance(key, value, "value")
+            except InputError as exc:
+                ck.fail(f"{field}.{key}", str(exc))
+        else:
+            ck.number(value, f"{field}.{key}")
+    return tuple(sorted((k, v if k == "integrator" else float(v)) for k, v in options.items()))
+
+
+def _models(value, ck):
+    """``models``: a list of registry names, or ``[models.NAME]`` tables of variants.
+
+    Returns
+    -------
+    tuple
+        ``(names, variants)``: the model axis, and its :class:`ModelVariant` per name (empty
+        for a list).
+    """
+    if isinstance(value, dict):  # [models.NAME] tables: variants under names of their own
+        if not value:
+            ck.fail("models", f"is empty: give one or more [models.NAME] tables with model = one of {', '.join(REGISTRY)}")
+        variants = tuple(_variant(name, entry, ck) for name, entry in value.items())
+        return tuple(v.name for v in variants), variants
+    models = tuple(ck.strings(value, "models"))
+    if not models:
+        ck.fail("models", f"is empty: give one or more of {', '.join(REGISTRY)}")
+    for i, m in enumerate(models):
+        if m not in REGISTRY:
+            ck.fail(f"models[{i}]", f"{m!r} is unknown; choose from {', '.join(REGISTRY)}")
+    if len(set(models)) != len(models):
+        ck.fail("models", "has repeated models")
+    return models, ()
+
+
+def _variant(name, entry, ck):
+    """One ``[models.NAME]`` table: a registry model with its own options, numerics and body."""
+    field = f"models.{name}"
+    if not isinstance(entry, dict):
+        ck.fail(field, f"must be a table ([models.{name}] with model = one of {', '.join(REGISTRY)})")
+    ck.table(entry, field, _VARIANT)
+    base = entry.get("model", name)
+    if base not in REGISTRY:
+        ck.fail(f"{field}.model", f"{base!r} is not a model; choose one of {', '.join(REGISTRY)}")
+    model = REGISTRY[base]
+    options = _options(ck, entry.get("options", {}), f"{field}.options", set(model.options))
+    numerics = ck.table(entry.get("numerics", {}), f"{field}.numerics", set(model.numerics))
+    numerics = tuple(sorted((k, ck.number(v, f"{field}.numerics.{k}")) for k, v in numerics.items()))
+    body = entry.get("body", "")
+    if body != "" and body not in BODIES:
+        ck.fail(f"{field}.body", f"{body!r} is not a body; give body = {' or '.join(map(repr, BODIES))} (the "
+                "column's outline as one body), or leave it out for what the model runs")
+    return ModelVariant(name, base, options, numerics, body)
+
+
+def _calibration(section, ck, models, variants):
+    """``[calibration] bed = NAME``: the model whose dashpots every model gets, or None."""
+    if section is None:
+        return None
+    ck.table(section, "calibration", _CALIBRATION)
+    bed = ck.string(section.get("bed", ""), "calibration.bed")
+    able = [m for m in models if REGISTRY[next((v.model for v in variants if v.name == m), m)].calibration]
+    if bed not in models or bed not in able:
+        what = "is not a model of the study" if bed not in models else "cannot calibrate its contact dashpots"
+        ck.fail("calibration.bed", f"{bed!r} {what}; give one of {', '.join(able) or '(none: add a compliant model)'}")
+    return bed
 
 
 def _columns(data, ck):

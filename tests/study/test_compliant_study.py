@@ -134,8 +134,9 @@ def test_drum_columns_in_a_study_file(write_study):
     study = load_study(write_study(text), load_records=False)
     parthenon, shaft, cut, two = study.columns
     assert parthenon.stack.n_drums == 11 and parthenon.stack.capital.side == 2.0 and parthenon.n_bodies == 12
-    assert shaft.stack is None and shaft.body("3d-compliant") is shaft.column
-    assert cut.stack.cuts == (1.0,) and cut.n_bodies == 3 and cut.body("3d") is cut.column
+    assert shaft.stack is None and shaft.body(study.variant("3d-compliant")) is shaft.column
+    assert cut.stack.cuts == (1.0,) and cut.n_bodies == 3 and cut.body(study.variant("3d")) is cut.column
+    assert cut.body(study.variant("3d-compliant")) is cut.stack
     assert study.n_joints == 12
     from pipeline.cli.study import describe
 
