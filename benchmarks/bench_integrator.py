@@ -6,7 +6,7 @@ sampled record in ``params``), rtol 1e-9, atol 1e-12, output on the 0.01 s grid.
 
 Rows, all measured in this one run:
 
-* ``numba kernel``: :func:`pipeline.dynamics.integrator.dop853` through a cached wrapper;
+* ``numba kernel``: :func:`pipeline.dynamics.integrators.dop853.dop853` through a cached wrapper;
 * ``numba kernel, breaks``: the same with ``t_breaks`` at the sample times, so that no step
   straddles a kink of the interpolated record (the setting the physics should use);
 * ``scipy + Python rhs``: solve_ivp with a plain Python rhs;
@@ -30,7 +30,7 @@ import time
 import numpy as np
 from numba import njit
 
-from pipeline.dynamics.integrator import dop853, no_events
+from pipeline.dynamics.integrators.dop853 import dop853, no_events
 
 RTOL, ATOL = 1e-9, 1e-12
 DT = 0.01  # record sampling [s]

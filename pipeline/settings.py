@@ -141,7 +141,7 @@ class ModelSettings:
         dashpots implicit, friction by return to the Coulomb cone:
         :mod:`pipeline.dynamics.compliant.semi_implicit`), or the adaptive DOPRI5 it
         is checked against (``rtol``, ``atol``), or DOP853 before it
-        (:mod:`pipeline.dynamics.dopri5`). The rigid models always use DOP853.
+        (:mod:`pipeline.dynamics.integrators.dopri5`). The rigid models always use DOP853.
     step : float or None
         Fixed step of the semi-implicit integrator [s]; None: ``step_safety``
         (``numerics``, default 0.5) times the stability limit ``2 / omega_max``

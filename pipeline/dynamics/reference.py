@@ -17,7 +17,7 @@ from scipy.integrate import solve_ivp
 from pipeline.dynamics.rigid import frustum as fk
 from pipeline.dynamics.rigid import phases3d, run3d
 from pipeline.dynamics.rigid.layout import EVENT_DIRECTIONS
-from pipeline.dynamics.integrator import Dop853Result
+from pipeline.dynamics.integrators.dop853 import Dop853Result
 
 # The compiled integrator reads the event signs first at the end of a
 # restart window of 1e-7 of its first step; scipy reads them at the start.

@@ -6,8 +6,8 @@ Kernel layer (dimensionless arrays in, arrays out), compiled with numba. One mod
   spring capped by Coulomb friction, per contact point), and the contact points of a face;
 * ``stack``: N stacked rigid bodies (a monolith or drums, and a capital) on joints: state
   layout, tables, right-hand side, monitor and statistics, and the adaptive run (DOPRI5 or
-  DOP853 of :mod:`pipeline.dynamics.dopri5` and :mod:`pipeline.dynamics.integrator`, the
-  reference);
+  DOP853 of :mod:`pipeline.dynamics.integrators.dopri5` and
+  :mod:`pipeline.dynamics.integrators.dop853`, the reference);
 * ``semi_implicit``: the fixed-step semi-implicit integrator of DEM codes (the default),
   sharing the stack's layout, tables, monitor and statistics.
 

@@ -38,8 +38,8 @@ from numba import njit
 
 from pipeline.dynamics.compliant import joint as jl
 from pipeline.dynamics.excitation import ground_acceleration
-from pipeline.dynamics.dopri5 import dopri5
-from pipeline.dynamics.integrator import dop853
+from pipeline.dynamics.integrators.dop853 import dop853
+from pipeline.dynamics.integrators.dopri5 import dopri5
 
 # Columns of the body table (one row per body).
 B_MASS, B_IT, B_IA, B_ZC, B_TOP, B_TOP_R, B_WEIGHT, B_COS_LIE = range(8)
@@ -95,7 +95,7 @@ SLIDE_FRACTION = 0.999
 MAX_STEPS = 50_000_000
 CHUNK = 64  # monitor samples per integrator call
 STATUS_COLLAPSED = 2  # summary status: a body fell off the one below (below the ground)
-# Integrators of :func:`run`: the joint law's kinks waste DOP853's order (pipeline.dynamics.dopri5)
+# Integrators of :func:`run`: the joint law's kinks waste DOP853's order (pipeline.dynamics.integrators.dopri5)
 METHOD_DOPRI5, METHOD_DOP853 = 0, 1
 METHODS = {"dopri5": METHOD_DOPRI5, "dop853": METHOD_DOP853}
 
@@ -632,7 +632,7 @@ def run(params, y0, t_mon, stride, t_breaks, rtol, atol, max_step, event_directi
         The final state.
     method : int
         ``METHOD_DOPRI5`` (default: 2.9x fewer right-hand sides on a three-drum stack at
-        equal tolerances, :mod:`pipeline.dynamics.dopri5`) or ``METHOD_DOP853`` (the
+        equal tolerances, :mod:`pipeline.dynamics.integrators.dopri5`) or ``METHOD_DOP853`` (the
         reference it was measured against).
     """
     bodies = params[0]

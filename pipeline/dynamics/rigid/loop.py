@@ -211,7 +211,7 @@ def run_events(energy, tilt, depart, advance, handle, finish, params, restitutio
       t, returning the phase it departs in;
     - ``advance(p, phase, t, y, t_end, t_out, y_out, out_i, t_breaks, rtol, atol, h)``:
       integrate the phase from t up to its first event or ``t_end``
-      (:data:`pipeline.dynamics.integrator.Dop853Result`);
+      (:data:`pipeline.dynamics.integrators.dop853.Dop853Result`);
     - ``handle(ev, t, y, p, phase, impacts, restitution, planar_e, settle_kinetic, scratch)``:
       the map at event ``ev`` (any but ``EV_LIE``), returning the phase that
       follows and whether the event restarts the integration (a transition);

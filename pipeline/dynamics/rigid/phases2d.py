@@ -15,7 +15,7 @@ import numpy as np
 from numba import njit
 
 from pipeline.dynamics.rigid import frustum as fk
-from pipeline.dynamics.integrator import dop853_monitored
+from pipeline.dynamics.integrators.dop853 import dop853_monitored
 from pipeline.dynamics.rigid import patch
 from pipeline.dynamics.rigid import rocking as rk
 from pipeline.dynamics.rigid.layout import (

@@ -16,7 +16,7 @@ import math
 from numba import njit
 
 from pipeline.dynamics.rigid import frustum as fk
-from pipeline.dynamics.integrator import dop853_monitored
+from pipeline.dynamics.integrators.dop853 import dop853_monitored
 from pipeline.dynamics.rigid import patch
 from pipeline.dynamics.rigid import rim
 from pipeline.dynamics.rigid.layout import (

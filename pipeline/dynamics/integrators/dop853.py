@@ -373,7 +373,7 @@ def _select_initial_step(rhs, params, t0, y0, f0, t_end, max_step, rtol, atol, y
     """First step size by Hairer's rule, as scipy's ``select_initial_step``.
 
     ``error_order``: the order of the method's error estimate (7 for DOP853, 4 for
-    DOPRI5, :mod:`pipeline.dynamics.dopri5`). Returns the step size [s]; costs one
+    DOPRI5, :mod:`pipeline.dynamics.integrators.dopri5`). Returns the step size [s]; costs one
     rhs evaluation (``y1``, ``f1`` are work arrays).
     """
     n = y0.shape[0]
@@ -624,7 +624,7 @@ def _read_event_signs(events, params, event_direction, n_ev, t_old, t_new, h, y,
     ``t_old + frac h`` on the interpolant ``F`` (built by the caller when
     ``read_in_step``); a step wholly inside it reports nothing. Returns ``(t_a,
     any_event)``: where the signs were read and whether an event changed sign.
-    Shared by :func:`dop853_monitored` and :func:`pipeline.dynamics.dopri5.dopri5_monitored`.
+    Shared by :func:`dop853_monitored` and :func:`pipeline.dynamics.integrators.dopri5.dopri5_monitored`.
     """
     t_a = t_old
     any_event = False

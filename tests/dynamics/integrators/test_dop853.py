@@ -1,4 +1,4 @@
-"""Tests of the compiled DOP853 integrator (pipeline/dynamics/integrator.py).
+"""Tests of the compiled DOP853 integrator (pipeline/dynamics/integrators/dop853.py).
 
 Reference results come from scipy's ``solve_ivp(method="DOP853")`` (same method, same
 controller) and from exact solutions. Each problem is integrated through one cached
@@ -12,8 +12,8 @@ from numba import njit
 from scipy.integrate import solve_ivp
 from scipy.integrate._ivp import dop853_coefficients as scipy_coefficients
 
-from pipeline.dynamics import integrator
-from pipeline.dynamics.integrator import (
+from pipeline.dynamics.integrators import dop853 as integrator
+from pipeline.dynamics.integrators.dop853 import (
     STATUS_BAD_INPUT,
     STATUS_END,
     STATUS_EVENT,

@@ -1,12 +1,13 @@
-"""Compiled Dormand–Prince 5(4) integrator, with the calling convention of :func:`~pipeline.dynamics.integrator.dop853`.
+"""Compiled Dormand–Prince 5(4) integrator, with the calling convention of
+:func:`~pipeline.dynamics.integrators.dop853.dop853`.
 
 A numba kernel of DOPRI5 with the coefficients, error norm and step controller of
 :class:`scipy.integrate.RK45` (error estimate of order 4, exponent -1/5), its free
 4th-order continuous extension (no extra stages) for the output grid and the event roots,
-and everything else of :func:`pipeline.dynamics.integrator.dop853_monitored` unchanged:
+and everything else of :func:`pipeline.dynamics.integrators.dop853.dop853_monitored` unchanged:
 break points no step crosses, terminal events located by Brent's method on the
 interpolant, the restart window, the step monitor, the returned tuple
-(:data:`pipeline.dynamics.integrator.Dop853Result`). Call it the same way, from an
+(:data:`pipeline.dynamics.integrators.dop853.Dop853Result`). Call it the same way, from an
 ``@njit(cache=True)`` wrapper in the caller's module.
 
 Why a second integrator: on a right-hand side with many kinks, DOP853's 8th order is
@@ -33,7 +34,7 @@ References
 import numpy as np
 from numba import njit
 
-from pipeline.dynamics.integrator import (
+from pipeline.dynamics.integrators.dop853 import (
     _START_WINDOW,
     STATUS_BAD_INPUT,
     STATUS_END,
@@ -170,7 +171,7 @@ def dopri5_monitored(rhs, events, monitor, params, t0, y0, t_end, t_out, y_out, 
     """Integrate dy/dt = rhs(t, y) from t0 to t_end with DOPRI5, dense output and events.
 
     Arguments, results and behaviour (break points, events, restart window, monitor) as
-    :func:`pipeline.dynamics.integrator.dop853_monitored`, except: 6 rhs evaluations per
+    :func:`pipeline.dynamics.integrators.dop853.dop853_monitored`, except: 6 rhs evaluations per
     attempted step (the last stage is the next step's first), the output grid and the
     event roots are read on the 4th-order interpolant, which costs no evaluations, and
     ``rtol``, ``atol`` control a 4th-order error estimate.
