@@ -103,7 +103,7 @@ def patch_parameters(column, settings):
     """Contact patch of the rigid models: (theta_k [rad], dashpots c_n R^3 / (m sqrt(g R)) [1]).
 
     theta_k = m g / (k_n A R) is the tilt at which the base under the
-    column's weight just loses full contact (:mod:`pipeline.dynamics.patch`);
+    column's weight just loses full contact (:mod:`pipeline.dynamics.rigid.patch`);
     0 for a rigid base (``normal_stiffness`` inf), the paper's point contact.
     """
     kn = settings.normal_stiffness

@@ -16,7 +16,7 @@ The base is a flat face of stone on stone; the phases (docs/model.md):
 * **sliding** flat on the base (Coulomb friction, ``mu N`` against the
   sliding velocity), until the velocity vanishes (then rest, or sliding the
   other way).
-* **rolling** on the rim (the paper's equations, :mod:`pipeline.dynamics.frustum`),
+* **rolling** on the rim (the paper's equations, :mod:`pipeline.dynamics.rigid.frustum`),
   while the normal force stays positive and the friction it needs stays
   below ``mu N``.
 * **slipping** on the rim (:mod:`pipeline.dynamics.rigid.rim`): the rim point
@@ -48,7 +48,7 @@ The family's modules, each with one job:
 * ``rim``, ``patch``, ``contact``, ``rocking``: the frustum slipping on its rim
   and in flight, the contact patch's couples, uplift and landing impacts, the
   planar rocking equations (the rolling equations are
-  :mod:`pipeline.dynamics.frustum`'s);
+  :mod:`pipeline.dynamics.rigid.frustum`'s);
 * ``phases3d``, ``phases2d``: each model's phases as the integrator sees them
   (right-hand sides, events, step monitor, energy);
 * ``loop``: the steps both runs take (rest until departure, booking a phase,

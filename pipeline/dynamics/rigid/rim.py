@@ -1,7 +1,7 @@
 """The frustum on its rim when it slips, and in free flight (compiled, dimensionless).
 
-Kernel layer, units of :mod:`pipeline.dynamics.frustum` (lengths per R, time per
-sqrt(R/g), forces per m g). Rolling without slip (:func:`pipeline.dynamics.frustum.accelerations`)
+Kernel layer, units of :mod:`pipeline.dynamics.rigid.frustum` (lengths per R, time per
+sqrt(R/g), forces per m g). Rolling without slip (:func:`pipeline.dynamics.rigid.frustum.accelerations`)
 ties the velocity of the centre of mass to the rotation; here it is free:
 
 * **rim slip**: the lowest point P of the base rim stays on the plane (the
@@ -68,7 +68,7 @@ def rotation_accelerations(theta, dphi, dtheta, omega, f_xi, f_n, normal, c, m_x
     normal : float
         Normal force N [m g].
     c : numpy.ndarray
-        Column constants (:func:`pipeline.dynamics.frustum.column_constants`).
+        Column constants (:func:`pipeline.dynamics.rigid.frustum.column_constants`).
     m_xi, m_eta, m_zeta : float
         A couple on the body, body components [m g R] (the contact patch's).
 

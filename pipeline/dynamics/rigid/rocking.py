@@ -1,6 +1,6 @@
 """Classical two-dimensional rocking (Housner 1963) of the frustum's outline.
 
-Kernel layer, dimensionless like :mod:`pipeline.dynamics.frustum`. The column
+Kernel layer, dimensionless like :mod:`pipeline.dynamics.rigid.frustum`. The column
 rocks in one vertical plane, the plane of a horizontal direction u, about one
 of the two rim points of its base that lie in that plane. The signed angle
 theta > 0 means it pivots on the rim point on the +u side (leaning towards
@@ -47,7 +47,7 @@ def angular_acceleration(theta, a_u, a_z, c):
     a_z : float
         Vertical ground acceleration [g], upwards.
     c : numpy.ndarray
-        Constants from :func:`pipeline.dynamics.frustum.column_constants`.
+        Constants from :func:`pipeline.dynamics.rigid.frustum.column_constants`.
     """
     zc = c[fk.C_ZC]
     sgn = math.copysign(1.0, theta)  # -0.0: pivot on the -u side
