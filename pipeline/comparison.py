@@ -24,7 +24,7 @@ import xarray as xr
 from pipeline.dataset import annotate, append_history
 from pipeline.errors import InputError
 from pipeline.fragility import RESULT_DIMS, _normalise, _valid, _where
-from pipeline.models import of_results, title
+from pipeline.models import of_results, results_title
 from pipeline.units import G
 
 __all__ = ["merge_results", "compare_models", "outcome_agreement", "peak_ratio", "comparison_rows",
@@ -74,6 +74,19 @@ def merge_results(datasets):
             seen[str(m)] = _where(ds)
     if len(datasets) == 1:
         return first
+    # what does not vary with the model (the records' intensities, the columns' dimensions) is the first file's
+    keep = set(first.dims)
+    datasets = [first] + [ds.drop_vars([n for n, v in ds.variables.items() if "model" not in v.dims and n not in keep])
+                          for ds in datasets[1:]]
+    # a coordinate along the models that some files lack: their models are the registry's own (base_model)
+    labels = {n: v for ds in datasets for n, v in ds.coords.items() if "model" in v.dims and n != "model"}
+    for k, ds in enumerate(datasets):
+        for name, like in labels.items():
+            if name not in ds.coords:
+                models = [str(m) for m in ds["model"].values]
+                fill = models if name == "base_model" else [""] * len(models) if like.dtype.kind in "OUS" \
+                    else [math.nan] * len(models)
+                datasets[k] = ds = ds.assign_coords({name: ("model", fill, dict(like.attrs))})
     merged = xr.concat(datasets, dim="model", data_vars="minimal", coords="minimal", compat="override",
                        join="outer", combine_attrs="override")
     merged.attrs["history"] = "\n".join(str(ds.attrs.get("history", "")) for ds in datasets if ds.attrs.get("history"))
@@ -242,6 +255,10 @@ def compare_models(results, frag, reference=None, state="overturning"):
         "peak_ratio_p90": (dims, out["peak_ratio_p90"], {"units": "1", "long_name": "90th percentile of the peak_theta ratio"}),
     }
     ds = xr.Dataset(data, coords={"column": columns, "model": others})
+    for name in ("base_model", "model_variant"):  # a study's variants: which model each is, and how
+        if name in results.coords and results[name].dims == ("model",):
+            ds.coords[name] = ("model", [str(results[name].sel(model=m).values) for m in others])
+    ds.attrs["reference_title"] = results_title(results, reference)
     own = {name: dict(var.attrs) for name, var in ds.variables.items()}
     annotate(ds, catalog={})  # Conventions and source only: these variables are not the study's
     for name, attrs in own.items():
@@ -301,7 +318,8 @@ def markdown_section(comparison):
     """
     reference = comparison.attrs["reference_model"]
     level = f"{100 * comparison.attrs.get('confidence_level', 0.9):g} %"
-    lines = [f"## Model against model (reference: {title(reference)}, `{reference}`)", "",
+    lines = [f"## Model against model (reference: {comparison.attrs.get('reference_title', reference)}, "
+             f"`{reference}`)", "",
              "A single run near the capacity of a column is chaotic: a little more shaking, another step or "
              "another model can flip its outcome. Models are therefore compared by statistics: the median PGA "
              f"of overturning with its {level} bootstrap band over records (is a model's median inside the "
@@ -319,7 +337,7 @@ def markdown_section(comparison):
                  f"{row['peak_ratio_cells']} cells" if row["peak_ratio_cells"] else "no cell where both stood")
         inside = "yes" if row["inside_reference_band"] else (
             "no" if np.isfinite(row["median"]) and np.isfinite(row["median_reference_lower"]) else "n/a")
-        lines.append(f"| {row['column']} | {title(row['model'])} (`{row['model']}`) | {_g(row['median'])} "
+        lines.append(f"| {row['column']} | {results_title(comparison, row['model'])} (`{row['model']}`) | {_g(row['median'])} "
                      f"({_band(row['median_lower'], row['median_upper'])}) | {_g(row['median_reference'])} "
                      f"({_band(row['median_reference_lower'], row['median_reference_upper'])}) | {inside} | {cells} | "
                      f"{same} | {row['reference_only']} | {row['model_only']} | {ratio} |")

@@ -822,6 +822,12 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
     lines.append(f"- PGA (peak ground acceleration of the scaled record) ranges from {_g_and_ms2(float(pga.min()))} "
                  f"to {_g_and_ms2(float(pga.max()))}.")
     lines.append(f"- **Model(s)**: {', '.join(f'{MD.results_title(results, m)} (`{m}`)' for m in models)}.")
+    if "bed_damping" in results.variables:  # [calibration] bed: one bed for every model
+        lines.append("- **One bed for every model**: " + "; ".join(
+            f"'{c}': dashpots {_fmt(float(results['bed_damping'].sel(column=c)), 4)} Pa s/m, restitution "
+            f"{_fmt(float(results['bed_restitution'].sel(column=c)), 4)}" for c in results["column"].values)
+            + f" ({results['bed_damping'].attrs.get('comment', 'calibrated')}; the restitution they reach is "
+            "given to every model).")
     lines.append(f"- {n_total} simulations in the dataset, {n_failed} failed and left out.")
     for flag in ("sliding_onset", "lift_off"):  # each model says what its flag counts (its registry entry)
         if flag in results.variables:
@@ -837,8 +843,12 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
         options = json.loads(results.attrs.get("model_options", "{}"))
     except (TypeError, ValueError):
         options = {}
-    lines.append(assumptions(list(dict.fromkeys(MD.base_of(results, m) for m in models)),
+    bases = list(dict.fromkeys(MD.base_of(results, m) for m in models))
+    lines.append(assumptions([m for m in bases if m in MD.REGISTRY],
                              vertical=results.attrs.get("vertical_component", "used") != "ignored", options=options))
+    for m in (m for m in bases if m not in MD.REGISTRY):  # e.g. a peer engine's cells, merged in
+        said = str(results["model_description"].sel(model=m).values) if "model_description" in results.coords else ""
+        lines.append(f"- **{m}** (`{m}`): {said or 'a model this pipeline does not know (no description)'}.")
     variants = [m for m in models if MD.base_of(results, m) != m]
     if variants:
         lines += ["- Variants of these models run by the study, under names of their own: "

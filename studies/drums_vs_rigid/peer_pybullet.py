@@ -153,7 +153,13 @@ def write_results(rows, records, stripes, n_drums, path=RESULTS, column="paper")
                      "pga": (("record", "scale"), np.tile(np.asarray(stripes) * G, (len(records), 1)))},
                     coords={"column": [column], "record": list(records), "angle": [ANGLE],
                             "scale": ("scale", np.asarray(stripes) * G, {"units": "m s-2"}), "model": [MODEL],
-                            "theta_crit": ("column", [theta_crit])})
+                            "theta_crit": ("column", [theta_crit]),
+                            "model_description": ("model", [
+                                f"the same {n_drums}-drum stack in PyBullet {pybullet_version()}, an independent "
+                                f"engine (sequential impulses, step {STEP * 1e3:g} ms, restitution 0, friction "
+                                f"{FRICTION:g}, convex-hull drums; studies/drums_vs_rigid/pybullet_stack.py): "
+                                "overturned when a drum's axis passes "
+                                f"{math.degrees(TILT_DOWN):g} deg or a drum falls off the one below"])})
     annotate(ds)
     ds["scale"].attrs.update(units="m s-2", long_name="target PGA of the stripe")
     ds.attrs.update(title=f"The paper's column in {n_drums} drums in PyBullet {pybullet_version()}",
