@@ -100,7 +100,7 @@ RISK_FLAGS = {
 RISK_SHARES = (0.05, 0.5, 0.95)
 
 LIMITS = ("The fragility's PGA is the peak of the horizontal acceleration vector and its Sa the RotD50 of the "
-          "record pair (pipeline.sweep); a hazard curve is for the component its ground-motion models predict "
+          "record pair (pipeline.study.grid); a hazard curve is for the component its ground-motion models predict "
           "(often RotD50 or the geometric mean), which for PGA is lower than the vector peak by some 10-20 %: "
           "no conversion is applied, so with such a curve the risk is underestimated. Shaking beyond the "
           "curve's last level is bounded (annual_frequency_lower, annual_frequency_upper), the central value "

@@ -138,8 +138,7 @@ def assemble(study, motions, measures, factors, arrays):
             f"Earthquake response of {len(cols)} free-standing column(s) modelled as rigid conical frustums "
             f"to {len(motions)} record(s), {len(study.angles)} incidence angle(s), {len(study.levels)} scale "
             f"level(s), model(s) {', '.join(study.models)}."),
-        # the module that wrote results files before pipeline/study/ (kept: the files stay the same)
-        "source": f"frustum-pipeline {__version__} (pipeline.sweep)",
+        "source": f"frustum-pipeline {__version__} (pipeline.study)",
         "study_file": os.path.basename(study.path),
         "study_path": study.path,
         "study_sha256": study.digest,
