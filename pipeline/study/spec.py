@@ -13,7 +13,7 @@ from pipeline.geometry import Column
 from pipeline.models import REGISTRY
 from pipeline.settings import ModelSettings
 
-__all__ = ["Study", "ModelVariant", "ColumnInfo", "RecordSpec", "Intensity"]
+__all__ = ["Study", "ModelVariant", "ColumnInfo", "RecordSpec", "Intensity", "variant_settings"]
 
 #: What a variant may run instead of its model's own body: the column's outline as one body.
 BODIES = ("outline",)
@@ -56,6 +56,26 @@ class ModelVariant:
         parts += [f"options {k} = {v:g}" if isinstance(v, (int, float)) else f"options {k} = {v}"
                   for k, v in self.options]
         return "; ".join(parts)
+
+
+def variant_settings(variant, options, bed=None):
+    """:class:`pipeline.settings.ModelSettings` of a :class:`ModelVariant` over a study's ``[options]``.
+
+    Parameters
+    ----------
+    variant : ModelVariant
+    options : tuple of (str, object)
+        The study's options; the variant's own override them.
+    bed : tuple of float, optional
+        ``(c_n [Pa s/m], restitution [1])`` of a calibrated bed, given as ``contact_damping``
+        and ``restitution``.
+    """
+    merged = {**dict(options), **dict(variant.options)}
+    if bed is not None:
+        merged.update(contact_damping=bed[0], restitution=bed[1])
+    if variant.numerics:
+        merged["numerics"] = variant.numerics
+    return ModelSettings(model=variant.model, **merged)
 
 
 @dataclass(frozen=True)
@@ -285,10 +305,4 @@ class Study:
             ``(c_n [Pa s/m], restitution [1])`` of the calibrated bed (:attr:`calibration`),
             given to the model as ``contact_damping`` and ``restitution``.
         """
-        variant = self.variant(name)
-        options = {**dict(self.options), **dict(variant.options)}
-        if bed is not None:
-            options.update(contact_damping=bed[0], restitution=bed[1])
-        if variant.numerics:
-            options["numerics"] = variant.numerics
-        return ModelSettings(model=variant.model, **options)
+        return variant_settings(self.variant(name), self.options, bed)

@@ -74,8 +74,8 @@ from pipeline.errors import InputError
 from pipeline.geometry import Column
 from pipeline.limits import check_tolerance
 from pipeline.models import DEFAULT, REGISTRY
-from pipeline.settings import INTEGRATORS, ModelSettings, check_column
-from pipeline.study.spec import BODIES, ColumnInfo, Intensity, ModelVariant, RecordSpec, Study
+from pipeline.settings import INTEGRATORS, check_column
+from pipeline.study.spec import BODIES, ColumnInfo, Intensity, ModelVariant, RecordSpec, Study, variant_settings
 from pipeline.units import G
 
 __all__ = ["load_study", "load_motions", "parse_study"]
@@ -236,16 +236,13 @@ def parse_study(data, path="<study>", digest=""):
     records = _records(data.get("records"), ck, path)
     angles, scales, intensity, vertical, sa_period = _excitation(data.get("excitation"), ck)
     options = _options(ck, data.get("options", {}), "options", _OPTIONS)
+    named = {v.name: v for v in variants}  # empty for a list of registry names
     for m in models:
-        variant = next((v for v in variants if v.name == m), None)
-        field = "options" if variant is None else f"models.{m}"
         try:
-            ModelSettings(model=m if variant is None else variant.model,
-                          **{**dict(options), **dict(variant.options if variant else ())},
-                          **({"numerics": variant.numerics} if variant is not None and variant.numerics else {}))
+            variant_settings(named.get(m, ModelVariant(m, m)), options)
         except InputError as exc:
-            ck.fail(field, str(exc))
-    calibration = _calibration(data.get("calibration"), ck, models, variants)
+            ck.fail(f"models.{m}" if m in named else "options", str(exc))
+    calibration = _calibration(data.get("calibration"), ck, models, named)
     execution = ck.table(data.get("execution", {}), "execution", _EXECUTION)
     block = execution.get("block_columns")
     if block is not None and (isinstance(block, bool) or not isinstance(block, int) or block < 1):
@@ -321,13 +318,13 @@ def _variant(name, entry, ck):
     return ModelVariant(name, base, options, numerics, body)
 
 
-def _calibration(section, ck, models, variants):
+def _calibration(section, ck, models, named):
     """``[calibration] bed = NAME``: the model whose dashpots every model gets, or None."""
     if section is None:
         return None
     ck.table(section, "calibration", _CALIBRATION)
     bed = ck.string(section.get("bed", ""), "calibration.bed")
-    able = [m for m in models if REGISTRY[next((v.model for v in variants if v.name == m), m)].calibration]
+    able = [m for m in models if REGISTRY[named[m].model if m in named else m].calibration]
     if bed not in models or bed not in able:
         what = "is not a model of the study" if bed not in models else "cannot calibrate its contact dashpots"
         ck.fail("calibration.bed", f"{bed!r} {what}; give one of {', '.join(able) or '(none: add a compliant model)'}")
