@@ -36,8 +36,15 @@ udunits:
 main: setup
 	$(BIN)/frustum study run studies/quickstart.toml --plot out/quickstart.png
 
+# The tests run in one worker per core (pytest-xdist), at most TEST_WORKERS_MAX: on the 2-core CI
+# machine the suite took 17-18 min in one process. More workers gain little (the longest files and the
+# first compile of each kernel bound the time) and each adds its own memory, and processes to the Dask
+# tests. Each file stays on one worker (loadfile): many files build an expensive module fixture.
+# `make test TEST_WORKERS=0` runs them in one process, as plain `pytest` does.
+TEST_WORKERS ?= auto
+TEST_WORKERS_MAX ?= 4
 test: setup-test
-	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q -n $(TEST_WORKERS) --maxprocesses $(TEST_WORKERS_MAX) --dist loadfile
 
 clean:
 	rm -rf $(VENV) build *.egg-info
