@@ -16,6 +16,7 @@ from scipy.optimize import brentq
 
 from pipeline.drums import DrumColumn
 from pipeline.dynamics.compliant import joint as jl
+from pipeline.dynamics.compliant import linear_system
 from pipeline.dynamics.compliant import semi_implicit as si
 from pipeline.dynamics.compliant import stack as sk
 from pipeline.errors import InputError
@@ -401,7 +402,7 @@ def fixed_step(asm, params, y, settings):
     """The semi-implicit integrator's step for a column [s], and its stability limit [s].
 
     The limit is ``2 / omega_max`` of the stiffest joint mode in the state y
-    (:func:`pipeline.dynamics.compliant.semi_implicit.stiffest_frequency`); the step is
+    (:func:`pipeline.dynamics.compliant.linear_system.stiffest_frequency`); the step is
     ``settings.step`` if given (refused if above the limit), else ``step_safety`` times the limit.
 
     Raises
@@ -409,7 +410,7 @@ def fixed_step(asm, params, y, settings):
     InputError
         A given step above the stability limit, before anything is computed.
     """
-    limit = 2.0 / si.stiffest_frequency(params, y) * asm.time
+    limit = 2.0 / linear_system.stiffest_frequency(params, y) * asm.time
     if settings.step is not None:
         if settings.step > limit:
             raise InputError(

@@ -9,7 +9,10 @@ Kernel layer (dimensionless arrays in, arrays out), compiled with numba. One mod
   DOP853 of :mod:`pipeline.dynamics.integrators.dopri5` and
   :mod:`pipeline.dynamics.integrators.dop853`, the reference);
 * ``semi_implicit``: the fixed-step semi-implicit integrator of DEM codes (the default),
-  sharing the stack's layout, tables, monitor and statistics.
+  sharing the stack's layout, tables, monitor and statistics;
+* ``linear_system``: its joints' linear algebra: a joint's dashpot (or spring) matrix from its
+  points' moments, the block-tridiagonal ``M + h C`` of a stack and its block Cholesky solve,
+  and the stiffest mode that bounds the step.
 
 The ground motion is read as every family reads it (:mod:`pipeline.dynamics.excitation`).
 """

@@ -13,6 +13,7 @@ import pytest
 
 from pipeline import compliant as cp
 from pipeline.drums import DrumColumn
+from pipeline.dynamics.compliant import linear_system as ls
 from pipeline.dynamics.compliant import semi_implicit as si
 from pipeline.dynamics.compliant import stack as sk
 from pipeline.errors import InputError
@@ -38,12 +39,12 @@ def test_joint_matrix_from_moments_is_the_sum_over_points():
     for _ in range(9):
         alpha, normal = rng.uniform(0.0, 2.0), rng.uniform(0.0, 3.0)
         r = rng.normal(size=3)
-        si._add_moments(mom, alpha, normal - alpha, *r)
+        ls.add_moments(mom, alpha, normal - alpha, *r)
         D = alpha * np.eye(3) + (normal - alpha) * np.outer(n, n)
         H = np.hstack([np.eye(3), -_cross(r)])
         dense += H.T @ D @ H
     out = np.zeros((6, 6))
-    si.joint_matrix(mom, *n, out)
+    ls.joint_matrix(mom, *n, out)
     np.testing.assert_allclose(out, dense, rtol=0, atol=1e-13 * np.abs(dense).max())
 
 
@@ -62,7 +63,7 @@ def test_block_tridiagonal_solve_matches_a_dense_solve():
             dense[6 * b - 6:6 * b, 6 * b:6 * b + 6] = off[b].T
     rhs = rng.normal(size=(nb, 6))
     x = rhs.copy()
-    si.block_tridiagonal_solve(diag, off, x, np.zeros((nb, 6, 6)), np.zeros((nb, 6, 6)), np.zeros((6, 6)))
+    ls.block_tridiagonal_solve(diag, off, x, np.zeros((nb, 6, 6)), np.zeros((nb, 6, 6)), np.zeros((6, 6)))
     np.testing.assert_allclose(x.ravel(), np.linalg.solve(dense, rhs.ravel()), rtol=0, atol=1e-13)
 
 
@@ -107,7 +108,7 @@ def test_stiffest_frequency_matches_a_dense_point_by_point_model(drums):
     asm, params, y = _stack_params(column)
     K, M = _dense_stiffness(asm, params, y)
     dense = math.sqrt(eigh(K, M, eigvals_only=True).max())
-    assert si.stiffest_frequency(params, y) == pytest.approx(dense, rel=1e-9)
+    assert ls.stiffest_frequency(params, y) == pytest.approx(dense, rel=1e-9)
     if drums == 1:
         bounce = math.sqrt(asm.joints[0, sk.J_KN] * asm.joints[0, sk.J_AREA] / asm.bodies[0, sk.B_MASS])
         assert dense >= bounce
@@ -117,7 +118,7 @@ def test_stiffest_frequency_matches_a_dense_point_by_point_model(drums):
 def _free_vibration_growth(column, factor, steps=3000):
     """Energy after undamped free vibration from a tiny random kick, over the kick's energy."""
     asm, params, y = _stack_params(column)
-    h = factor * 2.0 / si.stiffest_frequency(params, y)
+    h = factor * 2.0 / ls.stiffest_frequency(params, y)
     rng = np.random.default_rng(11)
     e0 = sk.energy(y, params)
     for b in range(asm.n_bodies):
@@ -145,7 +146,7 @@ def test_the_stability_limit_is_where_undamped_joints_start_to_grow(drums):
 def test_an_unstable_step_is_refused_before_computing():
     pulse = one_sine_pulse(3.0, 0.5, dt=0.01, duration=1.0)
     asm, params, y = _stack_params(DrumColumn.equal(PAPER, 4))
-    limit = 2.0 / si.stiffest_frequency(params, y) * asm.time
+    limit = 2.0 / ls.stiffest_frequency(params, y) * asm.time
     from pipeline.simulate import simulate
 
     with pytest.raises(InputError, match=r"step = .* above the stability limit .* at most"):
