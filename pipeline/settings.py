@@ -4,10 +4,11 @@ Every model reads its inputs from here, and every input is checked here, once, w
 made (a bad value raises :class:`pipeline.errors.InputError` naming the field and the range):
 
 * :class:`ModelSettings`: the model (a name of the registry, :mod:`pipeline.models`) and its
-  options, each default written once (friction [1], stiffnesses [Pa/m], damping, tolerances,
-  tail [s], ...); the numerical choices each model declares in its registry entry, and the
-  compliant integrators (:data:`INTEGRATORS`). It imports no kernel: the command's help
-  reads its defaults without loading numba.
+  options, each declared once with its default, unit and range in
+  :data:`pipeline.models.options.OPTIONS` (friction [1], stiffnesses [Pa/m], damping,
+  tolerances, tail [s], ...) and checked by its one validator; the numerical choices each
+  model declares in its registry entry, and the compliant integrators (:data:`INTEGRATORS`).
+  It imports no kernel: the command's help reads its defaults without loading numba.
 * :class:`Excitation`: how a record drives the column (incidence angle [deg], scale [1],
   vertical component).
 * :class:`InitialState`: Euler angles [deg] and rates [rad/s] of a free motion.
@@ -22,8 +23,8 @@ import math
 from dataclasses import dataclass
 
 from pipeline import models
-from pipeline.models.compliant import COMPLIANT_DRUMS
 from pipeline.errors import InputError
+from pipeline.models.options import INTEGRATORS, OPTIONS
 from pipeline.units import G, deg_to_rad
 
 # Geometry the model is meant for: free-standing columns and drums, from
@@ -32,14 +33,8 @@ RADIUS_RANGE = (1e-3, 50.0)  # [m]
 SLENDERNESS_RANGE = (0.05, 200.0)  # h/R [1]
 BETA_RANGE = (0.05, 20.0)  # r/R [1]
 
-# the range of the compliant model's numerical choices (pipeline.models.compliant), and what each is
-_NUMERICS_RANGES = {
-    "edge_band": (0.05, 5.0, "width of the band past a face's edge, in spacings of the outer rings of contact points"),
-    "step_safety": (0.01, 0.9, "fixed step as a fraction of the stability limit of the stiffest joint"),
-}
-# Integrators of the compliant model: the fixed-step semi-implicit one (default) and the
-# adaptive ones it is checked against (its registry entry).
-INTEGRATORS = COMPLIANT_DRUMS.integrators
+# the options' defaults, written once (pipeline.models.options)
+_DEFAULT = {name: option.default for name, option in OPTIONS.items()}
 
 
 @dataclass(frozen=True)
@@ -83,6 +78,12 @@ class InitialState:
 @dataclass(frozen=True)
 class ModelSettings:
     """The model and its options.
+
+    Every option's default, unit and range is declared once in
+    :data:`pipeline.models.options.OPTIONS` and checked here by its one validator
+    (:meth:`pipeline.models.options.Option.check`); the rules that tie options together (a step
+    only for the semi-implicit integrator, the drums' finite friction and stiffness, the
+    numerics of the model) follow.
 
     Parameters
     ----------
@@ -158,68 +159,64 @@ anathyrosis, base_anathyrosis, monitor_step
     """
 
     model: str = models.DEFAULT
-    restitution: float | None = None
-    contact_tilt: float | None = None
-    damping: float = 0.0
-    friction: float = 0.7
-    lift_off: bool = True
-    normal_stiffness: float = 1.0e10
-    contact_damping: float | None = None
+    restitution: float | None = _DEFAULT["restitution"]
+    contact_tilt: float | None = _DEFAULT["contact_tilt"]
+    damping: float = _DEFAULT["damping"]
+    friction: float = _DEFAULT["friction"]
+    lift_off: bool = _DEFAULT["lift_off"]
+    normal_stiffness: float = _DEFAULT["normal_stiffness"]
+    contact_damping: float | None = _DEFAULT["contact_damping"]
     numerics: tuple = ()
-    tail: float = 5.0
-    rtol: float = 1e-9
-    atol: float = 1e-12
-    output_step: float = 0.01
-    joint_stiffness: float | None = None
-    stiffness_ratio: float = 0.5
-    contact_rings: int = 3
-    contact_sectors: int = 24
-    joint_friction: float | tuple | None = None
-    anathyrosis: float | tuple = 0.0
-    base_anathyrosis: float = 0.0
-    monitor_step: float = 0.001
-    integrator: str = "semi-implicit"
-    step: float | None = None
+    tail: float = _DEFAULT["tail"]
+    rtol: float = _DEFAULT["rtol"]
+    atol: float = _DEFAULT["atol"]
+    output_step: float = _DEFAULT["output_step"]
+    joint_stiffness: float | None = _DEFAULT["joint_stiffness"]
+    stiffness_ratio: float = _DEFAULT["stiffness_ratio"]
+    contact_rings: int = _DEFAULT["contact_rings"]
+    contact_sectors: int = _DEFAULT["contact_sectors"]
+    joint_friction: float | tuple | None = _DEFAULT["joint_friction"]
+    anathyrosis: float | tuple = _DEFAULT["anathyrosis"]
+    base_anathyrosis: float = _DEFAULT["base_anathyrosis"]
+    monitor_step: float = _DEFAULT["monitor_step"]
+    integrator: str = _DEFAULT["integrator"]
+    step: float | None = _DEFAULT["step"]
 
     def __post_init__(self):
         model = models.get(self.model)  # an unknown name is refused with the choices
-        checks = {
-            "damping": (0.0, 100.0, "(per m g R sqrt(R/g))"),
-            "tail": (0.0, 3600.0, "s"),
-        }
-        for name, (lo, hi, unit) in checks.items():
-            value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and lo <= value <= hi):
-                raise InputError(f"{name} = {value!r} {unit} must be a number in [{lo:g}, {hi:g}]")
-        if self.contact_tilt is not None and not (
-                isinstance(self.contact_tilt, (int, float)) and 0.0 <= self.contact_tilt <= 0.5):
-            raise InputError(f"contact_tilt = {self.contact_tilt!r} deg must be a number in [0, 0.5] "
-                             "(or omitted: the compliance of the bed sets it)")
-        if not (isinstance(self.friction, (int, float)) and (self.friction == math.inf or
-                                                              0.0 < self.friction <= 10.0)):
-            raise InputError(f"friction = {self.friction!r} must be a number in (0, 10], or inf for rolling "
-                             "without slip")
-        if not (isinstance(self.normal_stiffness, (int, float)) and 1e6 <= self.normal_stiffness <= math.inf):
-            raise InputError(f"normal_stiffness = {self.normal_stiffness!r} Pa/m must be a number in [1e6, inf]")
-        if self.contact_damping is not None and not (
-                isinstance(self.contact_damping, (int, float)) and 0.0 <= self.contact_damping < math.inf):
-            raise InputError(f"contact_damping = {self.contact_damping!r} Pa s/m must be a number >= 0 "
-                             "(or omitted for critical damping)")
-        for name, value in dict(self.numerics).items():  # the numerical choices the model declares
-            if name not in model.numerics:
-                raise InputError(f"numerics: {name!r} is not a numerical choice of the {model.name} model; "
-                                 f"choose from {', '.join(model.numerics)}")
-            if name in _NUMERICS_RANGES:
-                _number(value, f"numerics: {name}", *_NUMERICS_RANGES[name][:2], "", _NUMERICS_RANGES[name][2])
-            elif not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-                raise InputError(f"numerics: {name} = {value!r} must be a positive number")
-        for name in ("rtol", "atol", "output_step"):
-            value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-                raise InputError(f"{name} = {value!r} must be a positive number")
-        if self.restitution is not None and not (0.0 <= self.restitution <= 1.0):
-            raise InputError(f"restitution = {self.restitution!r} must be between 0 and 1 (or omitted)")
-        _check_compliant(self, model)
+        # every option against its declaration, normalised (whole numbers given as floats by study
+        # files become ints, lists become tuples)
+        for name, option in OPTIONS.items():
+            object.__setattr__(self, name, option.check(getattr(self, name)))
+        _check_numerics(self.numerics, model)
+        _check_across(self, model)
+
+
+def _check_numerics(numerics, model):
+    """Overrides of the numerical choices ``model`` declares, each against its declaration."""
+    for name, value in dict(numerics).items():
+        if name not in model.numeric_options:
+            raise InputError(f"numerics: {name!r} is not a numerical choice of the {model.name} model; "
+                             f"choose from {', '.join(model.numeric_options)}")
+        model.numeric_options[name].check(value, f"numerics: {name}")
+
+
+def _check_across(settings, model):
+    """The rules that tie options together or to the model."""
+    if settings.step is not None and settings.integrator != "semi-implicit":
+        raise InputError(f"step = {settings.step:g} s is the fixed step of the semi-implicit integrator; "
+                         f"integrator = {settings.integrator!r} chooses its own steps (set rtol/atol instead)")
+    if model.drums:
+        # the rigid models also take an infinite stiffness and friction (the paper's point contact
+        # rolling without slip); the joints of contact points need finite ones
+        joints = OPTIONS["joint_stiffness"]
+        if not settings.normal_stiffness <= joints.hi:
+            raise InputError(f"normal_stiffness = {settings.normal_stiffness!r} Pa/m: the {model.name} model's "
+                             f"joints of contact points need a finite stiffness in [{joints.lo:g}, {joints.hi:g}] "
+                             "(inf is the rigid models' point contact)")
+        if not math.isfinite(settings.friction):
+            raise InputError("friction = inf is the rigid models' rolling without slip; the compliant model "
+                             "needs a finite friction coefficient at the base (e.g. 10 for no sliding)")
 
 
 @dataclass(frozen=True)
@@ -280,84 +277,6 @@ def housner_restitution(column):
     the same outline. Clipped at 0 for squat columns (I_y_hat < 2).
     """
     return max(0.0, 1.0 - 2.0 / column.inertia_transverse_hat)
-
-
-# -- the compliant model's fields ------------------------------------------------------------
-
-_STIFFNESS = (1e6, 1e14, "Pa/m", "normal stiffness of the joints per unit area")
-_RANGES = {  # name: (low, high, unit, what)
-    "stiffness_ratio": (1e-3, 10.0, "", "shear/normal stiffness ratio of the joints"),
-    "base_anathyrosis": (0.0, 0.95, "", "inner/outer radius of the base's contact ring (0: full disc)"),
-    "monitor_step": (1e-5, 1.0, "s", "sampling interval of the peak and contact statistics of the adaptive integrators"),
-}
-
-
-def _number(value, name, lo, hi, unit, what):
-    ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
-    if not (ok and lo <= value <= hi):
-        raise InputError(f"{name} = {value!r} {unit}: the {what} must be a number in [{lo:g}, {hi:g}]".replace("  ", " "))
-    return float(value)
-
-
-def _whole(settings, name, lo, hi, even=False):
-    value = getattr(settings, name)
-    ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value) and value == int(value)
-    if not (ok and lo <= value <= hi and (not even or int(value) % 2 == 0)):
-        kind = "an even whole number" if even else "a whole number"
-        raise InputError(f"{name} = {value!r} must be {kind} from {lo} to {hi}")
-    object.__setattr__(settings, name, int(value))
-
-
-def _number_or_list(settings, name, lo, hi, what):
-    value = getattr(settings, name)
-    if value is None:
-        return
-    if isinstance(value, (list, tuple)):
-        checked = tuple(_number(v, f"{name}[{i}]", lo, hi, "", what) for i, v in enumerate(value))
-        if not checked:
-            raise InputError(f"{name} is an empty list: give one number, or one per bed joint (bottom first)")
-        object.__setattr__(settings, name, checked)
-    else:
-        object.__setattr__(settings, name, _number(value, name, lo, hi, "", what))
-
-
-def _check_compliant(settings, model):
-    """Check (and normalise) the compliant-model fields of a ModelSettings, naming the field.
-
-    Called by ``ModelSettings.__post_init__`` for every model: the fields exist for all.
-    Whole-number fields given as floats (study files) become ints; lists become tuples.
-    """
-    for name, (lo, hi, unit, what) in _RANGES.items():
-        object.__setattr__(settings, name, _number(getattr(settings, name), name, lo, hi, unit, what))
-    if settings.integrator not in INTEGRATORS:
-        raise InputError(f"integrator = {settings.integrator!r} is unknown; choose one of {', '.join(INTEGRATORS)} "
-                         "(semi-implicit, the default, takes fixed steps; dopri5 is the adaptive reference, "
-                         "dop853 the one before it)")
-    if settings.step is not None:
-        object.__setattr__(settings, "step", _number(settings.step, "step", 1e-7, 0.01, "s",
-                                                     "fixed step of the semi-implicit integrator"))
-        if settings.integrator != "semi-implicit":
-            raise InputError(f"step = {settings.step:g} s is the fixed step of the semi-implicit integrator; "
-                             f"integrator = {settings.integrator!r} chooses its own steps (set rtol/atol instead)")
-    _whole(settings, "contact_rings", 2, 8)
-    _whole(settings, "contact_sectors", 4, 256, even=True)
-    if settings.joint_stiffness is not None:
-        lo, hi, unit, _ = _STIFFNESS
-        object.__setattr__(settings, "joint_stiffness", _number(
-            settings.joint_stiffness, "joint_stiffness", lo, hi, unit, "normal stiffness of the bed joints per unit area"))
-    if settings.contact_damping is not None:
-        object.__setattr__(settings, "contact_damping", _number(
-            settings.contact_damping, "contact_damping", 0.0, 1e12, "Pa s/m",
-            "normal damping of the joints per unit area (omit it to calibrate it to the restitution)"))
-    _number_or_list(settings, "joint_friction", 1e-3, 100.0, "friction coefficient of the bed joints")
-    _number_or_list(settings, "anathyrosis", 0.0, 0.95, "inner/outer radius of the bed joints' contact ring")
-    if model.drums:
-        # the rigid models also take an infinite stiffness and friction (the paper's point contact
-        # rolling without slip); the joints of contact points need finite ones
-        _number(settings.normal_stiffness, "normal_stiffness", *_STIFFNESS)
-        if not math.isfinite(settings.friction):
-            raise InputError("friction = inf is the rigid models' rolling without slip; the compliant model "
-                             "needs a finite friction coefficient at the base (e.g. 10 for no sliding)")
 
 
 #: The settings of a free motion (:func:`pipeline.simulate.simulate_free`): tight tolerances,

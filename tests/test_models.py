@@ -7,6 +7,7 @@ one-sine pulse of 4 m/s^2 and 0.5 s, strong enough to rock it (its uplift accele
 g R / (h/2) ~ 2.5 m/s^2).
 """
 
+import math
 from importlib import import_module
 
 import pytest
@@ -18,6 +19,7 @@ from pipeline.drums import DrumColumn
 from pipeline.errors import InputError
 from pipeline.geometry import Column
 from pipeline.groundmotion.synthesis import one_sine_pulse
+from pipeline.models.options import OPTIONS
 from pipeline.settings import Excitation, ModelSettings
 from pipeline.simulate import simulate
 
@@ -48,11 +50,52 @@ def test_a_model_runs_a_pulse_and_its_summary_holds_its_declared_results(model, 
     assert not uncatalogued, f"{model.name} declares results the catalog does not know: {uncatalogued}"
     assert summary["peak_theta_ratio"] > 0.05  # the pulse rocked it: the run did something
     assert summary["uplifted"]
-    # every history is a catalog variable (named and documented once, docs/variables.md), a flag,
-    # or the copy in degrees the catalog adds to an angle (``theta_deg``)
-    unknown = [name for name in response.histories.data_vars
-               if name not in VARIABLES and name not in FLAGS and name.removesuffix("_deg") not in VARIABLES]
-    assert not unknown, f"{model.name} writes histories the catalog does not know: {unknown}"
+    # every history is a catalog variable (named and documented once, docs/variables.md) or a flag,
+    # and the run writes exactly the declared ones and the copies in degrees the catalog adds to an
+    # angle (``theta_deg``)
+    uncatalogued = [name for name in model.histories if name not in VARIABLES and name not in FLAGS]
+    assert not uncatalogued, f"{model.name} declares histories the catalog does not know: {uncatalogued}"
+    declared = set(model.histories) | {f"{n}_deg" for n in model.histories if n in VARIABLES and VARIABLES[n].degrees}
+    written = set(response.histories.data_vars)
+    assert written == declared, (f"{model.name} writes {sorted(written - declared)} it does not declare and "
+                                 f"declares {sorted(declared - written)} it does not write")
+
+
+@pytest.mark.parametrize("model", MODELS, ids=NAMES)
+def test_a_models_declared_state_layout_is_its_kernels(model):
+    """The names of the state vector's slots (a stack's per body) sit where the kernel's index constants say."""
+    kernel = import_module(model.state.kernel)
+    assert getattr(kernel, model.state.size) == len(model.state.slots), model.state.size
+    for i, (name, constant) in enumerate(model.state.slots):
+        assert getattr(kernel, constant) == i, (name, constant)
+    assert len(set(model.state.names)) == len(model.state.names)
+
+
+def _out_of_range(option):
+    """A value ``option`` refuses: past its range, or not one of its words."""
+    if option.kind == "choice":
+        return "no-such-" + option.choices[0]
+    if option.kind == "bool":
+        return "yes"
+    return 2 * option.hi if math.isfinite(option.hi) else option.lo - 1.0
+
+
+@pytest.mark.parametrize("option", OPTIONS.values(), ids=list(OPTIONS))
+def test_every_option_out_of_range_is_refused_naming_it(option):
+    """Over the whole table, for every model that reads it (or the default model): the message names the option."""
+    readers = [m.name for m in MODELS if option.name in m.options] or [models.DEFAULT]
+    for name in readers:
+        with pytest.raises(InputError, match=f"^{option.name}"):
+            ModelSettings(model=name, **{option.name: _out_of_range(option)})
+    assert ModelSettings(**{option.name: option.default}) == ModelSettings()  # its default is accepted
+
+
+@pytest.mark.parametrize("model", MODELS, ids=NAMES)
+def test_a_models_options_are_declared_ones(model):
+    """``model.options`` are the table's declarations, so that its defaults and units are the settings'."""
+    for name, option in model.options.items():
+        assert option is OPTIONS[name]
+        assert getattr(ModelSettings(model=model.name), name) == option.default
 
 
 @pytest.mark.parametrize("model", MODELS, ids=NAMES)

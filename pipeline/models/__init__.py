@@ -2,8 +2,9 @@
 
 Each entry (:class:`pipeline.models.spec.Model`) says what its model is (title and words for
 help, plots and reports), the body it runs (monoliths, or drums too), whether the incidence
-angle matters, its numerical choices with their defaults, its compiled kernels and where its
-simulation is. Everything above the kernels asks the registry and compares no model's name:
+angle matters, the options it reads (declared once in :mod:`pipeline.models.options`) and its
+numerical choices with their defaults, units and ranges, its state layout and histories, its
+compiled kernels and where its simulation is. Everything above the kernels asks the registry and compares no model's name:
 a new model is a kernel, one entry here (a module of this package) and catalog entries for
 its new variables (docs/architecture.md).
 """
@@ -11,9 +12,10 @@ its new variables (docs/architecture.md).
 from pipeline.errors import InputError
 from pipeline.models.compliant import COMPLIANT_DRUMS
 from pipeline.models.rigid import PLANAR_ROCKING, ROLLING_FRUSTUM
-from pipeline.models.spec import Model, ModelDescription
+from pipeline.models.options import OPTIONS, Option
+from pipeline.models.spec import Model, ModelDescription, StateLayout
 
-__all__ = ["Model", "ModelDescription", "REGISTRY", "DEFAULT", "names", "get", "describe", "title", "markdown",
+__all__ = ["Model", "ModelDescription", "StateLayout", "Option", "OPTIONS", "REGISTRY", "DEFAULT", "names", "get", "describe", "title", "markdown",
            "style", "planar_pair", "base_of", "of_results", "flag", "results_title", "variant_text"]
 
 #: The models by name, in the order help and reports list them.

@@ -4,10 +4,37 @@ capital, on joints of contact points (:mod:`pipeline.compliant`, kernels in
 
 from types import MappingProxyType
 
+from pipeline.models.options import INTEGRATORS, Option, declared
 from pipeline.models.rigid import RESULTS
-from pipeline.models.spec import Model, ModelDescription
+from pipeline.models.spec import Model, ModelDescription, StateLayout, read
 
 __all__ = ["COMPLIANT_DRUMS"]
+
+# edge_band: width of the band past a face's edge over which a point's support runs off
+# (pipeline.dynamics.compliant.joint.overlap), in spacings of the two outer rings of contact points;
+# step_safety: the fixed step as a fraction of the stability limit 2 / omega_max of the
+# stiffest joint mode (pipeline.dynamics.compliant.semi_implicit): about 4 % frequency error on that
+# mode, far above the rocking ones
+NUMERICS = declared(
+    Option("edge_band", 0.5, "1", "number",
+           "width of the band past a face's edge, in spacings of the outer rings of contact points", 0.05, 5.0),
+    Option("step_safety", 0.5, "1", "number",
+           "fixed step as a fraction of the stability limit of the stiffest joint", 0.01, 0.9),
+)
+
+# Each body's block of the stack's state vector (pipeline.dynamics.compliant.stack): centre of mass,
+# orientation quaternion (body to ground), velocity of the centre (ground frame), angular velocity
+# (body axes); the vector goes on with the contact points' shear displacements, the energy
+# accumulators and the joints' slip paths
+STATE = StateLayout("pipeline.dynamics.compliant.stack", "NB", (
+    ("x", "X"), ("y", "Y"), ("z", "Z"), ("q_w", "QW"), ("q_x", "QX"), ("q_y", "QY"), ("q_z", "QZ"),
+    ("v_x", "VX"), ("v_y", "VY"), ("v_z", "VZ"), ("omega_x", "WX"), ("omega_y", "WY"), ("omega_z", "WZ")), per="body")
+
+# the time histories it writes, by catalog name: the column's (its base joint's) and every drum's
+HISTORIES = ("theta", "phi", "psi", "x_p", "y_p", "x_b", "y_b", "omega_zeta", "energy_hat", "work_ground_hat",
+             "normal_force_hat", "tangential_force_hat", "mu_mob", "ground_acc_x", "ground_acc_y", "ground_acc_z",
+             "slip", "contact_area_fraction", "normal_force", "tangential_force", "energy", "phase", "drum_dx",
+             "drum_dy", "drum_theta", "drum_rotation", "drum_dz", "drum_phi")
 
 COMPLIANT_DRUMS = Model(
     name="3d-compliant",
@@ -36,12 +63,9 @@ COMPLIANT_DRUMS = Model(
     drums=True,
     angle_invariant=False,  # its contact points are not axisymmetric: it feels the direction
     planar=False,
-    # edge_band: width of the band past a face's edge over which a point's support runs off
-    # (pipeline.dynamics.compliant.joint.overlap), in spacings of the two outer rings of contact points [1];
-    # step_safety: the fixed step as a fraction of the stability limit 2 / omega_max of the
-    # stiffest joint mode (pipeline.dynamics.compliant.semi_implicit) [1]: about 4 % frequency error on that
-    # mode, far above the rocking ones
-    numerics=MappingProxyType({"edge_band": 0.5, "step_safety": 0.5}),
+    numeric_options=NUMERICS,
+    state=STATE,
+    histories=HISTORIES,
     # and of a column of drums: the largest residual slip of a bed joint over its diameter, the body
     # that fell first, the residual dislocation of every joint
     results=RESULTS + ("dislocation_ratio", "overturn_drum", "joint_slip", "joint_twist", "joint_tilt",
@@ -50,12 +74,12 @@ COMPLIANT_DRUMS = Model(
     runner="pipeline.compliant:simulate_compliant",
     # fixed steps of the semi-implicit scheme (the default), or the adaptive ones it is checked
     # against (pipeline.dynamics.compliant.stack.METHODS)
-    integrators=("semi-implicit", "dopri5", "dop853"),
+    integrators=INTEGRATORS,
     style=MappingProxyType(dict(ls="-.", marker="^", filled=False, band_alpha=0.07)),
     # the base's friction and stiffness, the dashpots (or the restitution they are calibrated to), the
     # joints' points and law, the integrator and its step (rtol, atol: the adaptive ones)
-    options=("restitution", "friction", "normal_stiffness", "contact_damping", "tail", "joint_stiffness",
-             "stiffness_ratio", "contact_rings", "contact_sectors", "joint_friction", "anathyrosis",
-             "base_anathyrosis", "monitor_step", "integrator", "step", "rtol", "atol"),
+    options=read("restitution", "friction", "normal_stiffness", "contact_damping", "tail", "joint_stiffness",
+                 "stiffness_ratio", "contact_rings", "contact_sectors", "joint_friction", "anathyrosis",
+                 "base_anathyrosis", "monitor_step", "integrator", "step", "rtol", "atol"),
     calibration="pipeline.compliant:calibrated_damping",
 )

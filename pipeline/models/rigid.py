@@ -5,7 +5,8 @@ through :func:`pipeline.simulate.simulate_rigid`."""
 from types import MappingProxyType
 
 from pipeline.citation import CITE, REFERENCE
-from pipeline.models.spec import Model, ModelDescription
+from pipeline.models.options import Option, declared
+from pipeline.models.spec import Model, ModelDescription, StateLayout, read
 
 __all__ = ["ROLLING_FRUSTUM", "PLANAR_ROCKING"]
 
@@ -51,19 +52,49 @@ _RIGID_CONTACT = (  # {pivot}: what the tipped column turns on, {rim}: where it 
 # slaved_turn [rad]: where the contact frame turns fast (phi' ~ 1e6 near the
 # vertical) a lag of slave_time would let it turn far; the layer's edge shrinks
 # so that the frame turns at most about slaved_turn within the lag (layer_edge).
-NUMERICS = {"landing_margin": 1e-3, "min_rebound": 1e-8, "slave_time": 1e-6, "look_ahead": 1e-7,
-            "slaved_turn": 1e-3}
+NUMERICS = declared(
+    Option("landing_margin", 1e-3, "1", "number", "landing surface's depth below theta_c, a fraction of it", 0.0,
+           open_lo=True),
+    Option("min_rebound", 1e-8, "rad", "number", "smallest rebound above theta_c that is not a settling", 0.0,
+           open_lo=True),
+    Option("slave_time", 1e-6, "1", "number", "lag of a slaved slip direction, in units of sqrt(R/g)", 0.0,
+           open_lo=True),
+    Option("look_ahead", 1e-7, "1", "number", "look-ahead of a phase started on a bound, in units of sqrt(R/g)",
+           0.0, open_lo=True),
+    Option("slaved_turn", 1e-3, "rad", "number", "largest turn of the contact frame within the slaving lag", 0.0,
+           open_lo=True),
+)
+
+# The state vector of the 3D kernel (pipeline.dynamics.rigid.frustum): its slots by name, and the
+# kernel's index constant of each (tests/test_models.py checks them against the kernel)
+STATE_3D = StateLayout("pipeline.dynamics.rigid.frustum", "N_STATE", (
+    ("phi", "PHI"), ("theta", "THETA"), ("psi", "PSI"), ("phi_dot", "DPHI"), ("theta_dot", "DTHETA"),
+    ("omega_zeta", "OMEGA"), ("x_p", "XP"), ("y_p", "YP"), ("work", "WORK"), ("dissipated", "DISSIPATED"),
+    ("friction", "FRICTION"), ("slip_speed", "SLIP_SPEED"), ("slip_direction", "SLIP_DIR"), ("z_c", "ZC"),
+    ("v_x", "VX"), ("v_y", "VY"), ("v_z", "VZ")))
+# planar rocking (pipeline.dynamics.rigid.rocking): x, v along the incidence direction mean the pivot or the
+# base centre or the centre of mass, by phase
+STATE_2D = StateLayout("pipeline.dynamics.rigid.rocking", "N_STATE2", (
+    ("theta", "THETA2"), ("theta_dot", "DTHETA2"), ("work", "WORK2"), ("dissipated", "DISSIPATED2"),
+    ("friction", "FRICTION2"), ("x", "X2"), ("v", "V2"), ("z", "Z2"), ("v_z", "VZ2")))
+
+# the time histories each writes, by catalog name (pipeline.dataset.VARIABLES, FLAGS)
+_HISTORIES = ("phi", "theta", "x_p", "y_p", "x_b", "y_b", "theta_dot", "omega_zeta", "energy_hat", "normal_force_hat",
+              "tangential_force_hat", "mu_mob", "slip_velocity", "ground_acc_x", "ground_acc_y", "ground_acc_z",
+              "phase")
+HISTORIES_2D = _HISTORIES
+HISTORIES_3D = _HISTORIES + ("psi", "phi_dot", "psi_dot")
 
 # what a study keeps of a run, by catalog name (pipeline.dataset)
 RESULTS = ("peak_theta", "peak_theta_ratio", "peak_time", "overturn_time", "uplift_time", "peak_mu_mob",
            "residual_rotation", "residual_displacement", "work_ground", "energy_balance_error", "n_impacts",
            "overturned", "uplifted", "sliding_onset", "lift_off")
 # what both rigid models share: a monolith, the same kernels' thresholds and results, one runner
-_RIGID = dict(drums=False, numerics=MappingProxyType(NUMERICS), results=RESULTS,
+_RIGID = dict(drums=False, numeric_options=NUMERICS, results=RESULTS,
               runner="pipeline.simulate:simulate_rigid",
               # its impact law, contact tilt and couple, friction, contact patch (k_n, c_n), tail, tolerances
-              options=("restitution", "contact_tilt", "damping", "friction", "normal_stiffness", "contact_damping",
-                       "tail", "rtol", "atol"))
+              options=read("restitution", "contact_tilt", "damping", "friction", "normal_stiffness", "contact_damping",
+                           "tail", "rtol", "atol"))
 
 ROLLING_FRUSTUM = Model(
     name="3d",
@@ -83,6 +114,8 @@ ROLLING_FRUSTUM = Model(
     in_short="rigid conical frustum rolling on the rim of its base (the paper)",
     angle_invariant=True,
     planar=False,
+    state=STATE_3D,
+    histories=HISTORIES_3D,
     entry_points=(("pipeline.dynamics.rigid.run3d", "run_frustum"),
                   ("pipeline.dynamics.rigid.diagnostics", "diagnostics_rows")),
     **_RIGID,
@@ -111,6 +144,8 @@ PLANAR_ROCKING = Model(
     angle_invariant=False,
     planar=True,
     planar_of=ROLLING_FRUSTUM.name,
+    state=STATE_2D,
+    histories=HISTORIES_2D,
     entry_points=(("pipeline.dynamics.rigid.run2d", "run_rocking"),
                   ("pipeline.dynamics.rigid.diagnostics", "diagnostics_rows")),
     **_RIGID,

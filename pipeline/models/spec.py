@@ -1,8 +1,9 @@
-"""What a model declares: :class:`Model` (the registry's entries) and :class:`ModelDescription`.
+"""What a model declares: :class:`Model` (the registry's entries), :class:`ModelDescription` and
+:class:`StateLayout`.
 
 Plain data, below everything that reads it: a consumer asks an entry what it needs
-(the body it runs, whether the incidence angle matters, its numerical choices, its compiled
-kernels, its words for people) instead of comparing the model's name.
+(the body it runs, whether the incidence angle matters, its options and numerical choices,
+its compiled kernels, its words for people) instead of comparing the model's name.
 """
 
 from dataclasses import dataclass, field
@@ -10,7 +11,41 @@ from importlib import import_module
 from types import MappingProxyType
 from typing import NamedTuple
 
-__all__ = ["Model", "ModelDescription"]
+from pipeline.models.options import OPTIONS, declared, defaults
+
+__all__ = ["Model", "ModelDescription", "StateLayout", "read"]
+
+
+def read(*names):
+    """The declarations (:data:`pipeline.models.options.OPTIONS`) of the options ``names``, in that order."""
+    return declared(*(OPTIONS[name] for name in names))
+
+
+class StateLayout(NamedTuple):
+    """The state vector of a model's kernel, by name.
+
+    Attributes
+    ----------
+    kernel : str
+        The kernel module that lays the state out (``"pipeline.dynamics.rigid.frustum"``).
+    size : str
+        Its constant of the vector's (or, ``per`` a body, the block's) length (``"N_STATE"``).
+    slots : tuple of (str, str)
+        The components in order: (name, the kernel's index constant of it).
+    per : str
+        ``""``: the whole vector; ``"body"``: the block of each body, bottom first (a stack's
+        vector goes on after the blocks with its contact points' and joints' states).
+    """
+
+    kernel: str
+    size: str
+    slots: tuple
+    per: str = ""
+
+    @property
+    def names(self):
+        """The components' names, in order."""
+        return tuple(name for name, _ in self.slots)
 
 
 class ModelDescription(NamedTuple):
@@ -71,9 +106,15 @@ class Model:
     planar_of : str or None
         For a planar model, the name of the 3D model it is the planar counterpart of (reports
         compare the two).
-    numerics : mapping of str to float
-        Its numerical choices that are not measured physics, with their defaults
-        (``ModelSettings.numerics`` overrides them; studies show what they move).
+    numeric_options : mapping of str to Option
+        Its numerical choices that are not measured physics, declared with their defaults,
+        units and ranges (:class:`pipeline.models.options.Option`; ``ModelSettings.numerics``
+        overrides them; studies show what they move). :attr:`numerics` are their defaults.
+    state : StateLayout
+        Its kernel's state vector by name (or a stack's per body).
+    histories : tuple of str
+        The time histories a run writes, by catalog name (:data:`pipeline.dataset.VARIABLES` or
+        ``FLAGS``; the catalog adds a ``NAME_deg`` twin of an angle people read).
     results : tuple of str
         The scalar results of one run that a study keeps, by catalog name
         (:data:`pipeline.dataset.STUDY_VARIABLES`): every run's summary holds them.
@@ -91,9 +132,11 @@ class Model:
     style : mapping
         How plots draw it: line style ``ls``, ``marker``, ``filled`` marker, ``band_alpha``
         (opacity of its bootstrap band).
-    options : tuple of str
-        The fields of :class:`pipeline.settings.ModelSettings` it reads that a study may set (its
-        ``[options]`` take any model's; a variant ``[models.NAME]`` only its model's).
+    options : mapping of str to Option
+        The options it reads (fields of :class:`pipeline.settings.ModelSettings`), declared in
+        :data:`pipeline.models.options.OPTIONS` with defaults, units and ranges (:func:`read`): a
+        study may set them (its ``[options]`` take any model's; a variant ``[models.NAME]`` only
+        its model's) and ``frustum simulate`` has a flag for each.
     calibration : str
         ``"module:function"`` that calibrates its contact dashpots on a column's outline,
         called as ``function(column, settings)`` and returning ``(c_n [Pa s/m], restitution
@@ -106,15 +149,22 @@ class Model:
     drums: bool
     angle_invariant: bool
     planar: bool
-    numerics: MappingProxyType
+    numeric_options: MappingProxyType
+    state: StateLayout
+    histories: tuple
     results: tuple
     entry_points: tuple
     runner: str
     integrators: tuple = ()
     style: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
     planar_of: str | None = None
-    options: tuple = ()
+    options: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
     calibration: str = ""
+
+    @property
+    def numerics(self):
+        """Its numerical choices' defaults, ``{name: value}``."""
+        return defaults(self.numeric_options)
 
     @property
     def title(self):
