@@ -106,9 +106,12 @@ _UNKNOWN_STYLE = {"ls": ":", "marker": "D", "filled": False, "band_alpha": 0.07}
 
 
 def style(name):
-    """How plots draw a model: line style ``ls``, ``marker``, ``filled`` marker, ``band_alpha``."""
+    """How plots draw a model: line style ``ls``, ``marker``, ``filled`` marker, ``band_alpha``.
+
+    An entry that says nothing of some of them (a new model need not) is drawn as an unknown
+    model is, in those."""
     model = REGISTRY.get(name)
-    return dict(model.style) if model is not None else dict(_UNKNOWN_STYLE)
+    return {**_UNKNOWN_STYLE, **(model.style if model is not None else {})}
 
 
 def planar_pair(names_):
