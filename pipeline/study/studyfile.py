@@ -72,9 +72,9 @@ from pipeline.columns import named_columns
 from pipeline.drums import Capital, DrumColumn
 from pipeline.errors import InputError
 from pipeline.geometry import Column
-from pipeline.limits import check_tolerance
 from pipeline.models import DEFAULT, REGISTRY
-from pipeline.settings import INTEGRATORS, check_column
+from pipeline.models.options import OPTIONS
+from pipeline.settings import check_column
 from pipeline.study.spec import BODIES, ColumnInfo, Intensity, ModelVariant, RecordSpec, Study, variant_settings
 from pipeline.units import G
 
@@ -255,22 +255,23 @@ def parse_study(data, path="<study>", digest=""):
 
 
 def _options(ck, table, field, allowed):
-    """Checked model options of a table (``[options]`` or a variant's ``options``), sorted by name."""
+    """Checked model options of a table (``[options]`` or a variant's ``options``), sorted by name.
+
+    Each is checked against its declaration (:data:`pipeline.models.options.OPTIONS`); a study's
+    numbers are finite (no lists, no inf) and kept as floats.
+    """
     options = ck.table(table, field, allowed)
+    checked = {}
     for key, value in options.items():
-        if key == "restitution":
-            ck.number(value, f"{field}.restitution", lo=0.0, hi=1.0)
-        elif key == "integrator":
-            if value not in INTEGRATORS:
-                ck.fail(f"{field}.integrator", f"{value!r} is unknown; choose one of {', '.join(INTEGRATORS)}")
-        elif key in ("rtol", "atol"):
-            try:
-                check_tolerance(key, value, "value")
-            except InputError as exc:
-                ck.fail(f"{field}.{key}", str(exc))
-        else:
-            ck.number(value, f"{field}.{key}")
-    return tuple(sorted((k, v if k == "integrator" else float(v)) for k, v in options.items()))
+        option = OPTIONS[key]
+        if option.kind in ("number", "whole", "numbers"):
+            value = ck.number(value, f"{field}.{key}")
+        try:
+            option.check(value)
+        except InputError as exc:
+            ck.fail(f"{field}.{key}", str(exc))
+        checked[key] = value
+    return tuple(sorted(checked.items()))
 
 
 def _models(value, ck):
