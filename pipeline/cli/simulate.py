@@ -10,6 +10,7 @@ from pipeline.cli.records import add_record_options, load_record, record_inputs
 from pipeline.errors import InputError
 from pipeline.models import DEFAULT, REGISTRY
 from pipeline.models.rigid import ROLLING_FRUSTUM
+from pipeline.models.options import OPTIONS
 from pipeline.limits import check_tolerance
 from pipeline.paths import check_output_file, check_plot_file
 from pipeline.settings import FREE_MOTION, ModelSettings
@@ -66,43 +67,17 @@ def register(subparsers):
     quake.add_argument("--model", default=DEFAULT, metavar="|".join(REGISTRY) + "|" + ",".join(list(REGISTRY)[:2]),
                        help="; ".join(f"{m.name}: {m.title}" for m in REGISTRY.values())
                        + f"; several, comma-separated: in one file along the model dimension (default {DEFAULT})")
-    quake.add_argument("--tail", type=float, default=DEFAULTS.tail, metavar="S",
-                       help=f"free motion after the record ends [s] (default {DEFAULTS.tail:g})")
-    quake.add_argument("--contact-tilt", type=float, default=None, metavar="DEG",
-                       help="tilt below which the base is in full contact [deg] (default: where the bed's "
-                       "compliance loses full contact under the weight, theta_k)")
-    quake.add_argument("--damping", type=float, default=DEFAULTS.damping, metavar="NU",
-                       help="viscous contact couple per m g R sqrt(R/g) [1] (default 0: none)")
-    quake.add_argument("--friction", type=float, default=DEFAULTS.friction, metavar="MU",
-                       help="Coulomb friction of the base on the ground [1]: it slides, or its rim slips, "
-                       f"beyond it (default {DEFAULTS.friction:g})")
     quake.add_argument("--plot", metavar="FILE.png",
                        help="also draw theta, contact path, mu_mob and excitation (any format matplotlib writes: "
                        ".png, .pdf, .svg, ...; with two models, one file per model: FILE_3d.png, FILE_2d.png)")
-    joints = p.add_argument_group("compliant-contact model (--model 3d-compliant)")
+    joints = p.add_argument_group(f"column of drums (--model {', '.join(m.name for m in REGISTRY.values() if m.drums)})")
     joints.add_argument("--drums", type=int, default=None, metavar="N",
                         help="cut the column into N drums of equal height (1: the monolith)")
     joints.add_argument("--drum-heights", default=None, metavar="H1,H2,...",
                         help="heights of the drums bottom first [m], adding up to h (instead of --drums)")
     joints.add_argument("--capital", default=None, metavar="SIDE,HEIGHT",
                         help="a square capital block on top, side and height [m]")
-    joints.add_argument("--joint-friction", type=float, default=None, metavar="MU",
-                        help="friction coefficient of the bed joints [1] (default: --friction, the base's)")
-    joints.add_argument("--normal-stiffness", type=float, default=None, metavar="PA_M",
-                        help="normal stiffness of the base per unit area [Pa/m] (default 1e10)")
-    joints.add_argument("--joint-stiffness", type=float, default=None, metavar="PA_M",
-                        help="normal stiffness of the bed joints per unit area [Pa/m] (default: the base's)")
-    joints.add_argument("--anathyrosis", type=float, default=0.0, metavar="RATIO",
-                        help="inner/outer radius of the bed joints' contact ring [1] (default 0: full)")
-    joints.add_argument("--contact-damping", type=float, default=None, metavar="PA_S_M",
-                        help="normal dashpots of the joints per unit area [Pa s/m] (default: calibrated to the "
-                        "restitution, which needs a bed stiff enough to rock on)")
-    joints.add_argument("--integrator", default="semi-implicit", choices=("semi-implicit", "dopri5", "dop853"),
-                        help="semi-implicit: fixed steps, springs explicit, dashpots implicit (default, fast); "
-                        "dopri5: the adaptive reference (--rtol, --atol; drum stacks take minutes)")
-    joints.add_argument("--step", type=float, default=None, metavar="S",
-                        help="fixed step of the semi-implicit integrator [s] (default: half the stability limit "
-                        "of the stiffest joint; a step above the limit is refused)")
+    add_model_options(p)
     free = p.add_argument_group("initial state (free motion)")
     for name, unit, default, text in [  # noqa: B007
         ("phi0", "deg", 0.0, "precession angle"),
@@ -119,18 +94,64 @@ def register(subparsers):
                      help=f"sampling interval of the histories [s] (default {DEFAULTS.output_step:g})")
     run.add_argument("--duration", type=float, default=None, metavar="S",
                      help="simulated time of a free motion [s]")
-    run.add_argument("--rtol", type=float, default=None,
-                     help=f"relative tolerance (default {DEFAULTS.rtol:g} with a record, {FREE_MOTION.rtol:g} free)")
-    run.add_argument("--atol", type=float, default=None,
-                     help=f"absolute tolerance (default {DEFAULTS.atol:g} with a record, {FREE_MOTION.atol:g} free)")
-    run.add_argument("--restitution", type=float, default=None, metavar="E",
-                     help="theta' after / before a planar landing [1] (default: angular momentum "
-                     "conservation, 1 - 2 m R^2 / I_P)")
     run.add_argument("--out", required=True, metavar="FILE.nc", help="netCDF file to write")
     run.add_argument("--animate", metavar="FILE.gif",
                      help="also animate the motion, every model side by side in real time (.gif, or .mp4 with "
                      "pip install -e '.[video]'); as 'frustum animate OUT --out FILE'")
     p.set_defaults(handler=run_simulate)
+
+
+def _readers():
+    """``{option name: names of the models that read it}``, in the table's order (the options some model reads)."""
+    readers = {name: tuple(m.name for m in REGISTRY.values() if name in m.options) for name in OPTIONS}
+    return {name: models for name, models in readers.items() if models}
+
+
+# defaults that depend on the run: a free motion integrates tighter
+_DEFAULT_TEXT = {name: f"default {getattr(DEFAULTS, name):g} with a record, {getattr(FREE_MOTION, name):g} free"
+                 for name in ("rtol", "atol")}
+
+
+def add_model_options(parser):
+    """One flag per option some model reads (``--name-with-dashes``), in a group per set of models that read it.
+
+    Help, unit, default, type and choices come from the option's declaration
+    (:data:`pipeline.models.options.OPTIONS`); every flag's default is None, "not given", so
+    that each model gets the options it reads that were given and its own defaults for the rest.
+    """
+    groups = {}
+    for name, models in _readers().items():
+        groups.setdefault(models, []).append(OPTIONS[name])
+    for models, options in sorted(groups.items(), key=lambda item: -len(item[0])):
+        title = ("model options (every model)" if len(models) == len(REGISTRY) else
+                 "options of --model " + ", ".join(f"{m} ({REGISTRY[m].title})" for m in models))
+        group = parser.add_argument_group(title)
+        for option in options:
+            flag = "--" + option.name.replace("_", "-")
+            help_ = option.help(_DEFAULT_TEXT.get(option.name)).replace("%", "%%")
+            if option.kind == "bool":
+                group.add_argument(flag, action=argparse.BooleanOptionalAction, default=None, help=help_)
+            elif option.kind == "choice":
+                group.add_argument(flag, choices=option.choices, default=None, help=help_)
+            else:
+                kind = {"number": float, "whole": int, "numbers": _numbers}[option.kind]
+                group.add_argument(flag, type=kind, default=None, metavar=option.metavar or None, help=help_)
+
+
+def _numbers(text):
+    """A number, or numbers separated by commas (one per bed joint, bottom first) as a tuple."""
+    try:
+        values = tuple(float(x) for x in str(text).split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: give a number, or numbers separated by commas "
+                                         "(e.g. 0.6 or 0.6,0.5)") from None
+    return values[0] if len(values) == 1 else values
+
+
+def _model_settings(args, model, **fixed):
+    """:class:`ModelSettings` of ``model``: the options it reads whose flags were given, its defaults for the rest."""
+    given = {name: getattr(args, name) for name in REGISTRY[model].options if getattr(args, name) is not None}
+    return ModelSettings(model=model, **{**given, **fixed})
 
 
 def run_simulate(args):
@@ -184,7 +205,7 @@ def run_simulate(args):
 
         for (histories, summary), model in zip(runs, models):
             path = args.plot if len(runs) == 1 else _suffixed(args.plot, model)
-            plot_response(histories, summary, path, friction=args.friction)
+            plot_response(histories, summary, path, friction=_given(args.friction, DEFAULTS.friction))
             print(f"wrote {path}")
     if args.animate:
         from pipeline.animate import animate_file
@@ -199,9 +220,10 @@ def _check_sampling(args):
     if not (math.isfinite(args.output_step) and args.output_step > 0):
         raise InputError(f"--output-step {args.output_step!r}: give the sampling interval of the histories as a "
                          "positive number of seconds, e.g. 0.01")
-    if not (math.isfinite(args.tail) and 0 <= args.tail <= 3600):
-        raise InputError(f"--tail {args.tail!r}: give the free motion after the record as a number of seconds in "
-                         "[0, 3600], e.g. 5")
+    tail, option = _given(args.tail, DEFAULTS.tail), OPTIONS["tail"]
+    if not (math.isfinite(tail) and option.lo <= tail <= option.hi):
+        raise InputError(f"--tail {tail!r}: give the {option.words} as a number of seconds in "
+                         f"{option.range_text()}, e.g. {option.default:g}")
 
 
 def _models(text):
@@ -257,27 +279,21 @@ def _suffixed(path, model):
 
 def _earthquake(args, column, models):
     """[(histories, summary)] of the record under each model."""
-    from pipeline.settings import Excitation, ModelSettings
+    from pipeline.settings import Excitation
     from pipeline.simulate import simulate
 
     if args.theta0 is not None:
         raise InputError("--theta0 starts a free motion; an earthquake response starts at rest (drop --theta0)")
     excitation = Excitation(angle=args.angle, scale=args.scale, vertical=not args.no_vertical)
     motion = load_record(args)
-    _check_output_step(args.output_step, motion.duration + args.tail,
-                       f"record {motion.duration:g} s + --tail {args.tail:g} s", "--tail")
-    _check_history_memory(len(models) * (motion.duration + args.tail), args.output_step,
+    tail = _given(args.tail, DEFAULTS.tail)
+    _check_output_step(args.output_step, motion.duration + tail,
+                       f"record {motion.duration:g} s + --tail {tail:g} s", "--tail")
+    _check_history_memory(len(models) * (motion.duration + tail), args.output_step,
                           "the record and --tail" + (" for each model" if len(models) > 1 else ""))
     runs = []
     for model in models:
-        settings = ModelSettings(
-            model=model, restitution=args.restitution, contact_tilt=args.contact_tilt, damping=args.damping,
-            friction=args.friction, tail=args.tail, rtol=_given(args.rtol, DEFAULTS.rtol), atol=_given(args.atol, DEFAULTS.atol),
-            output_step=args.output_step, normal_stiffness=_given(args.normal_stiffness, DEFAULTS.normal_stiffness),
-            joint_stiffness=args.joint_stiffness, joint_friction=args.joint_friction, anathyrosis=args.anathyrosis,
-            **({"integrator": args.integrator, "step": args.step, "contact_damping": args.contact_damping}
-               if REGISTRY[model].drums else {}),
-        )
+        settings = _model_settings(args, model, output_step=args.output_step)
         response = simulate(column, motion, excitation, settings, progress=_progress_line(model, settings))
         runs.append((response.histories, response.summary))
     return runs
@@ -301,7 +317,7 @@ def _progress_line(model, settings):
 
 
 def _free(args, column):
-    from pipeline.settings import InitialState, ModelSettings
+    from pipeline.settings import InitialState
     from pipeline.simulate import simulate_free
 
     if args.theta0 is None:
@@ -317,7 +333,8 @@ def _free(args, column):
         psi_dot=args.psi_dot0,
     )
     settings = ModelSettings(rtol=_given(args.rtol, FREE_MOTION.rtol), atol=_given(args.atol, FREE_MOTION.atol),
-                             output_step=args.output_step, contact_tilt=0.0, damping=args.damping)
+                             output_step=args.output_step, contact_tilt=0.0,
+                             damping=_given(args.damping, DEFAULTS.damping))
     if not (math.isfinite(args.duration) and args.duration > 0):
         raise InputError(f"--duration {args.duration!r}: give a positive number of seconds")
     _check_output_step(args.output_step, args.duration, "--duration", "--duration")
@@ -353,8 +370,12 @@ def _check_history_memory(duration, output_step, what):
 
 
 def _argv_echo(args):
-    keys = ("column", "density", "record", "units", "components", "missing_y", "dt", "baseline", "angle", "scale", "model", "tail", "contact_tilt", "damping",
-            "friction", "drums", "drum_heights", "capital", "joint_friction", "normal_stiffness", "joint_stiffness",
-            "anathyrosis", "phi0", "theta0", "psi0", "phi_dot0", "theta_dot0", "psi_dot0",
-            "duration", "output_step", "rtol", "atol", "restitution", "out")
-    return [f"--{k.replace('_', '-')} {getattr(args, k)}" for k in keys if getattr(args, k, None) is not None]
+    keys = ("column", "density", "record", "units", "components", "missing_y", "dt", "baseline", "angle", "scale",
+            "model", "drums", "drum_heights", "capital", *_readers(), "phi0", "theta0", "psi0", "phi_dot0",
+            "theta_dot0", "psi_dot0", "duration", "output_step", "out")
+    return [f"--{k.replace('_', '-')} {_echo(getattr(args, k))}" for k in keys if getattr(args, k, None) is not None]
+
+
+def _echo(value):
+    """A flag's value as it is typed (a list comma-separated)."""
+    return ",".join(f"{v:g}" for v in value) if isinstance(value, tuple) else value

@@ -139,3 +139,46 @@ def test_a_full_disk_gives_one_line_and_no_partial_file(tmp_path, capsys, monkey
     err = capsys.readouterr().err
     assert err.startswith(f"frustum: error: {out}: {message}") and len(err.splitlines()) == 1
     assert list(tmp_path.iterdir()) == []
+
+
+# the model-option flags that existed before they were generated from the registry (issue 28): users'
+# scripts name them
+_FLAGS_OF_OLD = ("--tail", "--contact-tilt", "--damping", "--friction", "--joint-friction", "--normal-stiffness",
+                 "--joint-stiffness", "--anathyrosis", "--contact-damping", "--integrator", "--step", "--rtol",
+                 "--atol", "--restitution")
+
+
+def test_the_model_option_flags_are_the_registrys_options():
+    """One flag per option some model reads, named after it, its help from the table (unit, default)."""
+    from pipeline.cli import build_parser
+    from pipeline.models import REGISTRY
+    from pipeline.models.options import OPTIONS
+
+    simulate = build_parser()._subparsers._group_actions[0].choices["simulate"]
+    actions = {a.option_strings[0]: a for a in simulate._actions if a.option_strings}
+    read = set().union(*(m.options for m in REGISTRY.values()))
+    for name in read:
+        action = actions["--" + name.replace("_", "-")]
+        assert action.default is None and action.dest == name  # not given: each model's own default
+        option = OPTIONS[name]
+        assert option.words in action.help and (option.kind in ("choice", "bool") or f"[{option.unit}]" in action.help)
+    assert set(_FLAGS_OF_OLD) <= set(actions)
+    args = simulate.parse_args(["--column", "1,1,1", "--out", "x.nc", "--joint-friction", "0.6,0.5",
+                                "--anathyrosis", "0.2", "--contact-rings", "4", "--integrator", "dopri5"])
+    assert args.joint_friction == (0.6, 0.5) and args.anathyrosis == 0.2 and args.contact_rings == 4
+    assert args.integrator == "dopri5"
+
+
+def test_each_model_gets_the_options_it_reads(monkeypatch):
+    """--contact-damping reaches the rigid models too (they read it: the patch's dashpots); an option a model
+    does not read is not given to it."""
+    from pipeline.cli import build_parser
+    from pipeline.cli import simulate as cli
+
+    simulate = build_parser()._subparsers._group_actions[0].choices["simulate"]
+    args = simulate.parse_args(["--column", "1,1,1", "--out", "x.nc", "--contact-damping", "1e5", "--damping", "0.1",
+                                "--joint-friction", "0.6"])
+    rigid = cli._model_settings(args, "3d", output_step=0.02)
+    assert rigid.contact_damping == 1e5 and rigid.damping == 0.1 and rigid.joint_friction is None
+    drums = cli._model_settings(args, "3d-compliant")
+    assert drums.joint_friction == 0.6 and drums.damping == 0.0 and drums.contact_damping == 1e5
