@@ -148,6 +148,16 @@ def _numbers(text):
     return values[0] if len(values) == 1 else values
 
 
+def _refuse_unread(args, read, runs):
+    """Refuse a model-option flag that was given but that no model of the run reads: it would be
+    ignored, and the run would look as if it had taken it."""
+    for name, readers in _readers().items():
+        if name not in read and getattr(args, name, None) is not None:
+            flag = "--" + name.replace("_", "-")
+            raise InputError(f"{flag} is an option of --model {','.join(readers)}; {runs} does not read it "
+                             f"(drop {flag}, or run a model that reads it)")
+
+
 def _model_settings(args, model, **fixed):
     """:class:`ModelSettings` of ``model``: the options it reads whose flags were given, its defaults for the rest."""
     given = {name: getattr(args, name) for name in REGISTRY[model].options if getattr(args, name) is not None}
@@ -291,6 +301,7 @@ def _earthquake(args, column, models):
                        f"record {motion.duration:g} s + --tail {tail:g} s", "--tail")
     _check_history_memory(len(models) * (motion.duration + tail), args.output_step,
                           "the record and --tail" + (" for each model" if len(models) > 1 else ""))
+    _refuse_unread(args, {name for model in models for name in REGISTRY[model].options}, f"--model {args.model}")
     runs = []
     for model in models:
         settings = _model_settings(args, model, output_step=args.output_step)
@@ -324,6 +335,7 @@ def _free(args, column):
         raise InputError("give --record for an earthquake response, or --theta0 (degrees) for a free motion")
     if args.duration is None:
         raise InputError("a free motion needs --duration (seconds)")
+    _refuse_unread(args, {"rtol", "atol", "damping", "restitution"}, "a free motion (without --record)")
     initial = InitialState(
         phi=args.phi0,
         theta=args.theta0,

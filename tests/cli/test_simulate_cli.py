@@ -99,6 +99,10 @@ QUAKE = ["--column", "0.5,0.4,4", "--record", "FEMA-FF-01"]
     (FREE + ["--atol", "0"], "--atol 0.0: give a number in [1e-300, 0.01]"),
     (QUAKE + ["--plot", "x.txt"], "--plot 'x.txt': not a figure format matplotlib writes"),
     (QUAKE + ["--dt", "0"], "--dt 0.0: give the time step as a positive number of seconds"),
+    # a flag no model of the run reads would be ignored, and the file would look as if it had taken it
+    (QUAKE + ["--model", "3d,2d", "--joint-friction", "0.6"],
+     "--joint-friction is an option of --model 3d-compliant; --model 3d,2d does not read it"),
+    (FREE + ["--friction", "0.5"], "--friction is an option of --model 3d,2d,3d-compliant; a free motion"),
 ])
 def test_impossible_requests_are_refused_before_computing(argv, message, tmp_path, capsys, no_computing,
                                                           monkeypatch):
