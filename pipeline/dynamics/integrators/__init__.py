@@ -1,12 +1,16 @@
 """The adaptive integrators: explicit Runge-Kutta with dense output and terminal events.
 
-Kernel layer, compiled with numba; one module an integrator, with one calling convention:
+Kernel layer, compiled with numba; one job a module, one calling convention for both methods:
 
-* ``dop853``: Dormand-Prince 8(5,3) (the rigid models, and the compliant stack's reference),
-  and the event and output driver both integrators share, which ``dopri5`` imports from it:
-  the event signs and the earliest event (``_read_event_signs``, ``_earliest_event``), the
-  output grid and the interpolant (``_outputs_until``, ``_dense_eval``), the initial step
-  (``_select_initial_step``), the restart window (``_START_WINDOW``), the ``STATUS_*`` codes,
-  the returned tuple ``Dop853Result`` and ``no_monitor``;
-* ``dopri5``: Dormand-Prince 5(4) (the compliant stack's adaptive run).
+* ``driver``: the step loop both methods share (the explicit Runge-Kutta step on a tableau,
+  step size control, the initial step, break points, the restart window, the output grid,
+  terminal events and the step monitor), the ``STATUS_*`` codes and the returned tuple
+  ``Dop853Result``; its docstring gives the calling convention and how to cache a caller;
+* ``events``: the interpolant's evaluation, the output rows, the event signs and their
+  roots (Brent's method), ``no_events`` and ``no_monitor``;
+* ``dop853``: Dormand-Prince 8(5,3), the method (tableau, error estimate, 7th-order
+  extension) and its integrators ``dop853``, ``dop853_monitored`` (the rigid models, and
+  the compliant stack's reference);
+* ``dopri5``: Dormand-Prince 5(4), the same for ``dopri5``, ``dopri5_monitored`` (the
+  compliant stack's adaptive run).
 """
