@@ -9,6 +9,8 @@ Rows, all measured in this one run:
 * ``numba kernel``: :func:`pipeline.dynamics.integrators.dop853.dop853` through a cached wrapper;
 * ``numba kernel, breaks``: the same with ``t_breaks`` at the sample times, so that no step
   straddles a kink of the interpolated record (the setting the physics should use);
+* ``dopri5 kernel, breaks``: :func:`pipeline.dynamics.integrators.dopri5.dopri5`, the same
+  problem and break points (the same driver, a 5(4) method);
 * ``scipy + Python rhs``: solve_ivp with a plain Python rhs;
 * ``scipy + numba rhs``: solve_ivp calling the numba-compiled rhs from Python.
 
@@ -31,6 +33,12 @@ import numpy as np
 from numba import njit
 
 from pipeline.dynamics.integrators.dop853 import dop853, no_events
+from pipeline.dynamics.integrators.dopri5 import dopri5
+
+# the problem's right-hand side is the tests' (tests/dynamics/integrators/integrator_problems.py)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "dynamics",
+                                "integrators"))
+from integrator_problems import forced_pendulum  # noqa: E402
 
 RTOL, ATOL = 1e-9, 1e-12
 DT = 0.01  # record sampling [s]
@@ -39,29 +47,20 @@ EMPTY = np.zeros(0)
 
 
 @njit(cache=True)
-def pendulum_rhs(t, y, p, dydt):
-    """p = (consts, acc): consts = [omega0^2, 2 zeta omega0, 1/L, dt]; acc [m/s^2]."""
-    consts, acc = p
-    s = t / consts[3]
-    i = int(s)
-    if i >= acc.shape[0] - 1:
-        a = acc[acc.shape[0] - 1]
-    else:
-        w = s - i
-        a = (1.0 - w) * acc[i] + w * acc[i + 1]
-    dydt[0] = y[1]
-    dydt[1] = -consts[0] * np.sin(y[0]) - consts[1] * y[1] - consts[2] * a * np.cos(y[0])
+def integrate_pendulum(p, y0, t_end, t_out, y_out, t_breaks):
+    return dop853(forced_pendulum, no_events, p, 0.0, y0, t_end, t_out, y_out, 0, EMPTY,
+                  t_breaks, RTOL, ATOL, np.inf, 0.0, 10_000_000)
 
 
 @njit(cache=True)
-def integrate_pendulum(p, y0, t_end, t_out, y_out, t_breaks):
-    return dop853(pendulum_rhs, no_events, p, 0.0, y0, t_end, t_out, y_out, 0, EMPTY,
+def integrate_pendulum5(p, y0, t_end, t_out, y_out, t_breaks):
+    return dopri5(forced_pendulum, no_events, p, 0.0, y0, t_end, t_out, y_out, 0, EMPTY,
                   t_breaks, RTOL, ATOL, np.inf, 0.0, 10_000_000)
 
 
 @njit(cache=True)
 def integrate_pendulum_tight(p, y0, t_end, t_out, y_out, t_breaks):
-    return dop853(pendulum_rhs, no_events, p, 0.0, y0, t_end, t_out, y_out, 0, EMPTY,
+    return dop853(forced_pendulum, no_events, p, 0.0, y0, t_end, t_out, y_out, 0, EMPTY,
                   t_breaks, 1e-13, 1e-16, np.inf, 0.0, 10_000_000)
 
 
@@ -104,7 +103,9 @@ def compile_times():
     here = os.path.dirname(os.path.abspath(__file__))
     times = []
     with tempfile.TemporaryDirectory() as cache:
-        env = dict(os.environ, NUMBA_CACHE_DIR=cache, PYTHONPATH=here)
+        # keep the caller's PYTHONPATH (an older checkout to compare, say) behind this folder
+        path = os.pathsep.join(p for p in (here, os.environ.get("PYTHONPATH")) if p)
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache, PYTHONPATH=path)
         for _ in range(2):
             out = subprocess.run([sys.executable, "-c", code], env=env, cwd=here,
                                  capture_output=True, text=True, check=True)
@@ -136,7 +137,7 @@ def main():
             a = (1.0 - w) * acc[i] + w * acc[i + 1]
         return np.array([y[1], -c0 * math.sin(y[0]) - c1 * y[1] - c2 * a * math.cos(y[0])])
 
-    rhs_numba = pendulum_rhs
+    rhs_numba = forced_pendulum
 
     def rhs_numba_from_python(t, y):
         dydt = np.empty(2)
@@ -149,7 +150,11 @@ def main():
         return lambda: solve_ivp(fun, (0.0, DURATION), y0, method="DOP853", rtol=RTOL,
                                  atol=ATOL, t_eval=t_out)
 
+    def dopri5_kernel_breaks():
+        return integrate_pendulum5(params, y0, DURATION, t_out, y_out, t_samples)
+
     numba_kernel()  # compile (or load from cache) outside the timing
+    dopri5_kernel_breaks()
     rhs_numba_from_python(0.0, y0)
     # reference for the error column: rtol 1e-13 with steps ending on every quarter sample
     # (a step sequence of its own, independent of the rows' steps)
@@ -166,6 +171,9 @@ def main():
     err_b = np.abs(y_out - y_ref).max()
     rows.append(("numba kernel, breaks", t_b, r_b.nfev, r_b.n_accepted, r_b.n_rejected,
                  err_b))
+    t_5, r_5 = best_time(dopri5_kernel_breaks, repeat=5, number=3)
+    err_5 = np.abs(y_out - y_ref).max()
+    rows.append(("dopri5 kernel, breaks", t_5, r_5.nfev, r_5.n_accepted, r_5.n_rejected, err_5))
     for name, fun in (("scipy + Python rhs", rhs_python),
                       ("scipy + numba rhs", rhs_numba_from_python)):
         t_s, sol = best_time(scipy_with(fun), repeat=2)
