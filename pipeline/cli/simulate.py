@@ -113,7 +113,8 @@ _DEFAULT_TEXT = {name: f"default {getattr(DEFAULTS, name):g} with a record, {get
 
 
 def add_model_options(parser):
-    """One flag per option some model reads (``--name-with-dashes``), in a group per set of models that read it.
+    """One flag per option some model reads (its name, dashes for underscores: ``--joint-friction``), grouped
+    by the models that read it.
 
     Help, unit, default, type and choices come from the option's declaration
     (:data:`pipeline.models.options.OPTIONS`); every flag's default is None, "not given", so

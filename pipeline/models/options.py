@@ -32,7 +32,8 @@ class Option:
     Attributes
     ----------
     name : str
-        The field of :class:`pipeline.settings.ModelSettings` (a study's option, ``--name-with-dashes``).
+        The field of :class:`pipeline.settings.ModelSettings` (a study's option; its flag is the
+        name with dashes for underscores, e.g. ``--joint-friction``).
     default : object
         Its default, written here once.
     unit : str
