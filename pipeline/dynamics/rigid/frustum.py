@@ -76,7 +76,7 @@ N_STATE = 17
 # turns in.
 # OPT_LANDING_MARGIN, OPT_MIN_REBOUND, OPT_SLAVE_TIME, OPT_LOOK_AHEAD and
 # OPT_SLAVED_TURN are the numerical thresholds of the rigid runs
-# (defaults in pipeline.dynamics.rigid.layout.NUMERICS), carried at run time so that a study can vary
+# (declared with their defaults in pipeline.models.rigid.NUMERICS), carried at run time so that a study can vary
 # them without recompiling.
 (OPT_THETA_C, OPT_THETA_LIE, OPT_NU, OPT_MU, OPT_PHASE, OPT_PIVOT, OPT_SIGN, OPT_RIM_HELD,
  OPT_SLAVED, OPT_PHI_REF, OPT_UNILATERAL, OPT_THETA_K, OPT_PATCH_DAMPING, OPT_PIVOT_HELD,

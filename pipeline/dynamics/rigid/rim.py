@@ -16,9 +16,11 @@ Both are the Newton-Euler equations of an axisymmetric body in the frame
 ``(xi, eta, zeta)`` of :mod:`pipeline.dynamics.derivation` (line of nodes,
 tilted transverse axis, symmetry axis), which turns with
 ``Omega = phi' e_Z + theta' e_xi``; the body turns with ``omega = Omega + psi' e_zeta``.
-``tests/dynamics/test_rim.py`` checks them against a sympy derivation, energy
-and momentum invariants, and against rolling (the friction that rolling needs
-gives back the rolling accelerations and a slip velocity that stays zero).
+``tests/dynamics/test_rim.py`` checks them against invariants (the power of the
+contact force and of a couple, the angular momentum of flight, the symmetric
+impulse response) and the material point's kinematics by finite differences;
+``tests/dynamics/test_contact_physics.py`` against rolling (the friction that
+rolling needs gives back the rolling accelerations at slip onset).
 
 Horizontal vectors are given in the frame of the contact point: ``xi`` (line of
 nodes, ``(cos phi, sin phi)``) and ``n`` (``(-sin phi, cos phi)``, from P
