@@ -18,8 +18,8 @@ from numba import njit
 
 from pipeline.dynamics.compliant import stack as sk
 
-__all__ = ["block_tridiagonal_solve", "joint_matrix", "joint_matrix_z", "add_moments", "assemble_system",
-           "rotate_joint_matrix", "stiffest_frequency"]
+__all__ = ["block_tridiagonal_solve", "joint_matrix", "joint_matrix_z", "turned_joint_matrix_z", "add_moments",
+           "assemble_system", "stiffest_frequency"]
 
 
 @njit(cache=True)
@@ -166,36 +166,83 @@ def joint_matrix(mom, nx, ny, nz, out):
 
 
 @njit(cache=True)
-def joint_matrix_z(mom, out):
+def _joint_matrix_z_entries(sa, ax, ay, az, axx, ayy, azz, axy, axz, ayz, sb, bx, by, bxx, byy, bxy):
+    """The entries of :func:`joint_matrix` with the normal n = e_z (a joint in the frame of its face
+    below) that are not zero or repeated, from the moments (``mom`` without its zeros):
+    ``(k00, k22, k04, k05, k13, k15, k23, k24, k33, k44, k55, k34, k35, k45)`` with k11 = k00 and
+    the matrix symmetric. With n = e_z, ``[n]x M [n]x^T = [[M_yy, -M_xy, 0], [-M_xy, M_xx, 0], [0, 0, 0]]``.
+    """
+    tr = axx + ayy + azz
+    # A12 = -([S_a rho]x + e_z e_z^T [S_b rho]x)
+    return (sa, sa + sb, az, -ay, -az, ax, ay + by, -(ax + bx),
+            tr - axx + byy, tr - ayy + bxx, tr - azz, -axy - bxy, -axz, -ayz)
+
+
+@njit(cache=True)
+def joint_matrix_z(sa, ax, ay, az, axx, ayy, azz, axy, axz, ayz, sb, bx, by, bxx, byy, bxy, out):
     """:func:`joint_matrix` with the normal n = e_z (a joint in the frame of its face below),
-    written out: with n = e_z, ``[n]x M [n]x^T = [[M_yy, -M_xy, 0], [-M_xy, M_xx, 0], [0, 0, 0]]``."""
-    sa, ax, ay, az = mom[0], mom[1], mom[2], mom[3]
-    axx, ayy, azz, axy, axz, ayz = mom[4], mom[5], mom[6], mom[7], mom[8], mom[9]
-    sb, bx, by = mom[10], mom[11], mom[12]
-    bxx, byy, bxy = mom[14], mom[15], mom[17]
+    written out (:func:`_joint_matrix_z_entries`), from the moments of ``mom`` that are not zero
+    with n = e_z (no S_b rho_z term)."""
+    (k00, k22, k04, k05, k13, k15, k23, k24, k33, k44, k55, k34, k35, k45) = _joint_matrix_z_entries(
+        sa, ax, ay, az, axx, ayy, azz, axy, axz, ayz, sb, bx, by, bxx, byy, bxy)
     for i in range(6):
         for k in range(6):
             out[i, k] = 0.0
-    out[0, 0] = sa
-    out[1, 1] = sa
-    out[2, 2] = sa + sb
-    # A12 = -([S_a rho]x + e_z e_z^T [S_b rho]x)
-    out[0, 4] = az
-    out[0, 5] = -ay
-    out[1, 3] = -az
-    out[1, 5] = ax
-    out[2, 3] = ay + by
-    out[2, 4] = -(ax + bx)
-    for i in range(3):
-        for k in range(3):
-            out[3 + k, i] = out[i, 3 + k]
-    tr = axx + ayy + azz
-    out[3, 3] = tr - axx + byy
-    out[4, 4] = tr - ayy + bxx
-    out[5, 5] = tr - azz
-    out[3, 4] = out[4, 3] = -axy - bxy
-    out[3, 5] = out[5, 3] = -axz
-    out[4, 5] = out[5, 4] = -ayz
+    out[0, 0] = out[1, 1] = k00
+    out[2, 2] = k22
+    out[0, 4] = out[4, 0] = k04
+    out[0, 5] = out[5, 0] = k05
+    out[1, 3] = out[3, 1] = k13
+    out[1, 5] = out[5, 1] = k15
+    out[2, 3] = out[3, 2] = k23
+    out[2, 4] = out[4, 2] = k24
+    out[3, 3] = k33
+    out[4, 4] = k44
+    out[5, 5] = k55
+    out[3, 4] = out[4, 3] = k34
+    out[3, 5] = out[5, 3] = k35
+    out[4, 5] = out[5, 4] = k45
+
+
+@njit(cache=True)
+def _row(R, i, x, y, z):
+    """Row i of the 3 x 3 matrix R (row-major) times (x, y, z)."""
+    return R[3 * i] * x + R[3 * i + 1] * y + R[3 * i + 2] * z
+
+
+@njit(cache=True)
+def _turn_block(R, k00, k01, k02, k10, k11, k12, k20, k21, k22, out, r0, c0, symmetric):
+    """``out[r0:r0 + 3, c0:c0 + 3] = R K R^T`` for the 3 x 3 block K (row-major arguments), and the
+    mirror block ``out[c0:c0 + 3, r0:r0 + 3]`` its transpose. Summed as ``(R K) R^T``, each entry
+    in the order of ``_row``; a symmetric block takes its lower triangle (i >= k) for both halves."""
+    t00, t01, t02 = _row(R, 0, k00, k10, k20), _row(R, 0, k01, k11, k21), _row(R, 0, k02, k12, k22)
+    t10, t11, t12 = _row(R, 1, k00, k10, k20), _row(R, 1, k01, k11, k21), _row(R, 1, k02, k12, k22)
+    t20, t21, t22 = _row(R, 2, k00, k10, k20), _row(R, 2, k01, k11, k21), _row(R, 2, k02, k12, k22)
+    v00, v10, v20 = _row(R, 0, t00, t01, t02), _row(R, 0, t10, t11, t12), _row(R, 0, t20, t21, t22)
+    v11, v21, v22 = _row(R, 1, t10, t11, t12), _row(R, 1, t20, t21, t22), _row(R, 2, t20, t21, t22)
+    if symmetric:
+        v01, v02, v12 = v10, v20, v21
+    else:
+        v01, v02, v12 = _row(R, 1, t00, t01, t02), _row(R, 2, t00, t01, t02), _row(R, 2, t10, t11, t12)
+    out[r0, c0], out[r0, c0 + 1], out[r0, c0 + 2] = v00, v01, v02
+    out[r0 + 1, c0], out[r0 + 1, c0 + 1], out[r0 + 1, c0 + 2] = v10, v11, v12
+    out[r0 + 2, c0], out[r0 + 2, c0 + 1], out[r0 + 2, c0 + 2] = v20, v21, v22
+    if not symmetric:
+        out[c0, r0], out[c0 + 1, r0], out[c0 + 2, r0] = v00, v01, v02
+        out[c0, r0 + 1], out[c0 + 1, r0 + 1], out[c0 + 2, r0 + 1] = v10, v11, v12
+        out[c0, r0 + 2], out[c0 + 1, r0 + 2], out[c0 + 2, r0 + 2] = v20, v21, v22
+
+
+@njit(cache=True)
+def turned_joint_matrix_z(sa, ax, ay, az, axx, ayy, azz, axy, axz, ayz, sb, bx, by, bxx, byy, bxy, R, out):
+    """:func:`joint_matrix_z` of these moments turned from the frame of the face below to the ground's:
+    ``out = T K T^T`` with T = diag(R, R), R that face's rotation (9, row-major), block by block
+    ``R K_b R^T`` (a joint on the ground takes :func:`joint_matrix_z` itself)."""
+    (k00, k22, k04, k05, k13, k15, k23, k24, k33, k44, k55, k34, k35, k45) = _joint_matrix_z_entries(
+        sa, ax, ay, az, axx, ayy, azz, axy, axz, ayz, sb, bx, by, bxx, byy, bxy)
+    _turn_block(R, k00, 0.0, 0.0, 0.0, k00, 0.0, 0.0, 0.0, k22, out, 0, 0, True)
+    _turn_block(R, 0.0, k04, k05, k13, 0.0, k15, k23, k24, 0.0, out, 0, 3, False)
+    _turn_block(R, k33, k34, k35, k34, k44, k45, k35, k45, k55, out, 3, 3, True)
 
 
 @njit(cache=True)
@@ -276,24 +323,6 @@ def assemble_system(y, bodies, joint_matrices, h, work, diag, off):
             D[3, k] -= (ey * a2 - ez * a1) + KE[3, k]
             D[4, k] -= (ez * a0 - ex * a2) + KE[4, k]
             D[5, k] -= (ex * a1 - ey * a0) + KE[5, k]
-
-
-@njit(cache=True)
-def rotate_joint_matrix(K, Rl, tmp, out):
-    """``T K T^T`` with T = diag(R_l, R_l): a joint's dashpot matrix from its lower frame to the
-    ground's, block by block (``R K_b R^T``); ``tmp`` is 3 x 3 scratch."""
-    for bi in range(2):
-        for bj in range(bi, 2):
-            for i in range(3):
-                for b in range(3):
-                    tmp[i, b] = (Rl[3 * i] * K[3 * bi, 3 * bj + b] + Rl[3 * i + 1] * K[3 * bi + 1, 3 * bj + b]
-                                 + Rl[3 * i + 2] * K[3 * bi + 2, 3 * bj + b])
-            for i in range(3):
-                for k in range(3):
-                    v = tmp[i, 0] * Rl[3 * k] + tmp[i, 1] * Rl[3 * k + 1] + tmp[i, 2] * Rl[3 * k + 2]
-                    out[3 * bi + i, 3 * bj + k] = v
-                    out[3 * bj + k, 3 * bi + i] = v
-
 
 
 def stiffest_frequency(params, y):

@@ -147,7 +147,7 @@ def _joint_motion_of_bodies(vel, j, params, out):
 
 
 @njit(cache=True)
-def _point_forces(y, h, params, pts, frames, motion, fric_slip, mats, mom, kl, tmp3):
+def _point_forces(y, h, params, pts, frames, motion, fric_slip, mats):
     """Geometry and explicit forces of every point at the step's start (step 1 of the module).
 
     Fills the point scratch ``pts`` (lever arm r and forces in the frame of the face below,
@@ -251,7 +251,7 @@ def _point_forces(y, h, params, pts, frames, motion, fric_slip, mats, mom, kl, t
             # the clipped joint: active if the normal force at the current velocities pushes
             pts[p, Q_ACTIVE] = 1.0 if f_el + c_n * d_dot >= 0.0 else 0.0
             sums = _load_point(sums, pts, p)
-        _close_joint(y, j, params, sums, mom, mats, kl, tmp3)
+        _close_joint(y, j, params, sums, mats)
         fric_slip[j] = slip / joints[j, sk.J_AREA]
     return friction
 
@@ -304,23 +304,18 @@ def _load_point(sums, pts, p):
 
 
 @njit(cache=True)
-def _close_joint(y, j, params, sums, mom, mats, kl, tmp3):
-    """Joint j's dashpot matrix (``mats[j]``) and its force on both bodies (scratch W_F, W_T) from
-    its running ``sums`` (:func:`_load_point`); ``mom`` is scratch for the 20 moments."""
+def _close_joint(y, j, params, sums, mats):
+    """Joint j's dashpot matrix (``mats[j]``, ground frame) and its force on both bodies (scratch
+    W_F, W_T) from its running ``sums`` (:func:`_load_point`, frame of the face below)."""
     work = params[6]
-    for k in range(10):
-        mom[k] = sums[k]
-    mom[10], mom[11], mom[12], mom[13] = sums[10], sums[11], sums[12], 0.0
-    mom[14], mom[15], mom[16], mom[17], mom[18], mom[19] = sums[13], sums[14], 0.0, sums[15], 0.0, 0.0
-    sfx, sfy, sfz, stx, sty, stz = sums[16], sums[17], sums[18], sums[19], sums[20], sums[21]
-    Ru = work[j]
+    (a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, b0, b1, b2, b3, b4, b5,
+     sfx, sfy, sfz, stx, sty, stz) = sums
     if j == 0:
-        ls.joint_matrix_z(mom, mats[0])
+        ls.joint_matrix_z(a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, b0, b1, b2, b3, b4, b5, mats[0])
         Fx, Fy, Fz, Tx, Ty, Tz = sfx, sfy, sfz, stx, sty, stz
     else:
-        ls.joint_matrix_z(mom, kl)
         Rl = work[j - 1]
-        ls.rotate_joint_matrix(kl, Rl, tmp3, mats[j])
+        ls.turned_joint_matrix_z(a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, b0, b1, b2, b3, b4, b5, Rl, mats[j])
         Fx = Rl[0] * sfx + Rl[1] * sfy + Rl[2] * sfz
         Fy = Rl[3] * sfx + Rl[4] * sfy + Rl[5] * sfz
         Fz = Rl[6] * sfx + Rl[7] * sfy + Rl[8] * sfz
@@ -338,6 +333,7 @@ def _close_joint(y, j, params, sums, mom, mats, kl, tmp3):
         Rl[sk.W_T] -= Tx + (ey * Fz - ez * Fy)
         Rl[sk.W_T + 1] -= Ty + (ez * Fx - ex * Fz)
         Rl[sk.W_T + 2] -= Tz + (ex * Fy - ey * Fx)
+    Ru = work[j]
     Ru[sk.W_F] += Fx
     Ru[sk.W_F + 1] += Fy
     Ru[sk.W_F + 2] += Fz
@@ -356,7 +352,7 @@ def _clear_loads(params):
 
 
 @njit(cache=True)
-def _joint_loads(y, params, pts, mats, mom, kl, tmp3):
+def _joint_loads(y, params, pts, mats):
     """Explicit joint forces on the bodies (scratch W_F, W_T) and each joint's dashpot matrix,
     from the points' scratch as it stands (:func:`_point_forces` does the same as it goes).
 
@@ -371,7 +367,7 @@ def _joint_loads(y, params, pts, mats, mom, kl, tmp3):
         for p in range(joint_start[j], joint_start[j + 1]):
             if pts[p, Q_CONTACT] != 0.0:
                 sums = _load_point(sums, pts, p)
-        _close_joint(y, j, params, sums, mom, mats, kl, tmp3)
+        _close_joint(y, j, params, sums, mats)
 
 
 @njit(cache=True)
@@ -379,9 +375,9 @@ def set_static_weights(y, h, params, s):
     """Each body's weight set to the net joint force on it in the rest state y, as this
     integrator sums it: at rest its velocity update is then exactly zero."""
     bodies, points, joint_start, joints, record, dt, work, mon = params
-    pts, mats, mom, diag, off, fac, coup, tmp, vel, slip, impulse, frames, motion, kl = s
+    pts, mats, diag, off, fac, coup, tmp, vel, slip, impulse, frames, motion = s
     sk._kinematics(y, bodies, work)
-    _point_forces(y, h, params, pts, frames, motion, slip, mats, mom, kl, tmp)
+    _point_forces(y, h, params, pts, frames, motion, slip, mats)
     for b in range(bodies.shape[0]):
         bodies[b, sk.B_WEIGHT] = work[b, sk.W_F + 2]
 
@@ -488,15 +484,15 @@ def step(t, y, h, params, s):
     step (history rows and the energy budget evaluate the joint law).
     """
     bodies, points, joint_start, joints, record, dt, work, mon = params
-    pts, mats, mom, diag, off, fac, coup, tmp, vel, slip, impulse, frames, motion, kl = s
+    pts, mats, diag, off, fac, coup, tmp, vel, slip, impulse, frames, motion = s
     n_bodies = bodies.shape[0]
     ax, ay, az = ground_acceleration(t, record, dt)
     sk._kinematics(y, bodies, work)
-    friction = _point_forces(y, h, params, pts, frames, motion, slip, mats, mom, kl, tmp)
+    friction = _point_forces(y, h, params, pts, frames, motion, slip, mats)
     solves = 0
     while True:
         if solves > 0:  # the active set changed: the loads again
-            _joint_loads(y, params, pts, mats, mom, kl, tmp)
+            _joint_loads(y, params, pts, mats)
         ls.assemble_system(y, bodies, mats, h, work, diag, off)
         _momentum(y, bodies, work, h, ax, ay, az, vel)
         impulse[:, :] = vel
@@ -598,11 +594,12 @@ def step(t, y, h, params, s):
 
 def make_scratch(n_bodies, n_points):
     """Scratch arrays of :func:`step` (one set per simulation)."""
-    return (np.zeros((n_points, N_Q)), np.zeros((n_bodies, 6, 6)), np.zeros(20),
+    # points; joint matrices; diagonal, off-diagonal, factor and coupling blocks and a 6 x 6 of the
+    # solve; velocities; joints' plastic slips; momenta before the dashpots; joint frames and motions
+    return (np.zeros((n_points, N_Q)), np.zeros((n_bodies, 6, 6)),
             np.zeros((n_bodies, 6, 6)), np.zeros((n_bodies, 6, 6)),
             np.zeros((n_bodies, 6, 6)), np.zeros((n_bodies, 6, 6)), np.zeros((6, 6)), np.zeros((n_bodies, 6)),
-            np.zeros(n_bodies), np.zeros((n_bodies, 6)), np.zeros((n_bodies, 12)), np.zeros((n_bodies, 9)),
-            np.zeros((6, 6)))
+            np.zeros(n_bodies), np.zeros((n_bodies, 6)), np.zeros((n_bodies, 12)), np.zeros((n_bodies, 9)))
 
 
 @njit(cache=True)

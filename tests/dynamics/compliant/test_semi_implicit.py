@@ -48,6 +48,39 @@ def test_joint_matrix_from_moments_is_the_sum_over_points():
     np.testing.assert_allclose(out, dense, rtol=0, atol=1e-13 * np.abs(dense).max())
 
 
+def test_joint_matrix_in_the_face_frame_and_turned_is_the_sum_over_points():
+    """The integrator's joint matrix: summed in the frame of the face below (n = e_z,
+    :func:`ls.joint_matrix_z`) and turned to the ground's by that face's rotation R
+    (:func:`ls.turned_joint_matrix_z`, T K T^T with T = diag(R, R)), against the per-point sum
+    with the lever arms and the normal turned first (R r, R e_z); round-off, 1e-13 relative."""
+    rng = np.random.default_rng(11)
+    q = rng.normal(size=4)
+    q /= np.linalg.norm(q)
+    w, x, y, z = q
+    R = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                  [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                  [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+    mom = np.zeros(20)
+    local, turned = np.zeros((6, 6)), np.zeros((6, 6))
+    n_local, n = np.array([0.0, 0.0, 1.0]), R @ np.array([0.0, 0.0, 1.0])
+    for _ in range(9):
+        alpha, normal = rng.uniform(0.0, 2.0), rng.uniform(0.0, 3.0)
+        r = rng.normal(size=3)
+        ls.add_moments(mom, alpha, normal - alpha, *r)
+        for dense, arm, nn in ((local, r, n_local), (turned, R @ r, n)):
+            D = alpha * np.eye(3) + (normal - alpha) * np.outer(nn, nn)
+            H = np.hstack([np.eye(3), -_cross(arm)])
+            dense += H.T @ D @ H
+    # the moments the integrator keeps: with n = e_z the beta moments in z do not enter
+    kept = [mom[k] for k in (0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 14, 15, 17)]
+    out = np.full((6, 6), np.nan)
+    ls.joint_matrix_z(*kept, out)
+    np.testing.assert_allclose(out, local, rtol=0, atol=1e-13 * np.abs(local).max())
+    out = np.full((6, 6), np.nan)
+    ls.turned_joint_matrix_z(*kept, R.ravel(), out)
+    np.testing.assert_allclose(out, turned, rtol=0, atol=1e-13 * np.abs(turned).max())
+
+
 def test_block_tridiagonal_solve_matches_a_dense_solve():
     rng = np.random.default_rng(3)
     nb = 5
