@@ -14,7 +14,7 @@ from pipeline.models.options import OPTIONS
 from pipeline.limits import check_tolerance
 from pipeline.paths import check_output_file, check_plot_file
 from pipeline.settings import FREE_MOTION, ModelSettings
-from pipeline.units import MARBLE_DENSITY, deg_to_rad
+from pipeline.units import MARBLE_DENSITY
 
 DEFAULTS = ModelSettings()  # the options' defaults, written once (pipeline.settings)
 

@@ -118,10 +118,10 @@ def test_flight_keeps_the_rotational_energy_and_the_angular_momentum():
 
 def _world_slip_velocity(t, motion):
     """The velocity of the material point at the current contact point P, world axes, at time t."""
-    phi, theta, psi_rate_terms, vc = motion
+    phi, theta, spin, vc = motion
     p, dp = phi(t)
     th, dth = theta(t)
-    w3 = psi_rate_terms(t)[0]
+    w3 = spin(t)[0]
     v = _slip_velocity(th, dp, dth, w3, 0.0, 0.0, 0.0)
     xi = np.array([math.cos(p), math.sin(p), 0.0])
     n = np.array([-math.sin(p), math.cos(p), 0.0])

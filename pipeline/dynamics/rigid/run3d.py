@@ -463,7 +463,7 @@ def _depart3d(t, y, params, scratch):
     summary[S_TRANSITION] += fk.energy(theta_c, 0.0, 0.0, 0.0, c) - zc
     first_time(summary, S_UPLIFT_TIME, t)
     phase = _enter_contact(t, y, params)
-    note_entry(summary, t, phase)  # straight into slip, or into flight (a strong enough shake)
+    note_entry(summary, t, phase)  # the first slip (or flight), as every transition notes it
     return phase
 
 
