@@ -106,7 +106,7 @@ def test_drum_study_is_the_same_serial_on_a_local_and_an_external_cluster(dask_c
     """Two drums on compliant joints (and the monolith) through Dask: every number identical to the
     serial run, the joints' residual dislocation included, on two `dask worker` processes and on a
     local cluster of two."""
-    from conftest import DRUM_STUDY
+    from study_files import DRUM_STUDY
 
     serial = drum_reference[1]
     comp = serial.sel(model="3d-compliant", column="two-drums")
@@ -160,7 +160,7 @@ def test_workflow_starts_its_local_cluster_once_and_only_when_needed(tmp_path, m
     """Two steps that compute share one local cluster; a rerun with everything up to date starts none."""
     import textwrap
 
-    from conftest import SMALL_STUDY
+    from study_files import SMALL_STUDY
     from pipeline.study import cluster as study_cluster
 
     starts = []
@@ -197,7 +197,7 @@ def test_a_worker_that_dies_costs_only_a_retry(tmp_path, write_study, same_resul
     """Kill one of two workers (its whole process group) mid-study: the study completes, same numbers."""
     import threading
 
-    from conftest import SMALL_STUDY
+    from study_files import SMALL_STUDY
 
     text = SMALL_STUDY.replace("block_columns = 2", "block_columns = 1").replace(
         "duration = 6.0", "duration = 20.0")

@@ -14,7 +14,7 @@ from pipeline.dataset import open_results
 from pipeline.errors import InputError
 from pipeline.study import load_study, run_study
 
-from conftest import SMALL_STUDY  # noqa: E402
+from study_files import SMALL_STUDY
 
 N_TASKS = 4  # SMALL_STUDY: 4 columns in blocks of 2 x 2 records
 

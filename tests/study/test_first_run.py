@@ -68,7 +68,7 @@ def test_a_warm_cache_says_nothing(monkeypatch):
 
 def test_the_study_loads_the_kernels_before_the_workers_and_the_progress_bar(monkeypatch, tmp_path):
     """Order of events in run_study: kernels, then the progress bar's clock, then the cluster."""
-    from conftest import SMALL_STUDY
+    from study_files import SMALL_STUDY
 
     from pipeline.study import load_study
 

@@ -66,7 +66,7 @@ def _kill_after(path, checkpoint, n_done, mode="serial", timeout=120.0, sig=None
 
 
 def test_killed_study_resumes_without_recomputing(write_study, small_reference, same_results):
-    from conftest import SMALL_STUDY
+    from study_files import SMALL_STUDY
 
     path = write_study(SMALL_STUDY.replace("block_columns = 2", MANY_TASKS))
     out = path.parent / "small.nc"
@@ -96,7 +96,7 @@ def test_killed_study_resumes_without_recomputing(write_study, small_reference, 
 
 def test_study_killed_on_the_cluster_resumes_on_the_cluster(write_study, small_reference, same_results):
     """The same, driver and workers killed together mid-study, then resumed on a fresh local cluster."""
-    from conftest import SMALL_STUDY
+    from study_files import SMALL_STUDY
 
     path = write_study(SMALL_STUDY.replace("block_columns = 2", MANY_TASKS))
     out = path.parent / "small.nc"
@@ -118,7 +118,7 @@ def test_study_killed_on_the_cluster_resumes_on_the_cluster(write_study, small_r
 
 
 def test_changed_study_discards_the_old_checkpoint(write_study):
-    from conftest import SMALL_STUDY
+    from study_files import SMALL_STUDY
 
     path = write_study(SMALL_STUDY.replace("block_columns = 2", MANY_TASKS))
     out = path.parent / "small.nc"
@@ -162,7 +162,7 @@ def test_two_runs_of_one_study_do_not_share_a_checkpoint(write_study):
 
 def test_ctrl_c_on_the_command_line_exits_130_with_one_line(write_study):
     """A real SIGINT: one line, status 130, the finished tasks kept (issue 11)."""
-    from conftest import SMALL_STUDY
+    from study_files import SMALL_STUDY
 
     path = write_study(SMALL_STUDY.replace("block_columns = 2", MANY_TASKS))
     checkpoint = str(path.parent / "small.nc") + ".checkpoint"

@@ -10,7 +10,7 @@ from pipeline.columns import named_columns
 from pipeline.errors import InputError
 from pipeline.study import load_study
 
-from conftest import SMALL_STUDY  # noqa: E402  (tests/study is on sys.path under pytest)
+from study_files import SMALL_STUDY
 
 
 def test_small_study_parses(write_study):

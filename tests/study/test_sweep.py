@@ -11,7 +11,7 @@ from pipeline.study import load_motions, load_study, run_study
 from pipeline.study import run as task_run
 from pipeline.study.grid import block_size, longest_first, plan, record_intensity, scale_factors
 
-from conftest import SMALL_STUDY  # noqa: E402
+from study_files import SMALL_STUDY
 
 
 def _direct(study, motions, ci, ri, ai, si, mi):

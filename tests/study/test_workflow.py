@@ -5,7 +5,7 @@ import textwrap
 
 from pipeline.cli import main
 
-from conftest import SMALL_STUDY  # noqa: E402
+from study_files import SMALL_STUDY
 
 
 def _workflow(tmp_path, study_name="small.toml", extra=""):
