@@ -92,9 +92,10 @@ RESULTS = ("peak_theta", "peak_theta_ratio", "peak_time", "overturn_time", "upli
 # what both rigid models share: a monolith, the same kernels' thresholds and results, one runner
 _RIGID = dict(drums=False, numeric_options=NUMERICS, results=RESULTS,
               runner="pipeline.simulate:simulate_rigid",
-              # its impact law, contact tilt and couple, friction, contact patch (k_n, c_n), tail, tolerances
-              options=read("restitution", "contact_tilt", "damping", "friction", "normal_stiffness", "contact_damping",
-                           "tail", "rtol", "atol"))
+              # its impact law, contact tilt and couple, friction, ground that only pushes or holds the rim,
+              # contact patch (k_n, c_n), tail, tolerances
+              options=read("restitution", "contact_tilt", "damping", "friction", "lift_off", "normal_stiffness",
+                           "contact_damping", "tail", "rtol", "atol"))
 
 ROLLING_FRUSTUM = Model(
     name="3d",

@@ -184,5 +184,9 @@ def test_each_model_gets_the_options_it_reads(monkeypatch):
                                 "--joint-friction", "0.6"])
     rigid = cli._model_settings(args, "3d", output_step=0.02)
     assert rigid.contact_damping == 1e5 and rigid.damping == 0.1 and rigid.joint_friction is None
+    assert rigid.lift_off  # not given: the rigid models' default, a ground that only pushes
+    held = simulate.parse_args(["--column", "1,1,1", "--out", "x.nc", "--no-lift-off"])
+    assert not cli._model_settings(held, "3d").lift_off and not cli._model_settings(held, "2d").lift_off
+    assert cli._model_settings(simulate.parse_args(["--column", "1,1,1", "--out", "x.nc", "--lift-off"]), "2d").lift_off
     drums = cli._model_settings(args, "3d-compliant")
     assert drums.joint_friction == 0.6 and drums.damping == 0.0 and drums.contact_damping == 1e5
