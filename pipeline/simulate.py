@@ -109,13 +109,25 @@ def patch_parameters(column, settings):
     kn = settings.normal_stiffness
     if kn == math.inf:
         return 0.0, 0.0
-    density = column.density if column.density is not None else MARBLE_DENSITY
-    mass = density * column.volume
+    mass = _mass(column)
     area = math.pi * column.R**2
-    damping = settings.contact_damping
-    if damping is None:
-        damping = 2.0 * math.sqrt(kn * mass / area)
-    return mass * G / (kn * area * column.R), damping * column.R**3 / (mass * math.sqrt(G * column.R))
+    return mass * G / (kn * area * column.R), patch_dashpots(column, settings) * column.R**3 / (mass * math.sqrt(G * column.R))
+
+
+def _mass(column):
+    """The column's mass [kg] (marble if it has no density)."""
+    return (column.density if column.density is not None else MARBLE_DENSITY) * column.volume
+
+
+def patch_dashpots(column, settings):
+    """Normal dashpots of the rigid models' contact patch per unit area, c_n [Pa s/m]: ``contact_damping``,
+    or critical damping of the column bouncing on its base, 2 sqrt(k_n m / A); 0 for the point contact."""
+    kn = settings.normal_stiffness
+    if kn == math.inf:
+        return 0.0
+    if settings.contact_damping is not None:
+        return settings.contact_damping
+    return 2.0 * math.sqrt(kn * _mass(column) / (math.pi * column.R**2))
 
 
 def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), histories=True, progress=None):
@@ -390,6 +402,9 @@ def _histories(column, settings, raw, diag, excitation, motion):
         friction=settings.friction,
         restitution="angular momentum" if settings.restitution is None else settings.restitution,
         damping=settings.damping,
+        lift_off="true" if settings.lift_off else "false",
+        normal_stiffness_Pa_m=settings.normal_stiffness,
+        contact_damping_Pa_s_m=patch_dashpots(column, settings),
         rtol=settings.rtol,
         atol=settings.atol,
     )

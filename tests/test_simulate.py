@@ -279,3 +279,18 @@ def test_excitation_angle_is_in_degrees():
     at_90 = simulate(PAPER, motion, Excitation(angle=90), ModelSettings(model="2d", tail=1.0), histories=False)
     assert at_0.summary["uplifted"] and at_0.summary["peak_theta"] > 1e-3
     assert not at_90.summary["uplifted"] and at_90.summary["peak_theta"] == 0.0
+
+
+def test_the_file_says_which_contact_the_run_had():
+    """A rigid run's file names its ground (lift_off), its bed's stiffness and the patch's dashpots it ran with:
+    critical damping 2 sqrt(k_n m / A) by default (m of marble, 2700 kg/m^3, when the column has no density),
+    the given value otherwise, none for the paper's point contact."""
+    motion = harmonic(0.5 * PAPER.uplift_acceleration(), 1.5, duration=1.0, dt=0.01)
+    ds = simulate(PAPER, motion, settings=ModelSettings(lift_off=False, normal_stiffness=1e9)).histories
+    mass = 2700.0 * math.pi * 4.0 / 3.0 * (0.5**2 + 0.5 * 0.4 + 0.4**2)
+    assert ds.attrs["lift_off"] == "false" and ds.attrs["normal_stiffness_Pa_m"] == 1e9
+    assert ds.attrs["contact_damping_Pa_s_m"] == pytest.approx(2.0 * math.sqrt(1e9 * mass / (math.pi * 0.25)), rel=1e-12)
+    given = simulate(PAPER, motion, settings=ModelSettings(contact_damping=3e5)).histories
+    assert given.attrs["lift_off"] == "true" and given.attrs["contact_damping_Pa_s_m"] == 3e5
+    point = simulate(PAPER, motion, settings=ModelSettings(normal_stiffness=math.inf)).histories
+    assert point.attrs["normal_stiffness_Pa_m"] == math.inf and point.attrs["contact_damping_Pa_s_m"] == 0.0

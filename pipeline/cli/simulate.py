@@ -386,9 +386,11 @@ def _argv_echo(args):
     keys = ("column", "density", "record", "units", "components", "missing_y", "dt", "baseline", "angle", "scale",
             "model", "drums", "drum_heights", "capital", *_readers(), "phi0", "theta0", "psi0", "phi_dot0",
             "theta_dot0", "psi_dot0", "duration", "output_step", "out")
-    return [f"--{k.replace('_', '-')} {_echo(getattr(args, k))}" for k in keys if getattr(args, k, None) is not None]
+    return [_echo(k.replace("_", "-"), getattr(args, k)) for k in keys if getattr(args, k, None) is not None]
 
 
-def _echo(value):
-    """A flag's value as it is typed (a list comma-separated)."""
-    return ",".join(f"{v:g}" for v in value) if isinstance(value, tuple) else value
+def _echo(flag, value):
+    """A flag with its value as it is typed: a list comma-separated, a switch as ``--flag`` or ``--no-flag``."""
+    if isinstance(value, bool):
+        return f"--{flag}" if value else f"--no-{flag}"
+    return f"--{flag} " + (",".join(f"{v:g}" for v in value) if isinstance(value, tuple) else str(value))

@@ -190,3 +190,24 @@ def test_each_model_gets_the_options_it_reads(monkeypatch):
     assert cli._model_settings(simulate.parse_args(["--column", "1,1,1", "--out", "x.nc", "--lift-off"]), "2d").lift_off
     drums = cli._model_settings(args, "3d-compliant")
     assert drums.joint_friction == 0.6 and drums.damping == 0.0 and drums.contact_damping == 1e5
+
+
+def test_the_history_echoes_a_command_that_runs_as_typed():
+    """The command written into a file's history parses back to the same flags: a switch as --no-flag, a
+    list comma-separated (a switch echoed as '--lift-off False' was refused by the parser)."""
+    import shlex
+
+    from pipeline.cli import build_parser
+    from pipeline.cli import simulate as cli
+
+    simulate = build_parser()._subparsers._group_actions[0].choices["simulate"]
+    typed = ["--column", "0.5,0.4,4", "--record", "FEMA-FF-01", "--model", "3d", "--no-lift-off", "--friction", "0.5",
+             "--out", "x.nc"]
+    args = simulate.parse_args(typed)
+    echoed = shlex.split(" ".join(cli._argv_echo(args)))
+    assert "--no-lift-off" in echoed
+    again = simulate.parse_args(echoed)
+    assert vars(again) == vars(args)
+    drums = simulate.parse_args(["--column", "0.5,0.4,4", "--model", "3d-compliant", "--drums", "2",
+                                 "--joint-friction", "0.6,0.5", "--out", "x.nc"])
+    assert vars(simulate.parse_args(shlex.split(" ".join(cli._argv_echo(drums))))) == vars(drums)
