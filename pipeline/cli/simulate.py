@@ -390,7 +390,7 @@ def _argv_echo(args):
 
 
 def _echo(flag, value):
-    """A flag with its value as it is typed: a list comma-separated, a switch as ``--flag`` or ``--no-flag``."""
+    """A flag with its value as it is typed: a list comma-separated, a switch as the flag alone or its "no-" form."""
     if isinstance(value, bool):
-        return f"--{flag}" if value else f"--no-{flag}"
+        return f"--{'' if value else 'no-'}{flag}"
     return f"--{flag} " + (",".join(f"{v:g}" for v in value) if isinstance(value, tuple) else str(value))
