@@ -7,7 +7,9 @@ a ``register(subparsers)`` function; this module only assembles them.
 import argparse
 import contextlib
 import importlib
+import signal
 import sys
+import threading
 import warnings
 
 from pipeline import __version__
@@ -46,14 +48,40 @@ def main(argv=None):
         parser.print_help()
         return 2
     try:
-        with _warnings_as_lines():
+        with _warnings_as_lines(), _termination_as_interrupt():
             return int(args.handler(args) or 0)
     except InputError as exc:
         print(f"frustum: error: {exc}", file=sys.stderr)
         return 2
+    except Terminated:  # a scheduler's stop (systemd, a batch system): the same clean way out as Ctrl-C
+        print("frustum: terminated: run again to resume", file=sys.stderr)
+        return 128 + signal.SIGTERM
     except KeyboardInterrupt:  # Ctrl-C: finished work is kept (checkpoints), no traceback
         print("frustum: interrupted: run again to resume", file=sys.stderr)
         return 130
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM arrived: raised where the command is, so that it unwinds as from Ctrl-C (local
+    clusters closed, temporary files removed, checkpoints kept)."""
+
+
+@contextlib.contextmanager
+def _termination_as_interrupt():
+    """SIGTERM raises :class:`Terminated` while the command runs (Python's default would end the process
+    on the spot, without a word and without closing what the command opened)."""
+    if threading.current_thread() is not threading.main_thread():  # only the main thread may set handlers
+        yield
+        return
+
+    def terminate(signum, frame):
+        raise Terminated()
+
+    previous = signal.signal(signal.SIGTERM, terminate)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 @contextlib.contextmanager

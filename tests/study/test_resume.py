@@ -171,3 +171,18 @@ def test_ctrl_c_on_the_command_line_exits_130_with_one_line(write_study):
     assert proc.returncode == 130, output
     assert output.splitlines()[-1] == "frustum: interrupted: run again to resume" and "Traceback" not in output
     assert 1 <= len([p for p in os.listdir(checkpoint) if p.startswith("task-")]) < 8
+
+
+def test_a_scheduler_stop_exits_143_with_one_line(write_study):
+    """SIGTERM, as systemd or a batch system stops a job: the same clean way out as Ctrl-C (one line, status
+    128 + 15, the finished tasks kept, no results file), where Python alone would die without a word."""
+    from study_files import SMALL_STUDY
+
+    path = write_study(SMALL_STUDY.replace("block_columns = 2", MANY_TASKS))
+    checkpoint = str(path.parent / "small.nc") + ".checkpoint"
+    proc = _kill_after(path, checkpoint, 1, mode="cli", sig=signal.SIGTERM)
+    output = proc.stdout.read().decode()
+    assert proc.returncode == 143, output
+    assert output.splitlines()[-1] == "frustum: terminated: run again to resume" and "Traceback" not in output
+    assert 1 <= len([p for p in os.listdir(checkpoint) if p.startswith("task-")]) < 8
+    assert not (path.parent / "small.nc").exists()
