@@ -111,7 +111,8 @@ def patch_parameters(column, settings):
         return 0.0, 0.0
     mass = _mass(column)
     area = math.pi * column.R**2
-    return mass * G / (kn * area * column.R), patch_dashpots(column, settings) * column.R**3 / (mass * math.sqrt(G * column.R))
+    theta_k = mass * G / (kn * area * column.R)
+    return theta_k, patch_dashpots(column, settings) * column.R**3 / (mass * math.sqrt(G * column.R))
 
 
 def _mass(column):

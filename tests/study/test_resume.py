@@ -8,6 +8,7 @@ import textwrap
 import time
 
 import numpy as np
+import pytest
 
 from pipeline.dataset import open_results
 from pipeline.study import load_study, run_study
@@ -160,29 +161,20 @@ def test_two_runs_of_one_study_do_not_share_a_checkpoint(write_study):
     assert run_study(load_study(path), serial=True, progress=False).failed == 0
 
 
-def test_ctrl_c_on_the_command_line_exits_130_with_one_line(write_study):
-    """A real SIGINT: one line, status 130, the finished tasks kept (issue 11)."""
+@pytest.mark.parametrize("sig, status, line", [
+    (signal.SIGINT, 130, "frustum: interrupted: run again to resume"),  # Ctrl-C (issue 11)
+    (signal.SIGTERM, 143, "frustum: terminated: run again to resume"),  # systemd, a batch system: 128 + 15
+])
+def test_a_stopped_command_exits_with_one_line_and_keeps_its_tasks(write_study, sig, status, line):
+    """A real SIGINT or SIGTERM: one line, its status, the finished tasks kept, no results file (SIGTERM alone
+    would end Python without a word)."""
     from study_files import SMALL_STUDY
 
     path = write_study(SMALL_STUDY.replace("block_columns = 2", MANY_TASKS))
     checkpoint = str(path.parent / "small.nc") + ".checkpoint"
-    proc = _kill_after(path, checkpoint, 1, mode="cli", sig=signal.SIGINT)
+    proc = _kill_after(path, checkpoint, 1, mode="cli", sig=sig)
     output = proc.stdout.read().decode()
-    assert proc.returncode == 130, output
-    assert output.splitlines()[-1] == "frustum: interrupted: run again to resume" and "Traceback" not in output
-    assert 1 <= len([p for p in os.listdir(checkpoint) if p.startswith("task-")]) < 8
-
-
-def test_a_scheduler_stop_exits_143_with_one_line(write_study):
-    """SIGTERM, as systemd or a batch system stops a job: the same clean way out as Ctrl-C (one line, status
-    128 + 15, the finished tasks kept, no results file), where Python alone would die without a word."""
-    from study_files import SMALL_STUDY
-
-    path = write_study(SMALL_STUDY.replace("block_columns = 2", MANY_TASKS))
-    checkpoint = str(path.parent / "small.nc") + ".checkpoint"
-    proc = _kill_after(path, checkpoint, 1, mode="cli", sig=signal.SIGTERM)
-    output = proc.stdout.read().decode()
-    assert proc.returncode == 143, output
-    assert output.splitlines()[-1] == "frustum: terminated: run again to resume" and "Traceback" not in output
+    assert proc.returncode == status, output
+    assert output.splitlines()[-1] == line and "Traceback" not in output
     assert 1 <= len([p for p in os.listdir(checkpoint) if p.startswith("task-")]) < 8
     assert not (path.parent / "small.nc").exists()
