@@ -29,7 +29,7 @@ def main(argv=None):
 
     from pipeline.animate import animate_file
     from pipeline.dataset import histories_file, write_netcdf
-    from pipeline.geometry import Column
+    from pipeline.structures.column import Column
     from pipeline.groundmotion import load
     from pipeline.settings import Excitation, ModelSettings
     from pipeline.simulate import simulate

@@ -47,13 +47,13 @@ def _simulate(column, motion, scale=1.0, angle=0.0, **options):
 
 
 def _warm(motion):
-    from pipeline.geometry import Column
+    from pipeline.structures.column import Column
 
     _simulate(Column(*PAPER), motion, tail=0.0)  # compiles (or loads) the kernel, calibrates once
 
 
 def bench_record(repeat):
-    from pipeline.geometry import Column
+    from pipeline.structures.column import Column
     from pipeline.groundmotion import load
 
     column, motion = Column(*PAPER), load("FEMA-FF-01")
@@ -75,7 +75,7 @@ def bench_record(repeat):
 
 
 def bench_fragility(stripes):
-    from pipeline.geometry import Column
+    from pipeline.structures.column import Column
     from pipeline.groundmotion import list_records, load
 
     column = Column(*PAPER)
@@ -99,7 +99,7 @@ def bench_fragility(stripes):
 
 
 def bench_discretisation():
-    from pipeline.geometry import Column
+    from pipeline.structures.column import Column
     from pipeline.groundmotion import load
 
     column = Column(*PAPER)
@@ -137,8 +137,8 @@ def bench_drums(reference=(1, 4), counts=(1, 4, 10), repeat=3, scale=1.0):
     same run's CPU time varies by up to a half from minute to minute (the DOPRI5 runs once).
     ``scale`` scales the record; the goals are for x1 (where the 10-drum stack may overturn and
     stop early, x0.5 gives a stack that stands through the whole record)."""
-    from pipeline.drums import DrumColumn
-    from pipeline.geometry import Column
+    from pipeline.structures.drums import DrumColumn
+    from pipeline.structures.column import Column
     from pipeline.groundmotion import load
 
     from pipeline.settings import ModelSettings

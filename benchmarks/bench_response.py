@@ -34,7 +34,7 @@ SCALES = (1.0, 2.0, 3.0)
 def _problem(scale, rtol):
     from pipeline.dynamics.rigid import frustum as fk
     from pipeline.dynamics.rigid import layout as lay
-    from pipeline.geometry import Column
+    from pipeline.structures.column import Column
     from pipeline.groundmotion import load
     from pipeline.settings import ModelSettings
     from pipeline.simulate import _options

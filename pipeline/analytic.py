@@ -2,7 +2,7 @@
 
 Every function here is a pure function of the column's dimensionless constants
 and of dimensionless states (the paper's Eq. 9: rates per tau = t sqrt(g/R),
-lengths per R). The column may be given as a :class:`pipeline.geometry.Column`
+lengths per R). The column may be given as a :class:`pipeline.structures.column.Column`
 or as any sequence whose first three entries are ``(Iy, Iz, zc)``:
 
 * ``Iy`` = I_y^P / (m R^2), the paper's transverse inertia "at P";
@@ -40,7 +40,7 @@ from dataclasses import dataclass
 import mpmath
 import numpy as np
 
-from pipeline.geometry import axial_inertia_hat, k1_coefficient, transverse_inertia_hat
+from pipeline.structures.column import axial_inertia_hat, k1_coefficient, transverse_inertia_hat
 
 
 def _constants(column):

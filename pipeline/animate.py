@@ -60,7 +60,7 @@ class Shape:
     @property
     def z_cm(self):
         """Height of the centre of mass above the base [m] (a square block: h/2)."""
-        from pipeline.geometry import Column
+        from pipeline.structures.column import Column
 
         return Column(self.R, self.r, self.h).z_cm
 

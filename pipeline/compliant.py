@@ -1,7 +1,7 @@
 """The compliant-contact model: a column of rigid drums on joints of contact points.
 
 Friendly layer over :mod:`pipeline.dynamics.compliant.stack`: builds the dimensionless tables of a
-monolith or of a multi-drum column (:class:`pipeline.drums.DrumColumn`), sets the normal
+monolith or of a multi-drum column (:class:`pipeline.structures.drums.DrumColumn`), sets the normal
 damping from a target coefficient of restitution (:func:`calibrated_damping`), runs the
 compiled kernel and returns a :class:`pipeline.response.Response` with the rigid models'
 summary keys and history names (docs/model.md, "The compliant-contact model").
@@ -14,13 +14,13 @@ from functools import lru_cache
 import numpy as np
 from scipy.optimize import brentq
 
-from pipeline.drums import DrumColumn
+from pipeline.structures.drums import DrumColumn
 from pipeline.dynamics.compliant import joint as jl
 from pipeline.dynamics.compliant import linear_system
 from pipeline.dynamics.compliant import semi_implicit as si
 from pipeline.dynamics.compliant import stack as sk
 from pipeline.errors import InputError
-from pipeline.geometry import Column
+from pipeline.structures.column import Column
 from pipeline.models.compliant import COMPLIANT_DRUMS
 from pipeline.response import Response
 from pipeline.settings import Excitation, ModelSettings, check_column, housner_restitution
@@ -100,7 +100,7 @@ def assemble(column, settings, damping):
 
     Parameters
     ----------
-    column : pipeline.geometry.Column or pipeline.drums.DrumColumn
+    column : pipeline.structures.column.Column or pipeline.structures.drums.DrumColumn
     settings : pipeline.settings.ModelSettings
         Joint stiffness, ratio, friction, contact points, anathyrosis.
     damping : float
@@ -249,7 +249,7 @@ def planar_restitution(column, settings, damping, amplitude=RELEASE_TILT):
 
     Parameters
     ----------
-    column : pipeline.geometry.Column or pipeline.drums.DrumColumn
+    column : pipeline.structures.column.Column or pipeline.structures.drums.DrumColumn
         Its outline is used, as one body.
     settings : pipeline.settings.ModelSettings
     damping : float
@@ -360,7 +360,7 @@ def calibrated_damping(column, settings, target=None):
 
     Parameters
     ----------
-    column : pipeline.geometry.Column or pipeline.drums.DrumColumn
+    column : pipeline.structures.column.Column or pipeline.structures.drums.DrumColumn
     settings : pipeline.settings.ModelSettings
     target : float, optional
         Target restitution [1]; default ``settings.restitution``, or else the rigid model's

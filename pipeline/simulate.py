@@ -38,7 +38,7 @@ from pipeline.dynamics.rigid import rocking as rk
 from pipeline.dynamics.rigid.run2d import run_rocking
 from pipeline.dynamics.rigid.run3d import run_frustum
 from pipeline.errors import InputError
-from pipeline.geometry import Column
+from pipeline.structures.column import Column
 from pipeline.models.rigid import ROLLING_FRUSTUM
 from pipeline.response import Response
 from pipeline.settings import FREE_MOTION, Excitation, ModelSettings, check_column
@@ -136,7 +136,7 @@ def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), 
 
     Parameters
     ----------
-    column : pipeline.geometry.Column or pipeline.drums.DrumColumn
+    column : pipeline.structures.column.Column or pipeline.structures.drums.DrumColumn
         A multi-drum column needs a model that runs drums (``Model.drums`` of the registry).
     motion : pipeline.groundmotion.GroundMotion
     excitation : Excitation
@@ -199,7 +199,7 @@ def simulate_free(column, initial, duration, settings=FREE_MOTION,
 
     Parameters
     ----------
-    column : pipeline.geometry.Column
+    column : pipeline.structures.column.Column
     initial : InitialState
     duration : float
         Length of the simulation [s].

@@ -41,7 +41,7 @@ PAPER = "R0.5-s8-b0.8"  # the paper's column (R = 0.5 m, r = 0.4 m, h = 4 m) in 
 
 
 def _column(results, label):
-    from pipeline.geometry import Column
+    from pipeline.structures.column import Column
 
     c = results.sel(column=label)
     return Column(float(c["column_R"]), float(c["column_r"]), float(c["column_h"]), name=label)

@@ -23,7 +23,7 @@ import xarray as xr
 from pipeline import models
 from pipeline.cli import main
 from pipeline.dataset import annotate
-from pipeline.geometry import Column
+from pipeline.structures.column import Column
 from pipeline.groundmotion import load
 from pipeline.models.spec import Model, ModelDescription, StateLayout, read
 from pipeline.response import Response

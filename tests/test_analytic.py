@@ -24,7 +24,7 @@ from scipy.integrate import cumulative_trapezoid, quad
 from pipeline import analytic as an
 from pipeline.dynamics import derivation as d
 from pipeline.dynamics.rigid import frustum as fk
-from pipeline.geometry import Column
+from pipeline.structures.column import Column
 from pipeline.settings import InitialState
 from pipeline.settings import ModelSettings as _Settings
 from pipeline.simulate import simulate_free

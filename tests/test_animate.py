@@ -16,7 +16,7 @@ from PIL import Image
 from pipeline.animate import STONE, Motion, drum_bodies, euler_rotation, frame_times, frustum_faces, render_frame
 from pipeline.cli import main
 from pipeline.dataset import histories_file, one_run, open_results, write_netcdf
-from pipeline.geometry import Column
+from pipeline.structures.column import Column
 from pipeline.groundmotion.synthesis import one_sine_pulse
 from pipeline.settings import Excitation, ModelSettings
 from pipeline.simulate import simulate
@@ -153,7 +153,7 @@ def test_frustum_animate_draws_a_compliant_run_of_two_drums(tmp_path, capsys):
     writes every frame, and drum 0's drawn base sits where the simulation put the base centre
     (x_b, y_b, from its quaternion directly) plus the ground's displacement, to round-off."""
     from pipeline.animate import ground_displacement
-    from pipeline.drums import DrumColumn
+    from pipeline.structures.drums import DrumColumn
 
     motion = one_sine_pulse(6.0, 0.4, dt=0.01, record_id="pulse")
     runs = [simulate(DrumColumn.equal(Column(0.5, 0.4, 4.0), 2), motion, Excitation(angle=30.0),

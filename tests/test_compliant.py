@@ -11,9 +11,9 @@ import pytest
 
 from pipeline.compliant import calibrated_damping, critical_damping, planar_restitution
 from pipeline.dataset import VARIABLES
-from pipeline.drums import DrumColumn
+from pipeline.structures.drums import DrumColumn
 from pipeline.errors import InputError
-from pipeline.geometry import Column
+from pipeline.structures.column import Column
 from pipeline.groundmotion import GroundMotion, clough_penzien, load, one_sine_pulse, rectangular_pulse
 from pipeline.settings import Excitation, ModelSettings, housner_restitution
 from pipeline.simulate import simulate

@@ -15,9 +15,9 @@ from numba.core.caching import NullCache
 
 from pipeline import models
 from pipeline.dataset import FLAGS, STUDY_VARIABLES, VARIABLES
-from pipeline.drums import DrumColumn
+from pipeline.structures.drums import DrumColumn
 from pipeline.errors import InputError
-from pipeline.geometry import Column
+from pipeline.structures.column import Column
 from pipeline.groundmotion.synthesis import one_sine_pulse
 from pipeline.models.options import OPTIONS
 from pipeline.settings import Excitation, ModelSettings

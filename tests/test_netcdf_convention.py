@@ -21,7 +21,7 @@ import xarray as xr
 from pipeline import fragility as F
 from pipeline.citation import REFERENCE
 from pipeline.dataset import histories_file, write_netcdf
-from pipeline.geometry import Column
+from pipeline.structures.column import Column
 from pipeline.groundmotion.synthesis import one_sine_pulse
 from pipeline.settings import Excitation, ModelSettings
 from pipeline.simulate import simulate

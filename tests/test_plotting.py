@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from pipeline.cli import main
-from pipeline.geometry import Column
+from pipeline.structures.column import Column
 from pipeline.groundmotion.synthesis import one_sine_pulse
 from pipeline.plotting import plot_response, response_figure
 from pipeline.settings import Excitation, InitialState, ModelSettings

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from pipeline.errors import InputError
-from pipeline.geometry import Column
+from pipeline.structures.column import Column
 from pipeline.groundmotion import GroundMotion, harmonic, load, rectangular_pulse
 from pipeline.settings import Excitation, InitialState, ModelSettings, housner_restitution
 from pipeline.simulate import simulate, simulate_free

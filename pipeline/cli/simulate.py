@@ -168,7 +168,7 @@ def _model_settings(args, model, **fixed):
 def run_simulate(args):
     """Handler of ``frustum simulate``."""
     from pipeline.dataset import append_history, histories_file, write_netcdf
-    from pipeline.geometry import Column
+    from pipeline.structures.column import Column
 
     # everything that can be refused is refused before computing
     inputs = record_inputs(args.record)
@@ -258,7 +258,7 @@ def _joints_line(summary):
 
 def _drum_column(args, column):
     """The column as drums when any drum option is given (the compliant model then)."""
-    from pipeline.drums import Capital, DrumColumn
+    from pipeline.structures.drums import Capital, DrumColumn
 
     if args.drums is None and args.drum_heights is None and args.capital is None:
         return column

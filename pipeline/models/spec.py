@@ -95,8 +95,8 @@ class Model:
     in_short : str
         What the model is in one line, for the comment of the CF ``model`` coordinate.
     drums : bool
-        Runs columns built of drums (:class:`pipeline.drums.DrumColumn`, and a capital) as well
-        as monoliths; a model without it runs monolithic :class:`pipeline.geometry.Column` only.
+        Runs columns built of drums (:class:`pipeline.structures.drums.DrumColumn`, and a capital) as well
+        as monoliths; a model without it runs monolithic :class:`pipeline.structures.column.Column` only.
     angle_invariant : bool
         Its results do not depend on the incidence angle (an axisymmetric column whose
         response turns with the record): a study runs it at one angle and repeats it.

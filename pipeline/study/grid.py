@@ -32,7 +32,7 @@ class Task:
         Index of the record in the study.
     start, stop : int
         Column indices of the block, ``columns[start:stop]``.
-    columns : tuple of pipeline.geometry.Column
+    columns : tuple of pipeline.structures.column.Column
     angles : tuple of float
         Incidence angles [degree].
     factors : tuple of float
@@ -41,7 +41,7 @@ class Task:
         One per model.
     vertical : bool
     stacks : tuple
-        Per column, its drums (:class:`pipeline.drums.DrumColumn`) for the compliant model,
+        Per column, its drums (:class:`pipeline.structures.drums.DrumColumn`) for the compliant model,
         or None (the monolith); empty: every column a monolith.
     n_joints : int
         Length of the ``joint`` dimension of the results (0: no compliant model).

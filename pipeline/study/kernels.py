@@ -22,7 +22,7 @@ def warm_up(models):
     cache is rebuilt once rather than by every worker; workers call it too so
     that loading the cache is not counted inside the first task.
     """
-    from pipeline.geometry import Column
+    from pipeline.structures.column import Column
     from pipeline.groundmotion.synthesis import one_sine_pulse
 
     motion = one_sine_pulse(5.0, 0.2, dt=0.01, duration=0.3, record_id="warm-up")

@@ -9,7 +9,7 @@ models' options and where the results go; :class:`ColumnInfo`, :class:`RecordSpe
 import math
 from dataclasses import dataclass
 
-from pipeline.geometry import Column
+from pipeline.structures.column import Column
 from pipeline.models import REGISTRY
 from pipeline.settings import ModelSettings
 
@@ -84,14 +84,14 @@ class ColumnInfo:
 
     Attributes
     ----------
-    column : pipeline.geometry.Column
+    column : pipeline.structures.column.Column
     label : str
         Unique label in the results (``column`` coordinate).
     latitude, longitude : float
         Position [degree] of a named real column, NaN otherwise.
     source : str
         Where the dimensions come from.
-    stack : pipeline.drums.DrumColumn or None
+    stack : pipeline.structures.drums.DrumColumn or None
         The column as drums (and capital) that the compliant model runs; None: the monolith
         ``column``. The rigid models always run ``column``, the shaft as one body.
     """

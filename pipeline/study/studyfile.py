@@ -68,10 +68,10 @@ import tomllib
 from collections import Counter
 from pathlib import Path
 
-from pipeline.columns import named_columns
-from pipeline.drums import Capital, DrumColumn
+from pipeline.structures.named import named_columns
+from pipeline.structures.drums import Capital, DrumColumn
 from pipeline.errors import InputError
-from pipeline.geometry import Column
+from pipeline.structures.column import Column
 from pipeline.models import DEFAULT, REGISTRY
 from pipeline.models.options import OPTIONS
 from pipeline.settings import check_column

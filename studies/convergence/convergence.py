@@ -10,7 +10,7 @@ Run:  python studies/convergence/convergence.py > studies/convergence/results.md
 
 import math
 
-from pipeline.geometry import Column
+from pipeline.structures.column import Column
 from pipeline.groundmotion import load_set
 from pipeline.settings import ModelSettings
 from pipeline.simulate import simulate

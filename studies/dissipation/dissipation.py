@@ -9,7 +9,7 @@ energy removed by the couple as a share of the ground's work.
 Run:  python studies/dissipation/dissipation.py > studies/dissipation/results.md
 """
 
-from pipeline.geometry import Column
+from pipeline.structures.column import Column
 from pipeline.groundmotion import load
 from pipeline.settings import Excitation, ModelSettings
 from pipeline.simulate import simulate

@@ -57,8 +57,8 @@ import time
 
 import numpy as np
 
-from pipeline.drums import DrumColumn
-from pipeline.geometry import Column
+from pipeline.structures.drums import DrumColumn
+from pipeline.structures.column import Column
 from pipeline.units import G
 
 # -- settings (each one named in the digest of the cached rows) ---------------------------------
@@ -126,7 +126,7 @@ class World:
 
     Parameters
     ----------
-    stack : pipeline.drums.DrumColumn
+    stack : pipeline.structures.drums.DrumColumn
         The drums; each body gets the drum's mass and central inertia of the project
         (``density * volume``, ``central_inertia_hat * m * R^2``), not the hull's.
     friction : float

@@ -34,7 +34,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from pipeline import analytic as an  # noqa: E402
-from pipeline.geometry import Column  # noqa: E402
+from pipeline.structures.column import Column  # noqa: E402
 from pipeline.settings import InitialState  # noqa: E402
 from pipeline.settings import ModelSettings as _Settings  # noqa: E402
 from pipeline.simulate import simulate_free  # noqa: E402

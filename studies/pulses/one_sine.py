@@ -18,7 +18,7 @@ import time
 
 import numpy as np
 
-from pipeline.geometry import Column
+from pipeline.structures.column import Column
 from pipeline.groundmotion import GroundMotion, one_sine_pulse
 from pipeline.plotting import plt
 from pipeline.settings import Excitation, ModelSettings

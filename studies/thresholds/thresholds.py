@@ -27,7 +27,7 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 
 from pipeline.fragility import fit_lognormal
-from pipeline.geometry import Column
+from pipeline.structures.column import Column
 from pipeline.groundmotion import load
 from pipeline.models.rigid import ROLLING_FRUSTUM
 from pipeline.settings import Excitation, ModelSettings

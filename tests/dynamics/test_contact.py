@@ -7,7 +7,7 @@ import pytest
 
 from pipeline.dynamics.rigid import frustum as fk
 from pipeline.dynamics.rigid import contact
-from pipeline.geometry import Column
+from pipeline.structures.column import Column
 
 PAPER = Column(0.5, 0.4, 4.0)
 

@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from pipeline.geometry import Column
+from pipeline.structures.column import Column
 from pipeline.groundmotion import GroundMotion, load
 from pipeline.groundmotion.synthesis import kanai_tajimi, rectangular_pulse
 from pipeline.settings import Excitation, ModelSettings

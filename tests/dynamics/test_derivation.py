@@ -6,7 +6,7 @@ import sympy as sp
 
 from pipeline.dynamics import derivation as d
 from pipeline.dynamics.rigid import frustum as fk
-from pipeline.geometry import Column
+from pipeline.structures.column import Column
 
 
 @pytest.fixture(scope="module")

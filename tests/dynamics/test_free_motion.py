@@ -8,7 +8,7 @@ import sympy as sp
 from scipy.integrate import solve_ivp
 
 from pipeline.dynamics.rigid import frustum as fk
-from pipeline.geometry import Column
+from pipeline.structures.column import Column
 from pipeline.settings import InitialState, ModelSettings
 from pipeline.simulate import simulate_free
 from pipeline.units import G

@@ -9,7 +9,7 @@ from pipeline.dynamics.rigid import frustum as fk
 from pipeline.dynamics.rigid import layout as lay
 from pipeline.dynamics.rigid.run3d import run_frustum
 from pipeline.dynamics.reference import run_frustum_scipy
-from pipeline.geometry import Column
+from pipeline.structures.column import Column
 from pipeline.groundmotion import GroundMotion, ricker_wavelet
 from pipeline.settings import ModelSettings
 from pipeline.simulate import _options

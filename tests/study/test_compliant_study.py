@@ -96,7 +96,7 @@ def test_a_drum_column_study_has_the_joints_of_simulate(write_study):
     (the monolith's joint 1 and the rigid model's joints NaN), equal to simulate() to the bit;
     the rigid model runs the drums' shaft as a monolith, the same numbers as the monolith's."""
     from pipeline.dataset import open_results
-    from pipeline.drums import DrumColumn
+    from pipeline.structures.drums import DrumColumn
 
     study = load_study(write_study(DRUM_STUDY))
     assert [c.n_bodies for c in study.columns] == [1, 2] and study.n_joints == 2

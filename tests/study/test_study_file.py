@@ -6,7 +6,7 @@ import re
 import pytest
 
 from pipeline.cli import main
-from pipeline.columns import named_columns
+from pipeline.structures.named import named_columns
 from pipeline.errors import InputError
 from pipeline.study import load_study
 

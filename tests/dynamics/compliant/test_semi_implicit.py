@@ -12,12 +12,12 @@ import numpy as np
 import pytest
 
 from pipeline import compliant as cp
-from pipeline.drums import DrumColumn
+from pipeline.structures.drums import DrumColumn
 from pipeline.dynamics.compliant import linear_system as ls
 from pipeline.dynamics.compliant import semi_implicit as si
 from pipeline.dynamics.compliant import stack as sk
 from pipeline.errors import InputError
-from pipeline.geometry import Column
+from pipeline.structures.column import Column
 from pipeline.groundmotion import one_sine_pulse
 from pipeline.settings import Excitation, ModelSettings
 

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from pipeline.compliant import as_stack, assemble, critical_damping, released_state
-from pipeline.drums import Capital, DrumColumn
+from pipeline.structures.drums import Capital, DrumColumn
 from pipeline.dynamics.compliant import stack as sk
-from pipeline.geometry import Column
+from pipeline.structures.column import Column
 from pipeline.settings import ModelSettings
 
 PAPER = Column(0.5, 0.4, 4.0)

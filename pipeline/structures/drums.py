@@ -1,6 +1,6 @@
 """Multi-drum columns: a column's outline cut into stacked drums, with an optional capital.
 
-A :class:`DrumColumn` is the frustum of a :class:`pipeline.geometry.Column` cut by
+A :class:`DrumColumn` is the frustum of a :class:`pipeline.structures.column.Column` cut by
 horizontal bed joints at given heights, every drum a frustum of the same taper, plus an
 optional square capital (abacus) resting on the top of the shaft. The compliant-contact
 model (:mod:`pipeline.compliant`) runs it; one drum is the monolith.
@@ -9,9 +9,9 @@ model (:mod:`pipeline.compliant`) runs it; one drum is the monolith.
 import math
 from dataclasses import dataclass
 
-from pipeline.columns import named_columns
+from pipeline.structures.named import named_columns
 from pipeline.errors import InputError
-from pipeline.geometry import Column
+from pipeline.structures.column import Column
 from pipeline.units import MARBLE_DENSITY
 
 MAX_DRUMS = 40
@@ -58,7 +58,7 @@ class DrumColumn:
 
     Parameters
     ----------
-    column : pipeline.geometry.Column
+    column : pipeline.structures.column.Column
         The outline of the shaft (R, r, h [m]) and its density.
     cuts : tuple of float
         Heights of the bed joints above the base [m], increasing, strictly inside (0, h).

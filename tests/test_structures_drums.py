@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from pipeline.cli import main
-from pipeline.drums import Capital, DrumColumn, named_drum_column
+from pipeline.structures.drums import Capital, DrumColumn, named_drum_column
 from pipeline.errors import InputError
-from pipeline.geometry import Column
+from pipeline.structures.column import Column
 from pipeline.groundmotion import clough_penzien, one_sine_pulse, rectangular_pulse
 from pipeline.settings import Excitation, ModelSettings
 from pipeline.simulate import simulate

@@ -4,7 +4,7 @@ Each entry (its key the column's id) gives the dimensions R, r, h [m] of a real 
 where they come from, its position (latitude, longitude [degree]) where known, and for a
 column built of drums their number (``drums``) or heights (``drum_heights`` [m]) and a
 capital (``capital_side``, ``capital_height`` [m]). Read by the study files (``named = ...``)
-and by :func:`pipeline.drums.named_drum_column`; a module of its own so that both read it
+and by :func:`pipeline.structures.drums.named_drum_column`; a module of its own so that both read it
 without importing each other.
 """
 

@@ -7,7 +7,7 @@ import pytest
 from scipy import integrate
 
 from pipeline.errors import InputError
-from pipeline.geometry import Column
+from pipeline.structures.column import Column
 from pipeline.units import G
 
 
