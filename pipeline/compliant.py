@@ -43,6 +43,10 @@ class Assembly:
         sqrt(L/g) [s].
     body_lie : tuple of float
         Lying tilt of each body [rad].
+    barrier : float
+        The lowest overturning barrier [M g L] (:func:`overturning_barriers`).
+    critical : numpy.ndarray
+        Critical tilt of the part above each body's joint [rad].
     """
 
     bodies: np.ndarray
@@ -53,6 +57,8 @@ class Assembly:
     mass: float
     time: float
     body_lie: tuple
+    barrier: float
+    critical: np.ndarray
 
     @property
     def n_bodies(self):
@@ -72,6 +78,39 @@ def lying_tilt(R, r, h):
     R = 0.5, r = 0.4, h = 4 m; 90 deg for a cylinder or a block).
     """
     return 0.5 * math.pi + math.atan((R - r) / h)
+
+
+def overturning_barriers(masses, heights, centres, radii):
+    """The lowest overturning barrier of a stack and the critical tilt of the part above each joint.
+
+    The part of the stack above joint b (bodies b to the top) tips as one block about the
+    rim of the joint's face (radius a_b) when its centre of mass, z_b above the joint, passes
+    over it: at the tilt atan(a_b / z_b), its weight risen by ``M_b (sqrt(a_b^2 + z_b^2) - z_b)``.
+    The lowest of these rises is the energy a column must gain to overturn by any part
+    tipping as a block (a mechanism with several joints open at once is taken to need no less).
+
+    Parameters
+    ----------
+    masses, heights, centres, radii : sequence of float, one per body bottom first
+        Mass, height, centre of mass above its base, radius of its joint's face, in the
+        same units of mass and length.
+
+    Returns
+    -------
+    barrier : float
+        In those units of mass times length (times g: an energy per g).
+    critical : numpy.ndarray
+        [rad], per joint.
+    """
+    n = len(masses)
+    base = np.concatenate([[0.0], np.cumsum(heights)[:-1]])  # each body's base above the ground
+    rises, critical = [], np.empty(n)
+    for b in range(n):
+        mass = float(np.sum(masses[b:]))
+        z = float(np.dot(masses[b:], base[b:] + np.asarray(centres[b:]))) / mass - base[b]
+        critical[b] = math.atan2(radii[b], z)
+        rises.append(mass * (math.hypot(radii[b], z) - z))
+    return min(rises), critical
 
 
 def as_stack(column):
@@ -181,8 +220,10 @@ def assemble(column, settings, damping):
         joints[b, sk.J_DELTA] = above[b] / (kn * area)  # the static penetration
         # the elastic shear displacement at the cap under the joint's mean pressure
         joints[b, sk.J_UFLOOR] = friction[b] * joints[b, sk.J_DELTA] / settings.stiffness_ratio
+    barrier, critical = overturning_barriers(bodies[:, sk.B_MASS], bodies[:, sk.B_TOP], bodies[:, sk.B_ZC],
+                                            [r[6] / L for r in rows])
     return Assembly(bodies, np.concatenate(points), np.array(starts, dtype=np.int64), joints, L, M, T,
-                    tuple(r[7] for r in rows))
+                    tuple(r[7] for r in rows), barrier, critical)
 
 
 # -- damping from a coefficient of restitution -------------------------------------------------
@@ -429,7 +470,7 @@ def numerics(settings):
 
 
 def _integrate(asm, params, y0, duration, monitor, stride, settings, histories, theta_commit=math.inf,
-               step=None, progress=None):
+               step=None, progress=None, settle_limit=0.0):
     """Run the kernel for ``duration`` [s], sampling every ``monitor`` [s]; history every ``stride``.
 
     The integrator, its tolerances (adaptive) or step (fixed) come from ``settings``. The
@@ -438,10 +479,15 @@ def _integrate(asm, params, y0, duration, monitor, stride, settings, histories, 
     ``step`` [s] is the fixed step if already found (:func:`fixed_step`).
     ``progress(done, total)`` [s], if given, is called as the run goes on (the fixed-step
     integrator runs in pieces for it; the result is the same).
+
+    If the column could still fall at ``duration`` (:func:`pipeline.dynamics.compliant.stack.stands_for_good`),
+    the run goes on (the ground still after the record) until it stands for good or falls, at
+    most ``settle_limit`` [s] more (then ``S_UNDECIDED``); the histories end with the run.
     """
     n_bodies = asm.n_bodies
     dtau = monitor / asm.time
-    m = int(math.ceil(duration / monitor - 1e-9)) + 1
+    k_decide = int(math.ceil(duration / monitor - 1e-9))  # the sample that ends the record and its tail
+    m = int(math.ceil((duration + settle_limit) / monitor - 1e-9)) + 1
     t_mon = np.arange(m) * dtau
     n_hist = (m - 1) // stride + 1 if histories else 0
     raw = _Raw(
@@ -459,28 +505,51 @@ def _integrate(asm, params, y0, duration, monitor, stride, settings, histories, 
         y = y0.copy()
         scratch = si.make_scratch(n_bodies, asm.points.shape[0])
         between = np.empty((2, y0.shape[0]))
-        # pieces of about a second of motion (a progress line; the same result as one piece)
-        piece = max(1, int(round(1.0 / monitor))) if progress is not None else m
+        # pieces of about a second of motion (a progress line; the same result as one piece), and
+        # after the record and its tail, pieces of the same length between checks of the outcome
+        second = max(1, int(round(1.0 / monitor)))
+        piece = second if progress is not None else m
         k = 0
         while k < m:
-            k = si.run(params, y, t_mon, k, min(m, max(k, 1) + piece), step / asm.time, stride, theta_commit,
+            stop = min(k_decide + 1, max(k, 1) + piece) if k <= k_decide else min(m, k + second)
+            k = si.run(params, y, t_mon, k, stop, step / asm.time, stride, theta_commit,
                        raw.hist_y, raw.hist_diag, raw.hist_body, raw.summary, raw.body_stats, raw.joint_stats,
                        raw.joint_committed, y0, between, scratch)
-            if progress is not None:
-                progress(min(k, m - 1) * monitor, (m - 1) * monitor)
+            if progress is not None and k <= k_decide + 1:  # the record and its tail (after them: deciding)
+                progress(min(k - 1, k_decide) * monitor, k_decide * monitor)
+            if k > k_decide and _stands_for_good(asm, params, y, raw):
+                break
+        if math.isnan(raw.summary[sk.S_OVERTURN_TIME]) and not _stands_for_good(asm, params, y, raw):
+            raw.summary[sk.S_UNDECIDED] = 1.0
         raw.summary[sk.S_ENERGY_END] = sk.energy(y, params)
         raw.y_end[:] = y
-        return raw
+        return _trimmed(raw, k_decide)
     record, dt = params[4], params[5]
     breaks = np.arange(record.shape[0]) * dt  # kinks of the linearly interpolated record
     atol = np.full(y0.shape[0], settings.atol)
     sk.run(params, y0, t_mon, stride, breaks, settings.rtol, atol, np.inf,
            np.ones(2 * n_bodies), theta_commit, raw.hist_y, raw.hist_diag, raw.hist_body, raw.summary,
-           raw.body_stats, raw.joint_stats, raw.joint_committed, raw.y_end, sk.METHODS[settings.integrator])
+           raw.body_stats, raw.joint_stats, raw.joint_committed, raw.y_end, k_decide, asm.barrier, asm.critical,
+           sk.METHODS[settings.integrator])
     if raw.summary[sk.S_STATUS] < 0:
         raise RuntimeError(
             f"integration failed at t = {raw.summary[sk.S_END_TIME] * asm.time:.6g} s "
             f"(status {raw.summary[sk.S_STATUS]:.0f}); try other tolerances or joint parameters")
+    return _trimmed(raw, k_decide)
+
+
+def _stands_for_good(asm, params, y, raw):
+    return sk.stands_for_good(y, params, raw.summary[sk.S_ENERGY_START], asm.barrier, asm.critical)
+
+
+def _trimmed(raw, k_decide):
+    """The run's samples and history rows up to its end (a column down has them all), at least up
+    to the record and its tail (sample ``k_decide``)."""
+    end = max(raw.t_mon[k_decide], raw.summary[sk.S_END_TIME])
+    last = int(np.searchsorted(raw.t_mon, end * (1.0 + 1e-12), side="right")) - 1
+    raw.t_mon = raw.t_mon[:last + 1]
+    rows = last // raw.stride + 1
+    raw.hist_y, raw.hist_diag, raw.hist_body = raw.hist_y[:rows], raw.hist_diag[:rows], raw.hist_body[:rows]
     return raw
 
 
@@ -529,7 +598,7 @@ def simulate_compliant(column, motion, excitation, settings, histories=True, pro
         stride = max(1, int(math.ceil(settings.output_step / settings.monitor_step - 1e-9)))
     raw = _integrate(asm, params, y0, motion.duration + settings.tail, settings.output_step / stride, stride,
                      settings, histories, stack.column.critical_tilt,
-                     step=step, progress=progress)
+                     step=step, progress=progress, settle_limit=settings.settle_limit)
     summary = _summary(stack, asm, params, settings, raw, damping, restitution)
     summary.update(record_id=motion.record_id, angle=float(excitation.angle), scale=float(excitation.scale),
                    step=float(raw.step), step_limit=float(limit))
@@ -558,6 +627,7 @@ def _summary(stack, asm, params, settings, raw, damping, restitution):
         "peak_theta_ratio": float(s[sk.S_PEAK_THETA] / stack.column.critical_tilt),
         "peak_time": float(s[sk.S_PEAK_TIME] * T),
         "overturned": overturned,
+        "undecided": bool(s[sk.S_UNDECIDED]),
         "overturn_time": float(s[sk.S_OVERTURN_TIME] * T),
         "collapsed": bool(s[sk.S_STATUS] == sk.STATUS_COLLAPSED),
         "uplifted": bool(math.isfinite(uplift)),

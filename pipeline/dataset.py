@@ -226,6 +226,9 @@ FLAGS = {
     "phase": ([0, 1, 2, 3, 4, 5], "at_rest rolling_on_rim overturned sliding_flat slipping_on_rim flight",
               "motion phase of the column"),
     "overturned": ([0, 1], "stands overturned", "the column overturned"),
+    "undecided": ([0, 1], "decided undecided",
+                  "the column could still overturn when the run reached its settle limit after the tail "
+                  "(neither standing nor overturned; fragility leaves it out and counts it)"),
     "uplifted": ([0, 1], "never_uplifted uplifted", "the base left full contact with the ground"),
     "sliding_onset": ([0, 1], "no_sliding sliding_onset",
                       "the base or the rim slid on the ground (friction reached mu N)"),
@@ -437,8 +440,8 @@ def open_results_file(path, made_by):
 #: results' names, and a compliant run's restitution reached and joint damping. Per joint (dimension
 #: ``joint``) and per body (dimension ``drum``) below.
 SUMMARY_VARIABLES = (
-    "peak_theta", "peak_theta_ratio", "peak_time", "overturned", "overturn_time", "uplifted", "uplift_time",
-    "n_impacts", "peak_mu_mob", "min_normal_force_hat", "sliding_onset", "sliding_time", "lift_off",
+    "peak_theta", "peak_theta_ratio", "peak_time", "overturned", "undecided", "overturn_time", "uplifted",
+    "uplift_time", "n_impacts", "peak_mu_mob", "min_normal_force_hat", "sliding_onset", "sliding_time", "lift_off",
     "lift_off_time", "residual_rotation", "residual_displacement", "energy_friction", "energy_balance_error",
     "restitution", "contact_damping", "dislocation_ratio", "overturn_drum",
 )
@@ -447,7 +450,7 @@ SUMMARY_DRUM_VARIABLES = ("drum_peak_theta",)
 # the integer ones (the rest are float64); a flag or count a run does not report is 0, except
 # overturn_drum: a rigid column is one body, which fell if anything did (as in study results)
 _SUMMARY_INTEGERS = {"n_impacts": np.int32, "overturn_drum": np.int32,
-                     **{name: np.int8 for name in ("overturned", "uplifted", "sliding_onset", "lift_off")}}
+                     **{name: np.int8 for name in ("overturned", "undecided", "uplifted", "sliding_onset", "lift_off")}}
 
 
 def _summary_value(summary, name):

@@ -328,7 +328,16 @@ def _require(results, name, why):
 
 
 def _valid(results):
-    """Runs to use: status 0 (ok), where a status variable exists."""
+    """Runs to use: status 0 (ok), where a status variable exists, and decided: a run whose column
+    could still overturn when it reached its settle limit (``undecided``) neither stood nor fell."""
+    ok = _ok(results)
+    if "undecided" in results.variables:
+        ok = ok & (results["undecided"].fillna(0) == 0)
+    return ok
+
+
+def _ok(results):
+    """Runs that computed: status 0, where a status variable exists."""
     if "status" in results.variables:
         return results["status"].fillna(1) == 0
     return xr.ones_like(results[_first_response(results)], dtype=bool)
@@ -458,6 +467,19 @@ def _per_record(results, im, labels):
     return x, exceed, weight
 
 
+def _undecided_runs(results):
+    """Runs left out of the fits because undecided, counted as the fits count runs: (column, model)."""
+    if "undecided" not in results.variables:
+        return np.zeros((results.sizes["column"], results.sizes["model"]), np.int32)
+    like = results[_first_response(results)].transpose(*RESULT_DIMS)
+    undecided = (_ok(results) & (results["undecided"].fillna(0) > 0)).broadcast_like(like)
+    undecided = undecided.transpose(*RESULT_DIMS).values.astype(float)
+    for i, m in enumerate(str(m) for m in results["model"].values):
+        if getattr(of_results(results, m), "angle_invariant", False):
+            undecided[:, :, 1:, :, i] = 0.0  # counted once, as the fits count such a model's runs
+    return undecided.sum(axis=(1, 2, 3)).astype(np.int32)
+
+
 def _fit_cell(x, exceed, weight):
     """Fit one (state, column, model): arrays over (record, angle, scale)."""
     w = weight.ravel()
@@ -481,7 +503,8 @@ def fragility(results, im="pga", states=DEFAULT_STATES, bootstrap=0, seed=0, con
     ----------
     results : xarray.Dataset
         Study results (dims column, record, angle, scale, model; see
-        :func:`open_results`). Runs with ``status != 0`` are left out; 3D
+        :func:`open_results`). Runs with ``status != 0`` are left out, and
+        undecided ones (counted in ``n_undecided``); 3D
         runs are counted once per record and scale (the angle changes no
         number in the 3D model).
     im : str
@@ -598,6 +621,9 @@ def fragility(results, im="pga", states=DEFAULT_STATES, bootstrap=0, seed=0, con
                            "beta = 0 and median between the highest IM without and the lowest with an exceedance",
             }),
             "n_runs": (dims3, n_runs, {"units": "1", "long_name": "number of runs in the fit"}),
+            "n_undecided": (("column", "model"), _undecided_runs(results), {
+                "units": "1", "long_name": "number of runs left out of the fit: the column could still overturn "
+                "when the run reached its settle limit (undecided)"}),
             "n_exceed": (dims3, n_exc, {"units": "1", "long_name": "number of runs that reached the damage state"}),
             "n_records": (("column", "model"), n_records, {"units": "1", "long_name": "number of records with valid runs"}),
             "probability": (dims3 + ("im_level",), curve, {

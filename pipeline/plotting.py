@@ -13,6 +13,7 @@ import numpy as np  # noqa: E402
 
 from pipeline.models import DEFAULT  # noqa: E402
 from pipeline.models import title as model_title  # noqa: E402
+from pipeline.response import outcome  # noqa: E402
 from pipeline.units import G  # noqa: E402
 
 
@@ -100,8 +101,8 @@ def response_figure(ds, summary, friction=0.7):
         ax.set_title("Excitation")
         ax.legend(loc="upper right")
 
-    outcome = f" ({'overturned' if over else 'stands'})" if "overturned" in summary else ""
-    fig.suptitle(f"{run_title(ds)}: peak θ = {math.degrees(summary['peak_theta']):.2f}°{outcome}")
+    words = f" ({outcome(summary)})" if "overturned" in summary else ""
+    fig.suptitle(f"{run_title(ds)}: peak θ = {math.degrees(summary['peak_theta']):.2f}°{words}")
     return fig
 
 

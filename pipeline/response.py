@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import xarray as xr
 
-__all__ = ["Response"]
+__all__ = ["Response", "outcome"]
 
 
 @dataclass
@@ -28,3 +28,19 @@ class Response:
     summary: dict
     histories: xr.Dataset | None = field(default=None, repr=False)
     impacts: np.ndarray | None = field(default=None, repr=False)
+
+
+def outcome(summary):
+    """The outcome of a run in words: "overturned at 5.75 s", "undecided" or "stands".
+
+    Parameters
+    ----------
+    summary : dict
+        :attr:`Response.summary` of a run with a record (``overturned``, ``overturn_time`` [s];
+        ``undecided``, where the model reports it).
+    """
+    if summary.get("overturned"):
+        return f"overturned at {summary['overturn_time']:.2f} s"
+    if summary.get("undecided"):
+        return "undecided (it could still overturn at the end of the settle limit)"
+    return "stands"

@@ -132,6 +132,11 @@ class ModelSettings:
         ``(("slave_time", 1e-5),)``.
     tail : float
         Free motion after the record ends [s].
+    settle_limit : float
+        Longest free motion after the tail [s] to decide the outcome: a column that could still
+        overturn when the tail ends runs on with the ground still until it cannot (its energy
+        below the lowest overturning barrier, its swing past its peak), rests or falls; one not
+        decided within it is reported ``undecided`` (docs/model.md, "The end of a run").
     rtol, atol : float
         Integration tolerances (dimensionless state).
     output_step : float
@@ -168,6 +173,7 @@ anathyrosis, base_anathyrosis, monitor_step
     contact_damping: float | None = _DEFAULT["contact_damping"]
     numerics: tuple = ()
     tail: float = _DEFAULT["tail"]
+    settle_limit: float = _DEFAULT["settle_limit"]
     rtol: float = _DEFAULT["rtol"]
     atol: float = _DEFAULT["atol"]
     output_step: float = _DEFAULT["output_step"]

@@ -186,7 +186,7 @@ def simulate_rigid(column, motion, excitation, settings, histories=True, progres
     dt = motion.dt / t_scale
     duration = motion.duration + settings.tail
     y0 = np.zeros(rk.N_STATE2 if planar else fk.N_STATE)
-    raw = _run(column, settings, record, dt, y0, duration)
+    raw = _run(column, settings, record, dt, y0, duration, settings.settle_limit)
     diag = _diagnostics(raw, settings)
     summary = _summary(column, settings, raw, diag, motion, excitation)
     ds = _histories(column, settings, raw, diag, excitation, motion) if histories else None
@@ -251,12 +251,16 @@ class _Raw:
     y0: np.ndarray
 
 
-def _run(column, settings, record, dt, y0, duration):
+def _run(column, settings, record, dt, y0, duration, settle_limit=0.0):
+    """Run the rigid kernel for ``duration`` [s], and up to ``settle_limit`` [s] more with the ground
+    still if the outcome is not yet decided then; the output rows end where the run does (not
+    before ``duration``)."""
     t_scale = time_scale(column.R)
     c = column.kernel_constants()
     params = (c, record, dt, _options(column, settings))
     tau_end = duration / t_scale
-    n_out = int(math.floor(duration / settings.output_step + 1e-9)) + 1
+    tau_settle = (duration + settle_limit) / t_scale
+    n_out = int(math.floor((duration + settle_limit) / settings.output_step + 1e-9)) + 1
     tau = np.arange(n_out) * (settings.output_step / t_scale)
     states = np.full((n_out, y0.shape[0]), np.nan)
     phase = np.zeros(n_out, dtype=np.int8)
@@ -265,15 +269,18 @@ def _run(column, settings, record, dt, y0, duration):
     restitution = -1.0 if settings.restitution is None else float(settings.restitution)
     runner = run_rocking if models.get(settings.model).planar else run_frustum
     impacts = np.empty((MAX_LOGGED_IMPACTS, 4))  # the kernel fills every logged row; only those are read
-    n = runner(params, restitution, y0, tau_end, tau, states, phase, breaks, settings.rtol, settings.atol,
-               summary, impacts)
+    n = runner(params, restitution, y0, tau_end, tau_settle, tau, states, phase, breaks, settings.rtol,
+               settings.atol, summary, impacts)
     if summary[hy.S_STATUS] < 0:
         raise RuntimeError(
             f"integration failed at t = {summary[hy.S_END_TIME] * t_scale:.6g} s "
             f"(status {summary[hy.S_STATUS]:.0f}); try other tolerances or a larger contact_tilt"
         )
     n_logged = min(int(summary[hy.S_N_IMPACTS]), MAX_LOGGED_IMPACTS)
-    return _Raw(tau, states, phase, summary, impacts[:n_logged], params, n, t_scale, y0)
+    # the rows up to the run's end (a column lying down fills them all), at least the record and its tail
+    keep = np.searchsorted(tau, max(tau_end, summary[hy.S_END_TIME]) * (1.0 + 1e-12), side="right")
+    return _Raw(tau[:keep], states[:keep], phase[:keep], summary, impacts[:n_logged], params, min(n, keep),
+                t_scale, y0)
 
 
 def _impact_table(raw, column):
@@ -307,6 +314,7 @@ def _summary(column, settings, raw, diag, motion, excitation):
         "peak_theta_ratio": float(s[hy.S_PEAK_THETA] / column.critical_tilt),
         "peak_time": float(s[hy.S_PEAK_TIME] * ts),
         "overturned": not math.isnan(s[hy.S_OVERTURN_TIME]),
+        "undecided": bool(s[hy.S_UNDECIDED]),
         "overturn_time": float(s[hy.S_OVERTURN_TIME] * ts),
         "uplifted": not math.isnan(s[hy.S_UPLIFT_TIME]),
         "uplift_time": float(s[hy.S_UPLIFT_TIME] * ts),

@@ -68,6 +68,7 @@ def quasi_static(column, motion, excitation, settings, histories=True, progress=
         "energy_balance_error": 0.0,
         "n_impacts": 0,
         "overturned": bool(overturned),
+        "undecided": False,  # the check decides at once
         "uplifted": bool(overturned),
         "sliding_onset": bool(horizontal.max() / G > settings.friction),
         "lift_off": False,

@@ -13,6 +13,7 @@ from pipeline.models.rigid import ROLLING_FRUSTUM
 from pipeline.models.options import OPTIONS
 from pipeline.limits import check_tolerance
 from pipeline.paths import check_output_file, check_plot_file
+from pipeline.response import outcome
 from pipeline.settings import FREE_MOTION, ModelSettings
 from pipeline.units import MARBLE_DENSITY
 
@@ -205,7 +206,7 @@ def run_simulate(args):
         line = f"{model}: peak theta = {math.degrees(summary['peak_theta']):.3f} deg"
         if args.record:
             line += (f" ({summary['peak_theta_ratio']:.2f} theta_crit), "
-                     f"{'overturned at %.2f s' % summary['overturn_time'] if summary['overturned'] else 'stands'}, "
+                     f"{outcome(summary)}, "
                      f"{summary['n_impacts']} impacts, peak mu_mob = {summary['peak_mu_mob']:.2f}")
             if REGISTRY[model].drums:
                 line += _joints_line(summary)

@@ -78,8 +78,8 @@ COMPLIANT_DRUMS = Model(
     style=MappingProxyType(dict(ls="-.", marker="^", filled=False, band_alpha=0.07)),
     # the base's friction and stiffness, the dashpots (or the restitution they are calibrated to), the
     # joints' points and law, the integrator and its step (rtol, atol: the adaptive ones)
-    options=read("restitution", "friction", "normal_stiffness", "contact_damping", "tail", "joint_stiffness",
-                 "stiffness_ratio", "contact_rings", "contact_sectors", "joint_friction", "anathyrosis",
+    options=read("restitution", "friction", "normal_stiffness", "contact_damping", "tail", "settle_limit",
+                 "joint_stiffness", "stiffness_ratio", "contact_rings", "contact_sectors", "joint_friction", "anathyrosis",
                  "base_anathyrosis", "monitor_step", "integrator", "step", "rtol", "atol"),
     calibration="pipeline.compliant:calibrated_damping",
 )

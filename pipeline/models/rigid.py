@@ -88,14 +88,14 @@ HISTORIES_3D = _HISTORIES + ("psi", "phi_dot", "psi_dot")
 # what a study keeps of a run, by catalog name (pipeline.dataset)
 RESULTS = ("peak_theta", "peak_theta_ratio", "peak_time", "overturn_time", "uplift_time", "peak_mu_mob",
            "residual_rotation", "residual_displacement", "work_ground", "energy_balance_error", "n_impacts",
-           "overturned", "uplifted", "sliding_onset", "lift_off")
+           "overturned", "undecided", "uplifted", "sliding_onset", "lift_off")
 # what both rigid models share: a monolith, the same kernels' thresholds and results, one runner
 _RIGID = dict(drums=False, numeric_options=NUMERICS, results=RESULTS,
               runner="pipeline.simulate:simulate_rigid",
               # its impact law, contact tilt and couple, friction, ground that only pushes or holds the rim,
-              # contact patch (k_n, c_n), tail, tolerances
+              # contact patch (k_n, c_n), tail and settle limit, tolerances
               options=read("restitution", "contact_tilt", "damping", "friction", "lift_off", "normal_stiffness",
-                           "contact_damping", "tail", "rtol", "atol"))
+                           "contact_damping", "tail", "settle_limit", "rtol", "atol"))
 
 ROLLING_FRUSTUM = Model(
     name="3d",

@@ -20,7 +20,7 @@ from pipeline.models import REGISTRY
 
 FLOAT_VARIABLES = ("peak_theta", "peak_theta_ratio", "peak_time", "overturn_time", "uplift_time", "peak_mu_mob",
                    "residual_rotation", "residual_displacement", "work_ground", "energy_balance_error")
-FLAG_VARIABLES = ("overturned", "uplifted", "sliding_onset", "lift_off", "status")
+FLAG_VARIABLES = ("overturned", "undecided", "uplifted", "sliding_onset", "lift_off", "status")
 INT_VARIABLES = ("n_impacts",)
 RESULT_VARIABLES = FLOAT_VARIABLES + INT_VARIABLES + FLAG_VARIABLES
 DTYPES = {**{n: np.float64 for n in FLOAT_VARIABLES}, **{n: np.int32 for n in INT_VARIABLES},

@@ -46,6 +46,27 @@ def test_failed_runs_excluded():
     assert int(frag["n_exceed"].sel(state="overturning").item()) == int((clean["overturned"] == 1).sum())
 
 
+def test_undecided_runs_left_out_and_counted():
+    """Issue 38, item 0: a run that could still overturn at its settle limit neither stood nor fell.
+    The fits leave it out (as if it had not run) and ``n_undecided`` counts it, once per record and
+    scale for the angle-invariant 3D model as the fits count its runs."""
+    ds, _ = make_results(n_records=10, angles=(0, 90), scales=(1, 2), seed=5)
+    undecided = np.zeros(ds["overturned"].shape, np.int8)
+    undecided[0, :3, :, 1, :] = 1  # column paper: 3 records at scale 2, every angle, both models
+    ds["undecided"] = (ds["overturned"].dims, undecided)
+    ds["overturned"] = ds["overturned"].where(ds["undecided"] == 0, 1)  # must not count either way
+    frag = F.fragility(ds)
+    assert int(frag["n_undecided"].sel(column="paper", model="3d")) == 3
+    assert int(frag["n_undecided"].sel(column="paper", model="2d")) == 3 * 2
+    assert int(frag["n_undecided"].sel(column="slender", model="2d")) == 0
+    decided = ds.where(ds["undecided"] == 0)
+    for m, per_record in (("3d", 1), ("2d", 2)):
+        cell = frag.sel(state="overturning", column="paper", model=m)
+        assert int(cell["n_runs"]) == 10 * 2 * per_record - 3 * per_record
+        one = decided.sel(column="paper", model=m).isel(angle=slice(0, per_record))
+        assert int(cell["n_exceed"]) == int((one["overturned"] == 1).sum())
+
+
 def test_damage_state_medians_scale_with_threshold():
     """In the synthetic model the median of ratio >= s is s times the overturning median."""
     ds, truth = make_results(n_records=60, columns=("paper",), models=("2d",), scales=np.geomspace(0.2, 4, 12),

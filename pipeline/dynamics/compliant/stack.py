@@ -73,9 +73,10 @@ N_WORK = 18
 N_MON = 10
 
 # Summary of a run.
+# S_UNDECIDED: 1 if the run reached its settle limit after the tail with the column still able to fall.
 (S_STATUS, S_PEAK_THETA, S_PEAK_TIME, S_OVERTURN_TIME, S_OVERTURN_BODY, S_NFEV, S_STEPS,
- S_REJECTED, S_CALLS, S_END_TIME, S_ENERGY_START, S_ENERGY_END) = range(12)
-N_SUMMARY = 12
+ S_REJECTED, S_CALLS, S_END_TIME, S_ENERGY_START, S_ENERGY_END, S_UNDECIDED) = range(13)
+N_SUMMARY = 13
 # Per-body statistics: peak tilt and its time, unwrapped rotation about the vertical.
 BS_PEAK, BS_PEAK_TIME, BS_ROTATION = range(3)
 N_BODY_STATS = 3
@@ -451,6 +452,41 @@ def tilt_and_rotation(y, b):
 
 
 @njit(cache=True)
+def stands_for_good(y, params, energy_rest, barrier, critical):
+    """Whether a column on still ground can no longer fall, its top's swing under way past its peak.
+
+    The compliant counterpart of :func:`pipeline.dynamics.rigid.loop.stands_for_good`. With the
+    ground still the energy (kinetic, weights, joints' springs) can only fall. Every body b is
+    on the near side of the hill of the part of the column above its joint, which tips about
+    that joint's rim (its tilt below ``critical[b]``), and the energy above the rest state is
+    below ``barrier``, the lowest rise of the weights over which any such part tips. The top
+    body's tilt must not be rising: its swing's peak is then booked.
+
+    Parameters
+    ----------
+    y : float64[n]
+        State.
+    params : tuple
+        :func:`make_params` (its scratch is overwritten).
+    energy_rest : float
+        Energy of the rest state [M g L] (``S_ENERGY_START`` of a run from rest).
+    barrier : float
+        The lowest overturning barrier [M g L].
+    critical : float64[n_bodies]
+        Critical tilt of the part above each body's joint [rad].
+    """
+    n_bodies = params[0].shape[0]
+    for b in range(n_bodies):
+        if tilt_and_rotation(y, b)[0] >= critical[b]:
+            return False
+    if energy(y, params) - energy_rest >= barrier:
+        return False
+    # the top axis a = R e_z turns at omega x a (ground frame): its tilt rises while a_z falls
+    R = params[6][n_bodies - 1]  # the rotation and angular velocity energy() left in the scratch
+    return R[W_OM] * R[5] - R[W_OM + 1] * R[2] >= 0.0
+
+
+@njit(cache=True)
 def _unwrap(previous, angle):
     """``angle`` shifted by a multiple of 2 pi to lie within pi of ``previous``."""
     return angle + 2.0 * math.pi * round((previous - angle) / (2.0 * math.pi))
@@ -598,8 +634,12 @@ def start_statistics(t0, y0, params, theta_commit, hist_y, hist_diag, hist_body,
 @njit(cache=True, nogil=True)
 def run(params, y0, t_mon, stride, t_breaks, rtol, atol, max_step, event_direction, theta_commit,
         hist_y, hist_diag, hist_body, summary, body_stats, joint_stats, joint_committed, y_end,
-        method=METHOD_DOPRI5):
-    """Integrate from rest (or y0) to ``t_mon[-1]``, monitoring every sample of ``t_mon``.
+        k_decide, barrier, critical, method=METHOD_DOPRI5):
+    """Integrate from rest (or y0) up to ``t_mon[-1]``, monitoring every sample of ``t_mon``.
+
+    From sample ``k_decide`` on (the end of the record and its tail) the run stops as soon as
+    the column stands for good (:func:`stands_for_good`, checked after every integrator call);
+    if it has not by ``t_mon[-1]`` (the settle limit) it is undecided (``S_UNDECIDED``).
 
     Parameters
     ----------
@@ -630,6 +670,10 @@ def run(params, y0, t_mon, stride, t_breaks, rtol, atol, max_step, event_directi
         Filled (``S_*``, ``BS_*``, ``JS_*``).
     y_end : float64[n]
         The final state.
+    k_decide : int
+        Sample at which the record and its tail end.
+    barrier, critical : float, float64[n_bodies]
+        Of :func:`stands_for_good` [M g L], [rad].
     method : int
         ``METHOD_DOPRI5`` (default: 2.9x fewer right-hand sides on a three-drum stack at
         equal tolerances, :mod:`pipeline.dynamics.integrators.dopri5`) or ``METHOD_DOP853`` (the
@@ -691,6 +735,11 @@ def run(params, y0, t_mon, stride, t_breaks, rtol, atol, max_step, event_directi
                     _history_row(t_mon[k], y, params, k // stride, hist_y, hist_diag, hist_body,
                                  body_stats, y0)
             break
+        if i > k_decide and stands_for_good(y, params, summary[S_ENERGY_START], barrier, critical):
+            break
+    if (summary[S_STATUS] >= 0 and math.isnan(summary[S_OVERTURN_TIME])
+            and not stands_for_good(y, params, summary[S_ENERGY_START], barrier, critical)):
+        summary[S_UNDECIDED] = 1.0
     summary[S_END_TIME] = t
     summary[S_ENERGY_END] = energy(y, params)
     y_end[:] = y

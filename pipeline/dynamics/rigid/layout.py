@@ -39,8 +39,14 @@ PHASE_REST, PHASE_ROLLING, PHASE_OVERTURNED, PHASE_SLIDING, PHASE_SLIPPING, PHAS
     S_WORK,  # work done by the ground motion [m g R]
     S_DISSIPATED,  # removed by the contact couples [m g R]
     S_FRICTION,  # removed by sliding friction [m g R]
-) = range(23)
-N_SUMMARY = 23
+    S_UNDECIDED,  # 1: the run reached its settle limit with the column still able to overturn
+) = range(24)
+N_SUMMARY = 24
+
+# After the record and its tail the run goes on with the ground still until the outcome is
+# decided (loop.stands_for_good), checked every SETTLE_CHUNK [tau]: the chunk changes only when
+# a decided run stops, never its outcome or peak.
+SETTLE_CHUNK = 1.0
 
 # Safety net against a Zeno cascade of transitions.
 MAX_TRANSITIONS = 1_000_000

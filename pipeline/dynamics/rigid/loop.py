@@ -18,9 +18,9 @@ from pipeline.dynamics.rigid import frustum as fk
 from pipeline.dynamics.rigid import contact
 from pipeline.dynamics.rigid.layout import (
     EV_LIE, MAX_STALLS, MAX_TRANSITIONS, PHASE_FLIGHT, PHASE_OVERTURNED, PHASE_REST, PHASE_SLIPPING,
-    STATUS_STALLED, S_DISSIPATED, S_END_TIME, S_ENERGY_END, S_ENERGY_START, S_FINAL_PHASE, S_FLIGHT_TIME,
+    SETTLE_CHUNK, STATUS_STALLED, S_DISSIPATED, S_END_TIME, S_ENERGY_END, S_ENERGY_START, S_FINAL_PHASE, S_FLIGHT_TIME,
     S_FRICTION, S_MIN_NORMAL, S_NFEV, S_N_IMPACTS, S_OVERTURN_TIME, S_PEAK_MU, S_PEAK_THETA, S_PEAK_TIME,
-    S_SLIDE_TIME, S_STATUS, S_STEPS, S_UPLIFT_TIME, S_WORK
+    S_SLIDE_TIME, S_STATUS, S_STEPS, S_UNDECIDED, S_UPLIFT_TIME, S_WORK
 )
 
 
@@ -170,6 +170,33 @@ def book_peak(summary, t, theta):
 
 
 @njit(cache=True)
+def stands_for_good(phase, energy, theta, theta_rate, zc):
+    """Whether a column on still ground can no longer overturn, its swing under way past its peak.
+
+    With the ground still its mechanical energy can only fall (landings, friction, the contact
+    couples take; nothing gives). To overturn it must pass the critical tilt theta_crit =
+    atan(R / z_cm), where the potential energy on the rim, ``sin(theta) + z_cm cos(theta)``
+    [m g R], peaks at ``sqrt(1 + z_cm^2)``: below it and on the near side the column stands
+    for good (in flight its centre is higher than on the rim at the same tilt, so the bound
+    holds there too). A tilt still rising has not yet reached the peak the run must report, so
+    the run goes on until it falls (``theta_rate <= 0``). At rest it has stood.
+
+    Parameters
+    ----------
+    phase : int
+    energy : float
+        Mechanical energy [m g R] (of the phase's state).
+    theta, theta_rate : float
+        Tilt [rad] and its rate [1/tau].
+    zc : float
+        Height of the centre of mass per R [1].
+    """
+    if phase == PHASE_REST:
+        return True
+    return theta < math.atan(1.0 / zc) and energy < math.sqrt(1.0 + zc * zc) and theta_rate <= 0.0
+
+
+@njit(cache=True)
 def holds_rim(opts, gap_acceleration):
     """Infinite friction, a pulling normal force and a sinking flight: hold the rim (OPT_RIM_HELD).
 
@@ -188,8 +215,8 @@ def holds_rim(opts, gap_acceleration):
 
 
 @njit(inline="always")
-def run_events(energy, tilt, depart, advance, handle, finish, params, restitution, phase, y, ledger, scratch, t_end,
-               t_out, y_out, phase_out, t_breaks, rtol, atol, summary, impacts):
+def run_events(energy, tilt, tilt_rate, depart, advance, handle, finish, params, restitution, phase, y, ledger, scratch,
+               t_end, t_settle, t_out, y_out, phase_out, t_breaks, rtol, atol, summary, impacts):
     """The event-driven run both rigid models share: rest, phases up to their events, the summary.
 
     At rest until the column departs (:func:`rest_until_departure`), then
@@ -207,6 +234,7 @@ def run_events(energy, tilt, depart, advance, handle, finish, params, restitutio
 
     - ``energy(phase, y, c)``: mechanical energy [m g R] of a state;
     - ``tilt(y)``: theta [rad], how far the column leans;
+    - ``tilt_rate(y)``: its rate [1/tau];
     - ``depart(t, y, p, scratch)``: the map out of rest at the departure time
       t, returning the phase it departs in;
     - ``advance(p, phase, t, y, t_end, t_out, y_out, out_i, t_breaks, rtol, atol, h)``:
@@ -241,12 +269,13 @@ def run_events(energy, tilt, depart, advance, handle, finish, params, restitutio
     h = 0.0
     n_transitions = 0
     stalls = 0
+    t_stop = t_end
     while n_transitions < MAX_TRANSITIONS:
         if phase == PHASE_REST:
-            t_dep, out_i = rest_until_departure(record, dt, ratio, t, t_end, t_out, y_out, phase_out, out_i,
+            t_dep, out_i = rest_until_departure(record, dt, ratio, t, t_stop, t_out, y_out, phase_out, out_i,
                                                  y, summary)
-            if t_dep >= t_end:
-                t = t_end
+            if t_dep >= t_stop:  # at rest through the record and its tail: it stands
+                t = t_stop
                 break
             t = t_dep
             h = 0.0
@@ -254,11 +283,20 @@ def run_events(energy, tilt, depart, advance, handle, finish, params, restitutio
             phase = depart(t, y, p, scratch)
             continue
         opts[fk.OPT_PHASE] = phase
-        res = advance(p, phase, t, y, t_end, t_out, y_out, out_i, t_breaks, rtol, atol, h)
+        res = advance(p, phase, t, y, t_stop, t_out, y_out, out_i, t_breaks, rtol, atol, h)
         out_i, stalls = book_phase(res, phase, phase_out, out_i, summary, y, t, stalls)
         t, h = res.t, res.h_next
-        if res.status <= 0 or stalls > MAX_STALLS:  # end, failure or stall (status in the summary)
+        book_peak(summary, t, tilt(y))  # where a phase (or the run) ends, mid-swing or not
+        if res.status < 0 or stalls > MAX_STALLS:  # failure or stall (status in the summary)
             break
+        if res.status == 0:  # the record and its tail, or the last chunk after them, have passed
+            if stands_for_good(phase, energy(phase, y, c), tilt(y), tilt_rate(y), zc):
+                break
+            if t_stop >= t_settle:
+                summary[S_UNDECIDED] = 1.0
+                break
+            t_stop = min(t_stop + SETTLE_CHUNK, t_settle)  # the ground is still from here on
+            continue
         ev = res.event_index
         if ev == EV_LIE:
             out_i = lie_down(summary, t, tilt(y), y, y_out, phase_out, out_i)

@@ -127,6 +127,12 @@ def _tilt2d(y):
 
 
 @njit(cache=True)
+def _tilt_rate2d(y):
+    """Rate of |theta| [1/tau]."""
+    return math.copysign(1.0, y[rk.THETA2]) * y[rk.DTHETA2]
+
+
+@njit(cache=True)
 def _depart2d(t, y, params, scratch):
     """Rest -> flat flight, flat sliding or uplift onto a base corner at the departure time t; returns the phase."""
     c, record, dt, opts, summary = params
@@ -307,7 +313,8 @@ def _finish2d(y, c, opts, summary, phase, scratch):
 
 
 @njit(cache=True, nogil=True)
-def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_breaks, rtol, atol, summary, impacts):
+def run_rocking(params, restitution, y0, t_end, t_settle, t_out, y_out, phase_out, t_breaks, rtol, atol, summary,
+                impacts):
     """Run classical planar rocking, with sliding and flight.
 
     Arguments as :func:`pipeline.dynamics.rigid.run3d.run_frustum`.
@@ -322,6 +329,6 @@ def run_rocking(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
     if y0[rk.THETA2] != 0.0:
         phase = PHASE_ROLLING
         params[3][fk.OPT_PIVOT] = math.copysign(1.0, y0[rk.THETA2])
-    return run_events(energy2d, _tilt2d, _depart2d, _advance2d, _on_event2d, _finish2d, params, restitution, phase,
-                      y, (rk.WORK2, rk.DISSIPATED2, rk.FRICTION2), None, t_end, t_out, y_out, phase_out, t_breaks,
-                      rtol, atol, summary, impacts)
+    return run_events(energy2d, _tilt2d, _tilt_rate2d, _depart2d, _advance2d, _on_event2d, _finish2d, params,
+                      restitution, phase, y, (rk.WORK2, rk.DISSIPATED2, rk.FRICTION2), None, t_end, t_settle, t_out,
+                      y_out, phase_out, t_breaks, rtol, atol, summary, impacts)

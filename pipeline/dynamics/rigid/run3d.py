@@ -435,6 +435,11 @@ def _tilt3d(y):
 
 
 @njit(cache=True)
+def _tilt_rate3d(y):
+    return y[fk.DTHETA]
+
+
+@njit(cache=True)
 def _depart3d(t, y, params, scratch):
     """Rest -> flat flight, flat sliding or uplift onto the rim at the departure time t; returns the phase."""
     c, record, dt, opts, summary = params
@@ -682,7 +687,8 @@ def _finish3d(y, c, opts, summary, phase, scratch):
 
 
 @njit(cache=True, nogil=True)
-def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_breaks, rtol, atol, summary, impacts):
+def run_frustum(params, restitution, y0, t_end, t_settle, t_out, y_out, phase_out, t_breaks, rtol, atol, summary,
+                impacts):
     """Run the three-dimensional frustum through the record and its tail.
 
     Parameters
@@ -698,9 +704,14 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
         landing is ``restitution`` times theta' before it (the other rates
         scaled alike).
     t_end : float
-        End of the run [tau] (record plus free tail).
+        End of the record plus its free tail [tau].
+    t_settle : float
+        Latest end of the run [tau], >= ``t_end``: if at ``t_end`` the column could still
+        overturn, it runs on with the ground still until it cannot, comes to rest or lies
+        down, at most until then (``S_UNDECIDED``; :func:`pipeline.dynamics.rigid.loop.run_events`).
     t_out : float64[m]
-        Output times [tau], increasing, from 0.
+        Output times [tau], increasing, from 0 (up to ``t_settle``: rows after the run's end
+        are left as they were).
     y_out : float64[m, N_STATE]
         Filled with the states; at rest and sliding the XP, YP slots hold the
         base centre, in flight the centre of mass.
@@ -721,6 +732,6 @@ def run_frustum(params, restitution, y0, t_end, t_out, y_out, phase_out, t_break
     # vertical while it rests (at rest and sliding the state holds no angles)
     scratch = (y0.copy(), np.array([y0[fk.PHI] + y0[fk.PSI]]))
     phase = PHASE_ROLLING if y0[fk.THETA] > 0.0 else PHASE_REST
-    return run_events(energy3d, _tilt3d, _depart3d, _advance3d, _on_event3d, _finish3d, params, restitution, phase,
-                      y0.copy(), (fk.WORK, fk.DISSIPATED, fk.FRICTION), scratch, t_end, t_out, y_out, phase_out,
-                      t_breaks, rtol, atol, summary, impacts)
+    return run_events(energy3d, _tilt3d, _tilt_rate3d, _depart3d, _advance3d, _on_event3d, _finish3d, params,
+                      restitution, phase, y0.copy(), (fk.WORK, fk.DISSIPATED, fk.FRICTION), scratch, t_end, t_settle,
+                      t_out, y_out, phase_out, t_breaks, rtol, atol, summary, impacts)

@@ -1,0 +1,133 @@
+"""Issue 38, item 0: a run's summary holds what its histories show, and its outcome is decided.
+
+A run that ends mid-swing reports the tilt it reached (before, the rigid models booked peak
+theta at turning points only: a ramp that tips the paper's column ended with the histories at
+0.81 rad and the summary at 0 and "stands"). A column that could still overturn when the
+record and its tail end runs on with the ground still until it cannot (its energy below the
+overturning barrier, on the near side, its swing past its peak), rests or falls; one still
+able to fall at the settle limit is undecided, never "stands" (docs/model.md, "The end of a
+run").
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from pipeline.compliant import overturning_barriers
+from pipeline.dynamics.rigid.loop import stands_for_good
+from pipeline.dynamics.rigid.layout import PHASE_REST, PHASE_ROLLING
+from pipeline.groundmotion.record import GroundMotion
+from pipeline.models import REGISTRY
+from pipeline.settings import ModelSettings
+from pipeline.simulate import simulate
+from pipeline.structures import Column
+from pipeline.units import G
+
+COLUMN = Column(0.5, 0.4, 4.0)  # the paper's column
+MODELS = tuple(REGISTRY)
+# the compliant monolith: the issue's case, with few contact points to stay quick
+COMPLIANT = dict(contact_sectors=8, contact_rings=2)
+
+
+def ramp(level, ramp_s=4.0, hold_s=6.0, dt=0.002):
+    """The issue's record: a ramp from 0 to ``level`` [g] over ``ramp_s``, held to ``hold_s``."""
+    t = np.arange(0.0, hold_s + 0.5 * dt, dt)
+    acc = np.minimum(t / ramp_s, 1.0) * level * G
+    return GroundMotion.from_arrays(acc, np.zeros_like(acc), dt, record_id="ramp")
+
+
+def uplift_level(column):
+    """The uplift acceleration per g of a monolith, R / z_cm [1]."""
+    return column.R / column.z_cm
+
+
+def settings(model, **kw):
+    extra = COMPLIANT if REGISTRY[model].drums else {}
+    return ModelSettings(model=model, tail=0.5, **extra, **kw)
+
+
+@pytest.fixture(scope="module")
+def tipping():
+    """Each model on the issue's ramp (1.05 g R / z_cm, tail 0.5 s): with and without the settle limit."""
+    motion = ramp(1.05 * uplift_level(COLUMN))
+    return {(model, limit): simulate(COLUMN, motion, settings=settings(model, settle_limit=limit))
+            for model in MODELS for limit in (0.0, 60.0)}
+
+
+@pytest.mark.parametrize("model", MODELS)
+def test_the_summary_holds_the_histories_peak(tipping, model):
+    """The record and tail end with the column tilting further (the issue's 0.81 rad): the summary's
+    peak is at least every tilt of the histories (to the histories' round-off: they are the same
+    run's states), never the 0 the turning points alone gave."""
+    for limit in (0.0, 60.0):
+        run = tipping[model, limit]
+        theta = run.histories.theta.values
+        assert run.summary["peak_theta"] >= np.nanmax(theta) * (1.0 - 1e-9)
+        assert run.summary["peak_theta"] > COLUMN.critical_tilt
+
+
+@pytest.mark.parametrize("model", MODELS)
+def test_a_column_past_its_critical_tilt_is_never_said_to_stand(tipping, model):
+    """Without a settle limit the run must stop at the tail with the column past theta_crit and still
+    leaning further: undecided, not "stands"; with the default limit it runs on and falls (on still
+    ground, past the top of its potential hill, it can only lie down)."""
+    cut = tipping[model, 0.0].summary
+    assert cut["undecided"] and not cut["overturned"]
+    full = tipping[model, 60.0].summary
+    assert full["overturned"] and not full["undecided"]
+    # it falls after the record and its tail (6.5 s), as the free motion carries it down
+    assert full["overturn_time"] > 6.5
+    run = tipping[model, 60.0].histories
+    assert float(run.time[-1]) >= full["overturn_time"] - 0.011  # the histories go on to the fall
+
+
+def test_uplift_time_is_the_ramps(tipping):
+    """The ramp reaches R / z_cm at 4 / 1.05 s (the issue: 3.8095 s), for the rigid models exactly."""
+    for model in ("2d", "3d"):
+        assert tipping[model, 60.0].summary["uplift_time"] == pytest.approx(4.0 / 1.05, abs=1e-6)
+
+
+@pytest.mark.parametrize("model", ("2d", "3d"))
+def test_a_swing_cut_by_the_tail_is_followed_to_its_peak(model):
+    """A one-sided pulse that tips the column below overturning, with no tail: the record ends while
+    the column still rises. The run goes on to the swing's peak (the column is decided to stand
+    only once its tilt falls), so the summary's peak is that of the whole swing, the same with a
+    tail long enough to see it (to the integrators' tolerance), and it stands."""
+    level = 1.5 * uplift_level(COLUMN)
+    dt = 0.002
+    t = np.arange(0.0, 0.36 + 0.5 * dt, dt)
+    acc = np.where(t < 0.35, -level * G, 0.0)
+    motion = GroundMotion.from_arrays(acc, np.zeros_like(acc), dt, record_id="pulse")
+    cut = simulate(COLUMN, motion, settings=ModelSettings(model=model, tail=0.0)).summary
+    long = simulate(COLUMN, motion, settings=ModelSettings(model=model, tail=5.0)).summary
+    assert not cut["overturned"] and not cut["undecided"]
+    assert cut["peak_time"] > 0.36  # the peak came after the record
+    assert cut["peak_theta"] == pytest.approx(long["peak_theta"], rel=1e-6)
+
+
+def test_stands_for_good_is_the_energy_barrier():
+    """The rigid rule: at rest it stands; below theta_crit with less energy than the potential's peak
+    sqrt(1 + z_c^2) [m g R] and falling it stands; rising, past theta_crit or with the energy to
+    pass, it does not (yet)."""
+    zc = 3.8
+    crit = math.atan(1.0 / zc)
+    top = math.sqrt(1.0 + zc * zc)
+    assert stands_for_good(PHASE_REST, 123.0, 0.0, 0.0, zc)
+    assert stands_for_good(PHASE_ROLLING, top - 1e-9, 0.5 * crit, -1.0, zc)
+    assert not stands_for_good(PHASE_ROLLING, top - 1e-9, 0.5 * crit, 1e-3, zc)  # still rising
+    assert not stands_for_good(PHASE_ROLLING, top + 1e-9, 0.5 * crit, -1.0, zc)  # can pass the top
+    assert not stands_for_good(PHASE_ROLLING, 0.9 * top, 1.01 * crit, -1.0, zc)  # beyond it, falls
+
+
+def test_overturning_barriers_of_a_monolith_and_a_stack():
+    """One body: the rigid barrier m (sqrt(R^2 + z^2) - z) and theta_crit. Two equal blocks
+    (half-width 1, height 2 each): the whole about the base (z = 2, barrier 2 (sqrt 5 - 2) =
+    0.472) and the top alone about the joint (z = 1, 1 (sqrt 2 - 1) = 0.414): the top's is lower."""
+    barrier, critical = overturning_barriers([1.0], [4.0], [COLUMN.z_cm / COLUMN.R * 0.5], [0.5])
+    z = COLUMN.z_cm / COLUMN.R * 0.5
+    assert barrier == pytest.approx(math.hypot(0.5, z) - z, rel=1e-12)
+    assert critical[0] == pytest.approx(math.atan2(0.5, z), rel=1e-12)
+    barrier, critical = overturning_barriers([1.0, 1.0], [2.0, 2.0], [1.0, 1.0], [1.0, 1.0])
+    assert barrier == pytest.approx(math.sqrt(2.0) - 1.0, rel=1e-12)
+    np.testing.assert_allclose(critical, [math.atan(0.5), math.atan(1.0)], rtol=1e-12)
