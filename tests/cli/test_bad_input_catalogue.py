@@ -152,6 +152,11 @@ CATALOGUE = [
     ("study-variant-named-as-another-model", ["study", "check", "{study_named_2d}"], 2,
      ["field models.2d: a variant of 3d may not be named '2d', the name of the registry model 2d",
       "give it a name of its own"]),
+    ("study-workers-with-scheduler", ["study", "run", "{study}", "--scheduler", "tcp://127.0.0.1:9", "--workers", "2"],
+     2, ["--workers 2 is the size of the local cluster", "--scheduler tcp://127.0.0.1:9 runs on the workers of that "
+         "cluster", "drop --workers, or drop --scheduler"]),
+    ("study-workers-with-serial", ["study", "run", "{study}", "--serial", "--workers", "2"], 2,
+     ["--workers 2 is the size of the local cluster", "--serial runs in this process"]),
 ]
 
 #: Study files of the catalogue: the tiny study with one line replaced ({placeholder: (old, new)}).
