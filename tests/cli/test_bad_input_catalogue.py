@@ -157,6 +157,9 @@ CATALOGUE = [
          "cluster", "drop --workers, or drop --scheduler"]),
     ("study-workers-with-serial", ["study", "run", "{study}", "--serial", "--workers", "2"], 2,
      ["--workers 2 is the size of the local cluster", "--serial runs in this process"]),
+    ("report-reference-not-in-the-results", ["report", "{results}", OUT, "{tmp}/rep", "--bootstrap", "0",
+                                             "--reference", "stack"], 2,
+     ["--reference 'stack' is not a model of", "its models are 3d: give one of them"]),
 ]
 
 #: Study files of the catalogue: the tiny study with one line replaced ({placeholder: (old, new)}).
