@@ -27,7 +27,7 @@ from pipeline.fragility import RESULT_DIMS, _normalise, _valid, _where
 from pipeline.models import of_results, results_title
 from pipeline.units import G
 
-__all__ = ["merge_results", "compare_models", "outcome_agreement", "peak_ratio", "comparison_rows",
+__all__ = ["merge_results", "reference_model", "compare_models", "outcome_agreement", "peak_ratio", "comparison_rows",
            "markdown_section"]
 
 #: The percentiles of the peak ratio stated beside its median [%].
@@ -168,6 +168,35 @@ def peak_ratio(results, column, reference, model, variable="peak_theta"):
     return {"cells": int(ratio.size), "median": float(med), "p10": float(p10), "p90": float(p90)}
 
 
+def reference_model(results, reference=None, label="reference model"):
+    """The model of ``results`` every other is compared with: ``reference``, or the first model.
+
+    Cheap (it reads the ``model`` coordinate only), so that a command checks the name before it
+    computes anything.
+
+    Parameters
+    ----------
+    results : xarray.Dataset
+        Study results, or several merged (:func:`merge_results`).
+    reference : str, optional
+        A model of the results.
+    label : str
+        How the reference was given, for the message (``"--reference"``).
+
+    Raises
+    ------
+    pipeline.errors.InputError
+        ``reference`` is not a model of the results, naming them.
+    """
+    models = [str(m) for m in results["model"].values]
+    if reference is None:
+        return models[0]
+    if reference not in models:
+        raise InputError(f"{label} {reference!r} is not a model of {_where(results)}; its models are "
+                         f"{', '.join(models)}: give one of them")
+    return reference
+
+
 def compare_models(results, frag, reference=None, state="overturning"):
     """Every model of a study against a reference model, per column.
 
@@ -194,10 +223,7 @@ def compare_models(results, frag, reference=None, state="overturning"):
     """
     results = _normalise(results, _where(results))
     models = [str(m) for m in results["model"].values]
-    reference = models[0] if reference is None else reference
-    if reference not in models:
-        raise InputError(f"{_where(results)}: reference model {reference!r} is not in the results; "
-                         f"its models are {', '.join(models)}")
+    reference = reference_model(results, reference)
     others = [m for m in models if m != reference]
     columns = [str(c) for c in results["column"].values]
     sub = frag.sel(state=state)

@@ -50,3 +50,19 @@ def test_numeric_defaults_are_the_code_s():
 def test_contact_tilt_is_in_degrees():
     # ModelSettings.contact_tilt is degrees (the CLI's --contact-tilt DEG); the doc once said rad, 1e-5
     assert _option_rows()["contact_tilt"][0] == "degree"
+
+
+def test_the_models_of_each_option_are_the_ones_the_registry_says_read_it():
+    """The "models" column (``all``: every model) names exactly the models whose registry entry reads
+    the option, as a study checks it (an option no model of the study reads is refused, issue 38)."""
+    from pipeline.models import REGISTRY
+
+    with open(DOC, encoding="utf-8") as f:
+        section = f.read().split(HEADING, 1)[1].split("\n#", 1)[0]
+    rows = {m.group(1): m.group(2).strip() for m in
+            re.finditer(r"^\|\s*`(\w+)`\s*\|[^|]*\|[^|]*\|([^|]*)\|", section, flags=re.MULTILINE)}
+    assert set(rows) == set(studyfile._OPTIONS)
+    for name, stated in rows.items():
+        readers = [m.name for m in REGISTRY.values() if name in m.options]
+        said = list(REGISTRY) if stated == "all" else [s.strip() for s in stated.split(",")]
+        assert said == readers, f"{name}: docs/studies.md says {stated!r}, the registry {', '.join(readers)}"

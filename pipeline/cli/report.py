@@ -96,9 +96,10 @@ def run(args):
         raise InputError("--years is the period of the chance stated with --hazard; give --hazard CURVE.csv too")
     writes = REPORT_FILES + (RISK_FILES if hazard is not None else ())
     check_output_folder(args.out, "--out", writes=writes, kinds=REPORT_KINDS, inputs=inputs)
-    from pipeline.comparison import merge_results
+    from pipeline.comparison import merge_results, reference_model
 
     results = merge_results([F.open_results(path) for path in args.results])
+    reference_model(results, args.reference, "--reference")  # before the fitting, which takes long
     out = write_report(results, args.out, pga_levels_g=levels, states=parse_states(args.states),
                        bootstrap=args.bootstrap, seed=args.seed, title=args.title, hazard=hazard, years=args.years,
                        reference=args.reference)

@@ -37,7 +37,8 @@ def register(subparsers):
                        "(default: start a local cluster of processes)")
     where.add_argument("--serial", action="store_true", help="run in this process without Dask (same numbers)")
     run.add_argument("--workers", type=int, default=None, metavar="N",
-                     help="worker processes of the local cluster (default: number of cores)")
+                     help="worker processes of the local cluster (default: number of cores; not with --scheduler "
+                     "or --serial)")
     run.add_argument("--plot", metavar="FILE.png",
                      help="also draw a summary plot of the results (.png, .pdf, .svg, ...)")
     run.add_argument("--keep-checkpoint", action="store_true",
@@ -105,6 +106,11 @@ def run_study_command(args):
 
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers {args.workers}: give a positive number of worker processes")
+    if args.workers is not None and (args.scheduler or args.serial):  # it would be ignored
+        where = (f"--scheduler {args.scheduler} runs on the workers of that cluster" if args.scheduler
+                 else "--serial runs in this process, without workers")
+        raise InputError(f"--workers {args.workers} is the size of the local cluster, and {where}: "
+                         f"drop --workers, or drop {'--scheduler' if args.scheduler else '--serial'}")
     if args.scheduler:
         from pipeline.study import scheduler_address
 

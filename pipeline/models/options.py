@@ -58,6 +58,11 @@ class Option:
         More words for the help (how the choices differ, ...).
     metavar : str
         The placeholder of its value in the help.
+    read_with : tuple of (str, tuple)
+        When it is read at all: pairs (another option, the values under which this one is read),
+        every pair to hold; e.g. ``(("step", (None,)),)``: read only while ``step`` is not given.
+        Empty: read whenever its model runs. A study refuses it given where it is not read
+        (:meth:`unread_with`).
     """
 
     name: str
@@ -74,6 +79,7 @@ class Option:
     even: bool = False
     note: str = ""
     metavar: str = ""
+    read_with: tuple = ()
 
     def __post_init__(self):
         if self.kind not in KINDS:
@@ -87,6 +93,26 @@ class Option:
             return "true or false"
         text = f"{'(' if self.open_lo else '['}{self.lo:g}, {self.hi:g}{')' if self.hi == math.inf else ']'}"
         return text + (f", or inf for {self.inf}" if self.inf else "")
+
+    def unread_with(self, settings):
+        """What in ``settings`` leaves this option unread (``"step = 0.005"``), or "" if it is read.
+
+        Parameters
+        ----------
+        settings : pipeline.settings.ModelSettings
+            The settings of a model that declares the option (:attr:`read_with` names their fields).
+        """
+        for name, values in self.read_with:
+            value = getattr(settings, name)
+            if value not in values:
+                return f"{name} = {value:g}" if isinstance(value, float) else f"{name} = {value}"
+        return ""
+
+    def read_with_text(self):
+        """``"only with step not given and integrator semi-implicit"``: :attr:`read_with` in words, or ""."""
+        parts = [f"{name} not given" if values == (None,) else f"{name} {' or '.join(map(str, values))}"
+                 for name, values in self.read_with]
+        return "only with " + " and ".join(parts) if parts else ""
 
     def check(self, value, label=None):
         """``value`` if it is one this option takes, normalised (float, int, tuple); else InputError.
@@ -158,6 +184,8 @@ def defaults(options):
 
 
 _BED = "the bed joints (between drums)"
+#: The compliant model's integrators, the default first: the fixed-step one, then the adaptive ones.
+_INTEGRATORS = ("semi-implicit", "dopri5", "dop853")
 #: Every option of a model (:class:`pipeline.settings.ModelSettings`), in the order help lists them.
 OPTIONS = declared(
     Option("restitution", None, "1", "number", "theta' after / before a planar landing", 0.0, 1.0,
@@ -203,9 +231,10 @@ OPTIONS = declared(
     Option("base_anathyrosis", 0.0, "1", "number", "inner/outer radius of the base's contact ring", 0.0, 0.95,
            note="0: the full disc", metavar="RATIO"),
     Option("monitor_step", 0.001, "s", "number",
-           "sampling interval of the peak and contact statistics of the adaptive integrators", 1e-5, 1.0, metavar="S"),
+           "sampling interval of the peak and contact statistics of the adaptive integrators", 1e-5, 1.0, metavar="S",
+           read_with=(("integrator", _INTEGRATORS[1:]),)),  # the fixed-step one takes them at every step
     Option("integrator", "semi-implicit", "1", "choice", "integrator of the compliant model",
-           choices=("semi-implicit", "dopri5", "dop853"),
+           choices=_INTEGRATORS,
            note="semi-implicit takes fixed steps, springs explicit and dashpots implicit (fast); dopri5 is the "
            "adaptive reference (rtol, atol; drum stacks take minutes), dop853 the one before it"),
     Option("step", None, "s", "number", "fixed step of the semi-implicit integrator", 1e-7, 0.01,

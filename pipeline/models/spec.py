@@ -141,6 +141,12 @@ class Model:
         ``"module:function"`` that calibrates its contact dashpots on a column's outline,
         called as ``function(column, settings)`` and returning ``(c_n [Pa s/m], restitution
         reached [1])`` (``[calibration] bed`` of a study); "" for a model that cannot.
+    checker : str
+        ``"module:function"`` that refuses, before anything is computed, what its run would refuse
+        of a column with given settings (e.g. a fixed step above the column's stability limit):
+        called as ``function(column, settings)``, raising :class:`pipeline.errors.InputError` whose
+        message begins ``option = value`` when an option is at fault; "" for a model whose settings
+        are checked in full by :class:`pipeline.settings.ModelSettings`.
     """
 
     name: str
@@ -160,6 +166,7 @@ class Model:
     planar_of: str | None = None
     options: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
     calibration: str = ""
+    checker: str = ""
 
     @property
     def numerics(self):
@@ -181,6 +188,12 @@ class Model:
         module, function = self.calibration.split(":")
         damping, reached = getattr(import_module(module), function)(column, settings)
         return float(damping), float(reached)
+
+    def check(self, column, settings):
+        """Refuse, before computing, what a run of ``column`` with ``settings`` would refuse (:attr:`checker`)."""
+        if self.checker:
+            module, function = self.checker.split(":")
+            getattr(import_module(module), function)(column, settings)
 
     def markdown(self):
         """The model's description as one Markdown bullet (the report's assumptions)."""

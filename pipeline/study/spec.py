@@ -13,10 +13,14 @@ from pipeline.structures.column import Column
 from pipeline.models import REGISTRY
 from pipeline.settings import ModelSettings
 
-__all__ = ["Study", "ModelVariant", "ColumnInfo", "RecordSpec", "Intensity", "variant_settings"]
+__all__ = ["Study", "ModelVariant", "ColumnInfo", "RecordSpec", "Intensity", "variant_settings", "BODIES",
+           "BED_OPTIONS"]
 
 #: What a variant may run instead of its model's own body: the column's outline as one body.
 BODIES = ("outline",)
+#: The options a calibrated bed (``[calibration] bed``) gives every model: its dashpots and the
+#: restitution they reach.
+BED_OPTIONS = ("contact_damping", "restitution")
 
 
 @dataclass(frozen=True)
@@ -72,7 +76,7 @@ def variant_settings(variant, options, bed=None):
     """
     merged = {**dict(options), **dict(variant.options)}
     if bed is not None:
-        merged.update(contact_damping=bed[0], restitution=bed[1])
+        merged.update(zip(BED_OPTIONS, bed))
     if variant.numerics:
         merged["numerics"] = variant.numerics
     return ModelSettings(model=variant.model, **merged)

@@ -75,7 +75,8 @@ from pipeline.structures.column import Column
 from pipeline.models import DEFAULT, REGISTRY
 from pipeline.models.options import OPTIONS
 from pipeline.settings import check_column
-from pipeline.study.spec import BODIES, ColumnInfo, Intensity, ModelVariant, RecordSpec, Study, variant_settings
+from pipeline.study.spec import (BED_OPTIONS, BODIES, ColumnInfo, Intensity, ModelVariant, RecordSpec, Study,
+                                 variant_settings)
 from pipeline.units import G
 
 __all__ = ["load_study", "load_motions", "parse_study"]
@@ -247,11 +248,108 @@ def parse_study(data, path="<study>", digest=""):
     block = execution.get("block_columns")
     if block is not None and (isinstance(block, bool) or not isinstance(block, int) or block < 1):
         ck.fail("execution.block_columns", f"must be a positive integer, got {block!r}")
-    return Study(
+    study = Study(
         path=str(path), digest=digest, title=title, summary=summary, output=output, columns=columns,
         records=records, angles=angles, scales=scales, intensity=intensity, models=models, vertical=vertical,
         sa_period=sa_period, options=options, block_columns=block, variants=variants, calibration=calibration,
     )
+    _refuse_unread(ck, data, study)
+    _check_runs(ck, study)
+    return study
+
+
+def _refuse_unread(ck, data, study):
+    """Refuse what no model of the study would read: it would be ignored, and the results would
+    look as if it had been taken (the registry says what each model reads: ``Model.options``,
+    ``Model.numerics``, ``Model.drums``; an option's ``read_with`` when it is read at all).
+
+    * an ``[options]`` key that no model of the study reads, naming the models that do;
+    * a variant's option or numerical choice that its own settings leave unread (``step_safety``
+      beside a given ``step``);
+    * with ``[calibration] bed``: ``contact_damping`` (every model gets the bed's dashpots) and a
+      variant's ``restitution`` (every model but the bed gets the restitution the bed reaches);
+    * drums (``drums``, ``drum_heights``, ``capital``, ``[column_grid] drums``) in a study whose
+      models all run monoliths.
+    """
+    variants = [study.variant(m) for m in study.models]
+    bed = study.calibration
+
+    def unread(variant, key, own):
+        """Why ``variant`` does not read option ``key`` (of its own table or of ``[options]``), or ""."""
+        model = REGISTRY[variant.model]
+        if key not in model.options:
+            return f"{variant.name} does not read it"
+        if not own and key in dict(variant.options):
+            return f"{variant.name} sets its own, models.{variant.name}.options.{key}"
+        if bed is not None and key in BED_OPTIONS and (key != "restitution" or variant.name != bed):
+            # the bed model reads a restitution as its calibration's target
+            return f"{variant.name} gets the calibrated bed's, [calibration] bed = {bed!r}"
+        why = model.options[key].unread_with(study.settings(variant.name))
+        return f"{variant.name} does not read it with {why}" if why else ""
+
+    for key, _ in study.options:
+        reasons = [unread(v, key, own=False) for v in variants]
+        if all(reasons):
+            readers = [m.name for m in REGISTRY.values() if key in m.options]
+            fix = "remove it" if any(key in REGISTRY[v.model].options for v in variants) else \
+                f"it is an option of {', '.join(readers)}: remove it, or run a model that reads it"
+            ck.fail(f"options.{key}",
+                    f"no model of the study reads {key} ({'; '.join(reasons)}){_when(OPTIONS[key])}; {fix}")
+    for v in study.variants:
+        for key, _ in v.options:
+            why = unread(v, key, own=True)
+            if why:
+                ck.fail(f"models.{v.name}.options.{key}", f"{why}{_when(OPTIONS[key])}: remove it")
+        numerics = REGISTRY[v.model].numeric_options
+        for key, _ in v.numerics:
+            why = numerics[key].unread_with(study.settings(v.name))
+            if why:
+                ck.fail(f"models.{v.name}.numerics.{key}", f"{v.name} does not read {key} with {why}"
+                        f"{_when(numerics[key])}: give one of them")
+    if not any(v.drums for v in variants):
+        runners = ", ".join(m.name for m in REGISTRY.values() if m.drums)
+        fields = [(f"columns[{i}].{k}", k) for i, entry in enumerate(data.get("columns", []))
+                  for k in sorted(_DRUMS) if k in entry]
+        if "drums" in data.get("column_grid", {}):
+            fields.append(("column_grid.drums", "drums"))
+        if fields:
+            field, key = fields[0]
+            ck.fail(field, f"no model of the study runs drums ({', '.join(study.models)} "
+                    f"{'runs' if len(variants) == 1 else 'run'} the shaft as a monolith), so {key} would be ignored; "
+                    f"drums are run by {runners}: remove {key}, or run a model of drums")
+
+
+def _when(option):
+    """`` (read only with ...)`` of an option with conditions, or ""."""
+    text = option.read_with_text()
+    return f" (read {text})" if text else ""
+
+
+def _check_runs(ck, study):
+    """Refuse, before any record is loaded or anything computed, what a model's runs would refuse of
+    a column (``Model.check``: a fixed step above the stability limit), for every column as each model
+    runs it (its drums, or the monolith), naming the field of the option at fault."""
+    for name in study.models:
+        variant = study.variant(name)
+        model = REGISTRY[variant.model]
+        if not model.checker:
+            continue
+        settings = study.settings(name)
+        for info in study.columns:
+            try:
+                model.check(info.body(variant), settings)
+            except InputError as exc:
+                ck.fail(_field_at_fault(study, variant, str(exc)), f"column {info.label!r}, model {name}: {exc}")
+
+
+def _field_at_fault(study, variant, message):
+    """The field of the option a message begins with (``step = ...``): the variant's own options, else
+    ``[options]``; the variant's table, or ``options``, if it names none of them."""
+    for prefix, given in ((f"models.{variant.name}.options", variant.options), ("options", study.options)):
+        for key, _ in given:
+            if message.startswith(f"{key} = "):
+                return f"{prefix}.{key}"
+    return f"models.{variant.name}" if study.variants else "options"
 
 
 def _options(ck, table, field, allowed):
@@ -308,14 +406,28 @@ def _variant(name, entry, ck):
     base = entry.get("model", name)
     if base not in REGISTRY:
         ck.fail(f"{field}.model", f"{base!r} is not a model; choose one of {', '.join(REGISTRY)}")
+    if name != base and name in REGISTRY:  # its results would be labelled as the other model's
+        ck.fail(field, f"a variant of {base} may not be named {name!r}, the name of the registry model {name} "
+                f"({REGISTRY[name].title}): give it a name of its own, one no registry model has "
+                f"({', '.join(REGISTRY)})")
     model = REGISTRY[base]
-    options = _options(ck, entry.get("options", {}), f"{field}.options", set(model.options))
+    given = entry.get("options", {})
+    for key in given if isinstance(given, dict) else ():
+        if key in OPTIONS and key not in model.options:
+            readers = ", ".join(m.name for m in REGISTRY.values() if key in m.options) or "no model"
+            ck.fail(f"{field}.options.{key}", f"{base} does not read {key}, an option of {readers}: remove it, "
+                    "or give it to a variant of a model that reads it")
+    options = _options(ck, given, f"{field}.options", set(model.options))
     numerics = ck.table(entry.get("numerics", {}), f"{field}.numerics", set(model.numerics))
     numerics = tuple(sorted((k, ck.number(v, f"{field}.numerics.{k}")) for k, v in numerics.items()))
     body = entry.get("body", "")
     if body != "" and body not in BODIES:
         ck.fail(f"{field}.body", f"{body!r} is not a body; give body = {' or '.join(map(repr, BODIES))} (the "
                 "column's outline as one body), or leave it out for what the model runs")
+    if "body" in entry and not model.drums:
+        runners = ", ".join(m.name for m in REGISTRY.values() if m.drums)
+        ck.fail(f"{field}.body", f"{base} runs the column's outline as one body already, so body would be "
+                f"ignored; body is read by models of drums ({runners}): remove it")
     return ModelVariant(name, base, options, numerics, body)
 
 

@@ -131,7 +131,48 @@ CATALOGUE = [
                                      "tcp://127.0.0.1:9", "--quiet"], 2, ["--scheduler", "cannot connect"]),
     ("study-every-cell-failed", ["study", "run", "{study}", OUT, "{tmp}/s.nc", "--serial", "--quiet"], 1,
      ["all 1 cells of the study failed", "the first: record ricker:", "found no rebound peak"]),
+    # a study is refused before computing whatever the command line would refuse (issue 38, item 1)
+    ("study-check-step-above-the-stability-limit", ["study", "check", "{study_step}"], 2,
+     ["field options.step: column 'paper', model 3d-compliant: step = 0.01 s is above the stability limit",
+      "give a step of at most"]),
+    ("study-run-step-above-the-stability-limit", ["study", "run", "{study_step}", "--serial", "--quiet"], 2,
+     ["field options.step: column 'paper', model 3d-compliant: step = 0.01 s is above the stability limit"]),
+    ("study-check-variant-step-above-the-stability-limit", ["study", "check", "{study_variant_step}"], 2,
+     ["field models.a.options.step: column 'paper', model a: step = 0.005 s is above the stability limit"]),
+    ("study-option-no-model-reads", ["study", "check", "{study_rigid_step}"], 2,
+     ["field options.step: no model of the study reads step (3d does not read it)",
+      "it is an option of 3d-compliant: remove it, or run a model that reads it"]),
+    ("study-drums-of-rigid-models", ["study", "check", "{study_rigid_drums}"], 2,
+     ["field columns[0].drums: no model of the study runs drums", "drums are run by 3d-compliant"]),
+    ("study-body-of-a-rigid-variant", ["study", "check", "{study_rigid_body}"], 2,
+     ["field models.a.body", "body is read by models of drums (3d-compliant): remove it"]),
+    ("study-step-and-step-safety", ["study", "check", "{study_step_safety}"], 2,
+     ["field models.a.numerics.step_safety: a does not read step_safety with step = 0.001",
+      "read only with step not given", "give one of them"]),
+    ("study-variant-named-as-another-model", ["study", "check", "{study_named_2d}"], 2,
+     ["field models.2d: a variant of 3d may not be named '2d', the name of the registry model 2d",
+      "give it a name of its own"]),
+    ("study-workers-with-scheduler", ["study", "run", "{study}", "--scheduler", "tcp://127.0.0.1:9", "--workers", "2"],
+     2, ["--workers 2 is the size of the local cluster", "--scheduler tcp://127.0.0.1:9 runs on the workers of that "
+         "cluster", "drop --workers, or drop --scheduler"]),
+    ("study-workers-with-serial", ["study", "run", "{study}", "--serial", "--workers", "2"], 2,
+     ["--workers 2 is the size of the local cluster", "--serial runs in this process"]),
+    ("report-reference-not-in-the-results", ["report", "{results}", OUT, "{tmp}/rep", "--bootstrap", "0",
+                                             "--reference", "stack"], 2,
+     ["--reference 'stack' is not a model of", "its models are 3d: give one of them"]),
 ]
+
+#: Study files of the catalogue: the tiny study with one line replaced ({placeholder: (old, new)}).
+STUDIES = {
+    "study_step": ('tail = 0.5', 'tail = 0.5\nstep = 0.01', '"3d"', '"3d-compliant"'),
+    "study_variant_step": ('models = ["3d"]', '[models.a]\nmodel = "3d-compliant"\noptions = {step = 0.005}'),
+    "study_rigid_step": ('tail = 0.5', 'tail = 0.5\nstep = 1e-5'),
+    "study_rigid_drums": ('named = "paper"', 'named = "paper"\ndrums = 3'),
+    "study_rigid_body": ('models = ["3d"]', '[models.a]\nmodel = "3d"\nbody = "outline"'),
+    "study_step_safety": ('models = ["3d"]', '[models.a]\nmodel = "3d-compliant"\noptions = {step = 0.001}\n'
+                          'numerics = {step_safety = 0.3}'),
+    "study_named_2d": ('models = ["3d"]', '[models.2d]\nmodel = "3d"'),
+}
 
 
 @pytest.fixture
@@ -151,6 +192,13 @@ def files(tmp_path, results_nc, histories_nc, failed_results_nc):
     paths["notes"].write_text("my notes\n", encoding="utf-8")
     paths["study"] = tmp_path / "tiny.toml"
     paths["study"].write_text(TINY_STUDY, encoding="utf-8")
+    for name, pairs in STUDIES.items():
+        text = TINY_STUDY
+        for old, new in zip(pairs[::2], pairs[1::2]):
+            assert old in text, old
+            text = text.replace(old, new)
+        paths[name] = tmp_path / f"{name}.toml"
+        paths[name].write_text(text, encoding="utf-8")
     paths["record"] = tmp_path / "record.txt"
     paths["record"].write_text("0.0\n0.1\n-0.1\n0.0\n", encoding="utf-8")
     paths["record_png"] = tmp_path / "record.png"  # a record file a plot could be named after

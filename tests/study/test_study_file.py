@@ -183,3 +183,166 @@ def test_shipped_studies_state_their_intensity_units():
         study = load_study(path, load_records=False)
         if study.intensity is not None:
             assert study.intensity.units in ("g", "m/s2", "m/s", "cm/s"), path
+
+
+# -- what a study is refused before computing, as the command line would refuse it (issue 38, item 1) --
+
+# A column of the paper's outline, one short record, the rigid and the compliant model; parsed only
+# (load_records=False, or study check): nothing here is computed.
+CHECKS = """\
+title = "checks"
+output = "checks.nc"
+models = ["3d", "3d-compliant"]
+
+[[columns]]
+name = "mono"
+R = 0.5
+r = 0.4
+h = 4.0
+
+[records]
+synthetic = [{generator = "ricker_wavelet", id = "ricker", ap = 4.0, fp = 2.0, dt = 0.01}]
+
+[excitation]
+angles = [0.0]
+scales = [1.0]
+
+[options]
+tail = 0.5
+"""
+
+
+def _checks(*pairs):
+    """CHECKS with each (old, new) replaced."""
+    text = CHECKS
+    for old, new in pairs:
+        assert old in text, old
+        text = text.replace(old, new)
+    return text
+
+
+_MODELS = 'models = ["3d", "3d-compliant"]'
+_TAIL = "tail = 0.5"
+
+
+def _error_line(err):
+    lines = [line for line in err.splitlines() if line.startswith("frustum: error: ")]
+    assert len(lines) == 1, err
+    return lines[0][len("frustum: error: "):]
+
+
+def test_a_step_above_the_stability_limit_is_refused_in_the_words_of_simulate(write_study, tmp_path, capsys):
+    """``frustum simulate --step 0.01`` refuses at once; the study check says the same of the same column."""
+    path = write_study(_checks((_TAIL, _TAIL + "\nstep = 0.01")))
+    assert main(["study", "check", str(path)]) == 2
+    study = _error_line(capsys.readouterr().err)
+    assert main(["simulate", "--column", "0.5,0.4,4", "--record", "SYN-RICKER", "--model", "3d-compliant",
+                 "--step", "0.01", "--out", str(tmp_path / "h.nc")]) == 2
+    simulate = _error_line(capsys.readouterr().err)
+    assert simulate.startswith("step = 0.01 s is above the stability limit")
+    assert study == f"{path}: field options.step: column 'mono', model 3d-compliant: {simulate}"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["study.toml"]  # nothing written by either
+
+
+def test_the_stability_limit_is_checked_for_every_column_as_each_model_runs_it(write_study):
+    """Four drums have a shorter stability limit than their monolith (lighter bodies on the same
+    joints): a step between the two limits is refused for the drums of the model that runs them,
+    and taken by a variant that runs the column's outline."""
+    from pipeline.compliant import as_stack, assemble, fixed_step
+    from pipeline.dynamics.compliant import stack as sk
+    from pipeline.settings import ModelSettings
+    from pipeline.structures.column import Column
+    from pipeline.structures.drums import DrumColumn
+
+    def limit(column):
+        probe = assemble(as_stack(column), ModelSettings(model="3d-compliant"), 0.0)
+        params = probe.params()
+        return fixed_step(probe, params, sk.rest_state(params), ModelSettings(model="3d-compliant"))[1]
+
+    mono = Column(0.5, 0.4, 4.0)
+    low, high = limit(DrumColumn.equal(mono, 4)), limit(mono)
+    assert low < 0.7 * high  # the premise of the test
+    step = (low * high) ** 0.5
+    drums = '[[columns]]\nname = "four"\nR = 0.5\nr = 0.4\nh = 4.0\ndrums = 4\n\n[records]'
+    variants = ('[models.rigid]\nmodel = "3d"\n\n[models.stack]\nmodel = "3d-compliant"\n\n'
+                '[models.outline]\nmodel = "3d-compliant"\nbody = "outline"')
+    text = _checks((_TAIL, f"{_TAIL}\nstep = {step!r}"), ("[records]", drums), (_MODELS, variants))
+    with pytest.raises(InputError, match=rf"field options\.step: column 'four', model stack: step = {step:g} s is "
+                       rf"above the stability limit {low:.3g} s"):
+        load_study(write_study(text), load_records=False)
+    # the stack at a step of its own below its limit: the outline's step is checked on the monolith alone
+    own = f'[models.stack]\nmodel = "3d-compliant"\noptions = {{step = {0.9 * low!r}}}\n'
+    study = load_study(write_study(text.replace('[models.stack]\nmodel = "3d-compliant"\n', own)), load_records=False)
+    assert study.settings("outline").step == step and study.settings("stack").step == 0.9 * low
+
+
+UNREAD = {  # (replacements of CHECKS, field, fragment of the message)
+    "step of rigid models only": (((_MODELS, 'models = ["3d", "2d"]'), (_TAIL, _TAIL + "\nstep = 1e-5")),
+                                  "options.step", "it is an option of 3d-compliant"),
+    "monitor_step of the fixed-step integrator": (((_TAIL, _TAIL + "\nmonitor_step = 0.002"),), "options.monitor_step",
+                                                  "3d-compliant does not read it with integrator = semi-implicit"),
+    "an option every model sets for itself": (
+        ((_MODELS, '[models.a]\nmodel = "3d"\noptions = {friction = 0.5}\n\n[models.b]\nmodel = "3d-compliant"\n'
+                   'options = {friction = 0.6}'), (_TAIL, _TAIL + "\nfriction = 0.4")),
+        "options.friction", "a sets its own, models.a.options.friction; b sets its own"),
+    "contact_damping beside a calibrated bed": (
+        ((_MODELS, '[models.a]\nmodel = "3d"\n\n[models.b]\nmodel = "3d-compliant"\n\n[calibration]\nbed = "b"'),
+         (_TAIL, _TAIL + "\ncontact_damping = 1e5")),
+        "options.contact_damping", "a gets the calibrated bed's, [calibration] bed = 'b'"),
+    "a variant's restitution beside a calibrated bed": (
+        ((_MODELS, '[models.a]\nmodel = "3d"\noptions = {restitution = 0.8}\n\n[models.b]\nmodel = "3d-compliant"\n\n'
+                   '[calibration]\nbed = "b"'),), "models.a.options.restitution", "a gets the calibrated bed's"),
+    "a variant's option of another model": (
+        ((_MODELS, '[models.a]\nmodel = "3d"\noptions = {joint_friction = 0.5}'),), "models.a.options.joint_friction",
+        "3d does not read joint_friction, an option of 3d-compliant"),
+    "step_safety of an adaptive integrator": (
+        ((_MODELS, '[models.a]\nmodel = "3d-compliant"\noptions = {integrator = "dopri5"}\n'
+                   'numerics = {step_safety = 0.3}'),), "models.a.numerics.step_safety", "with integrator = dopri5"),
+    "step_safety beside the study's step": (
+        ((_MODELS, '[models.a]\nmodel = "3d-compliant"\nnumerics = {step_safety = 0.3}'),
+         (_TAIL, _TAIL + "\nstep = 0.001")), "models.a.numerics.step_safety", "with step = 0.001"),
+    "drum heights of rigid models": (
+        ((_MODELS, 'models = ["3d", "2d"]'), ("h = 4.0", "h = 4.0\ndrum_heights = [2.0, 2.0]")),
+        "columns[0].drum_heights", "no model of the study runs drums (3d, 2d run the shaft"),
+    "a capital on rigid models": (((_MODELS, 'models = ["2d"]'), ("h = 4.0", "h = 4.0\ncapital = [1.2, 0.5]")),
+                                  "columns[0].capital", "(2d runs the shaft as a monolith)"),
+    "a grid of drums of rigid models": (
+        ((_MODELS, 'models = ["3d"]'), ("[records]", "[column_grid]\nR = 0.5\nslenderness = 8.0\nbeta = 0.8\n"
+                                                     "drums = [1, 4]\n\n[records]")),
+        "column_grid.drums", "drums are run by 3d-compliant"),
+    "the outline of a rigid model": (((_MODELS, '[models.a]\nmodel = "2d"\nbody = "outline"'),), "models.a.body",
+                                     "2d runs the column's outline as one body already"),
+    "a variant under another model's name": (((_MODELS, '[models.3d-compliant]\nmodel = "3d"'),),
+                                             "models.3d-compliant", "may not be named '3d-compliant', the name of the "
+                                             "registry model 3d-compliant (3D compliant drums on joints)"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(UNREAD))
+def test_what_no_model_of_the_study_reads_is_refused_naming_the_field(write_study, case):
+    pairs, field, fragment = UNREAD[case]
+    path = write_study(_checks(*pairs))
+    with pytest.raises(InputError) as info:
+        load_study(path, load_records=False)
+    message = str(info.value)
+    assert message.startswith(f"{path}: field {field}: "), message
+    assert fragment in message, message
+
+
+READ = {  # (replacements of CHECKS, what the study then holds)
+    "a step some model reads": ((_TAIL, _TAIL + "\nstep = 0.001"),),
+    "the bed's target restitution": ((_MODELS, '[models.a]\nmodel = "3d"\n\n[models.b]\nmodel = "3d-compliant"\n\n'
+                                               '[calibration]\nbed = "b"'), (_TAIL, _TAIL + "\nrestitution = 0.8")),
+    "monitor_step of an adaptive variant": ((_MODELS, '[models.a]\nmodel = "3d-compliant"\n\n[models.b]\n'
+                                                      'model = "3d-compliant"\noptions = {integrator = "dopri5"}'),
+                                            (_TAIL, _TAIL + "\nmonitor_step = 0.002")),
+    "drums beside a model of drums": (("h = 4.0", "h = 4.0\ndrums = 2"),),
+    "step_safety of the fixed step": ((_MODELS, '[models.a]\nmodel = "3d-compliant"\nnumerics = {step_safety = 0.3}'),),
+    "a variant under its own model's name": (
+        (_MODELS, '[models.3d]\n\n[models.2d]\nmodel = "2d"\noptions = {friction = 0.5}'),),
+}
+
+
+@pytest.mark.parametrize("case", sorted(READ))
+def test_what_some_model_reads_is_taken(write_study, case):
+    load_study(write_study(_checks(*READ[case])), load_records=False)
