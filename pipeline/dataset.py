@@ -106,6 +106,10 @@ VARIABLES = {
     "drum_r": Var("m", "radius of the top of the drum (a capital: half its side)"),
     "drum_h": Var("m", "height of the drum"),
     "drum_z": Var("m", "height of the drum's base above the ground at rest"),
+    # the rigid planar frame of a colonnade (pipeline.frame, 2d-frame): its epistyle translates with the capitals
+    "epistyle_dx": Var("m", "horizontal displacement of the epistyle along the row (2d-frame: it translates with "
+                       "the capitals' top edges)"),
+    "epistyle_dz": Var("m", "vertical displacement of the epistyle from its place at rest (2d-frame)"),
     # study results (pipeline.study): one value per column, record, angle, scale, model
     "peak_theta": Var("rad", "peak inclination of the column axis from the vertical", degrees=True),
     "peak_theta_ratio": Var("1", "peak inclination over the critical (static overturning) inclination"),
@@ -156,7 +160,8 @@ VARIABLES = {
     # label dimensions: strings on the dimension itself (module docstring)
     "column": Var("1", "label of the column"),
     "record": Var("1", "identifier of the ground-motion record"),
-    "model": Var("1", "model: 3d rolling frustum, 2d planar rocking or 3d-compliant drums on joints"),
+    "model": Var("1", "model: 3d rolling frustum, 2d planar rocking, 3d-compliant drums on joints or 2d-frame "
+                 "rigid frame of a colonnade"),
     "earthquake": Var("1", "earthquake (event) of the record"),
     "station": Var("1", "recording station"),
     "year": Var("1", "year of the earthquake (-1: unknown)"),
@@ -617,6 +622,12 @@ def catalog_markdown():
         "`pipeline.dataset.SUMMARY_VARIABLES`) and, for the compliant model, `restitution`,",
         "`contact_damping`, the residual dislocation per `joint`, `drum_peak_theta` per `drum` and",
         "`overturn_drum`.",
+        "",
+        "The rigid frame of a colonnade (`2d-frame`) writes the same names for the whole frame:",
+        "`theta` is the common tilt of its columns, `x_b` and `x_p` every column's base centre and pivot",
+        "from where it stood, `epistyle_dx` and `epistyle_dz` the epistyle's translation; its forces are",
+        "the sum over the column bases and, with `energy_hat`, per the frame's weight m g (m the frame's",
+        "mass, R the column's base radius); `peak_theta_ratio` divides by the frame's critical tilt.",
         "",
         "| name | units | long name | CF standard name |",
         "|---|---|---|---|",

@@ -29,7 +29,6 @@ import numpy as np
 import xarray as xr
 
 from pipeline import models
-from pipeline.compliant import as_stack
 from pipeline.dataset import annotate, append_history
 from pipeline.dynamics.rigid import frustum as fk
 from pipeline.dynamics.rigid import diagnostics as rd
@@ -38,7 +37,7 @@ from pipeline.dynamics.rigid import rocking as rk
 from pipeline.dynamics.rigid.run2d import run_rocking
 from pipeline.dynamics.rigid.run3d import run_frustum
 from pipeline.errors import InputError
-from pipeline.structures.column import Column
+from pipeline.structures.kinds import describe_kind, kind_of
 from pipeline.models.rigid import ROLLING_FRUSTUM
 from pipeline.response import Response
 from pipeline.settings import FREE_MOTION, Excitation, ModelSettings, check_column
@@ -68,13 +67,35 @@ def lying_tilt(column):
 
 
 def _options(column, settings):
+    theta_k, patch_damping = patch_parameters(column, settings)
+    return kernel_options(settings, lying_tilt(column), settings.damping, theta_k, patch_damping,
+                          contact_tilt(column, settings))
+
+
+def kernel_options(settings, theta_lie, nu, theta_k, patch_damping, theta_c):
+    """The rigid kernels' options array (``fk.OPT_*``) of a body, in the kernel's dimensionless units.
+
+    Parameters
+    ----------
+    settings : ModelSettings
+        Its friction, lift-off and the model's numerical thresholds are read here.
+    theta_lie : float
+        Tilt at which the body lies down (the overturning event) [rad].
+    nu : float
+        Viscous couple, per m g L sqrt(L/g) of the kernel's mass m and length L [1].
+    theta_k, patch_damping : float
+        The contact patch (:func:`patch_parameters`): the tilt of lost full contact [rad] and the
+        dashpots per unit area in the kernel's units [1]; 0, 0 for a point contact.
+    theta_c : float
+        The contact tilt [rad] (:func:`contact_tilt`).
+    """
     opts = np.zeros(fk.N_OPT)
-    opts[fk.OPT_THETA_LIE] = lying_tilt(column)
-    opts[fk.OPT_NU] = settings.damping
+    opts[fk.OPT_THETA_LIE] = theta_lie
+    opts[fk.OPT_NU] = nu
     opts[fk.OPT_MU] = settings.friction
     opts[fk.OPT_UNILATERAL] = 1.0 if settings.lift_off else 0.0
-    opts[fk.OPT_THETA_K], opts[fk.OPT_PATCH_DAMPING] = patch_parameters(column, settings)
-    opts[fk.OPT_THETA_C] = contact_tilt(column, settings)
+    opts[fk.OPT_THETA_K], opts[fk.OPT_PATCH_DAMPING] = theta_k, patch_damping
+    opts[fk.OPT_THETA_C] = theta_c
     numerics = {**models.get(settings.model).numerics, **dict(settings.numerics)}
     opts[fk.OPT_LANDING_MARGIN] = numerics["landing_margin"]
     opts[fk.OPT_MIN_REBOUND] = numerics["min_rebound"]
@@ -136,8 +157,10 @@ def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), 
 
     Parameters
     ----------
-    column : pipeline.structures.column.Column or pipeline.structures.drums.DrumColumn
-        A multi-drum column needs a model that runs drums (``Model.drums`` of the registry).
+    column : pipeline.structures.column.Column, pipeline.structures.drums.DrumColumn or \
+pipeline.structures.colonnade.Colonnade
+        A structure of a kind the model runs (``Model.bodies`` of the registry): a multi-drum
+        column needs a model that runs drums, a colonnade one that runs colonnades.
     motion : pipeline.groundmotion.GroundMotion
     excitation : Excitation
         Incidence angle, scale and whether to use the vertical component.
@@ -153,12 +176,16 @@ def simulate(column, motion, excitation=Excitation(), settings=ModelSettings(), 
     Response
     """
     model = models.get(settings.model)
-    if not isinstance(column, Column) and not model.drums:
-        stack = as_stack(column)  # refuses what is neither a Column nor a DrumColumn
-        drum_models = ", ".join(name for name, m in models.REGISTRY.items() if m.drums)
-        raise InputError(f"model = {settings.model!r} is a rigid model of a monolith: a column of "
-                         f"{stack.n_drums} drum(s) needs one of {drum_models}")
+    kind = kind_of(column)  # refuses what is no structure
+    if not model.runs(kind):
+        runners = ", ".join(name for name, m in models.REGISTRY.items() if m.runs(kind))
+        raise InputError(f"model = {settings.model!r} runs {' or '.join(_KIND_WORDS[b] for b in model.bodies)}: "
+                         f"{describe_kind(column)} needs one of {runners}")
     return model.run(column, motion, excitation, settings, histories, progress)
+
+
+# what a model runs, in words, for the refusal above
+_KIND_WORDS = {"column": "monolithic columns", "drums": "columns of drums", "colonnade": "colonnades"}
 
 
 def simulate_rigid(column, motion, excitation, settings, histories=True, progress=None):
@@ -172,6 +199,27 @@ def simulate_rigid(column, motion, excitation, settings, histories=True, progres
     if not isinstance(excitation, Excitation):
         raise InputError(f"excitation must be an Excitation, got {type(excitation).__name__}")
     t_scale = time_scale(column.R)
+    record = kernel_record(motion, excitation, planar)
+    dt = motion.dt / t_scale
+    duration = motion.duration + settings.tail
+    y0 = np.zeros(rk.N_STATE2 if planar else fk.N_STATE)
+    raw = _run(column, settings, record, dt, y0, duration, settings.settle_limit)
+    diag = _diagnostics(raw, settings)
+    summary = _summary(column, settings, raw, diag, motion, excitation)
+    ds = _histories(column, settings, raw, diag, excitation, motion) if histories else None
+    return Response(summary, ds, _impact_table(raw, column))
+
+
+def kernel_record(motion, excitation, planar):
+    """The record as the rigid kernels take it: (n, 3) samples in g, contiguous.
+
+    3D (not ``planar``): the record as recorded (the outputs are turned afterwards, by
+    axisymmetry); planar: the X component of the pair turned by the incidence angle,
+    ``a_X cos(gamma) - a_Y sin(gamma)``, in column 0, column 1 zero. The vertical component is
+    column 2 (zero without one, or when ``excitation.vertical`` is off).
+    """
+    if not isinstance(excitation, Excitation):
+        raise InputError(f"excitation must be an Excitation, got {type(excitation).__name__}")
     ax = np.asarray(motion.acc_x, dtype=np.float64) * excitation.scale
     ay = np.asarray(motion.acc_y, dtype=np.float64) * excitation.scale
     az = motion.acc_z
@@ -182,15 +230,7 @@ def simulate_rigid(column, motion, excitation, settings, histories=True, progres
     else:
         a_u = ax * math.cos(gamma) - ay * math.sin(gamma)  # X component of the turned pair
         record = np.stack([a_u, np.zeros_like(a_u), az], axis=1) / G
-    record = np.ascontiguousarray(record)
-    dt = motion.dt / t_scale
-    duration = motion.duration + settings.tail
-    y0 = np.zeros(rk.N_STATE2 if planar else fk.N_STATE)
-    raw = _run(column, settings, record, dt, y0, duration, settings.settle_limit)
-    diag = _diagnostics(raw, settings)
-    summary = _summary(column, settings, raw, diag, motion, excitation)
-    ds = _histories(column, settings, raw, diag, excitation, motion) if histories else None
-    return Response(summary, ds, _impact_table(raw, column))
+    return np.ascontiguousarray(record)
 
 
 def simulate_free(column, initial, duration, settings=FREE_MOTION,
@@ -252,12 +292,35 @@ class _Raw:
 
 
 def _run(column, settings, record, dt, y0, duration, settle_limit=0.0):
-    """Run the rigid kernel for ``duration`` [s], and up to ``settle_limit`` [s] more with the ground
-    still if the outcome is not yet decided then; the output rows end where the run does (not
-    before ``duration``)."""
-    t_scale = time_scale(column.R)
-    c = column.kernel_constants()
-    params = (c, record, dt, _options(column, settings))
+    runner = run_rocking if models.get(settings.model).planar else run_frustum
+    restitution = -1.0 if settings.restitution is None else float(settings.restitution)
+    params = (column.kernel_constants(), record, dt, _options(column, settings))
+    return run_kernel(runner, params, time_scale(column.R), restitution, settings, y0, duration, settle_limit)
+
+
+def run_kernel(runner, params, t_scale, restitution, settings, y0, duration, settle_limit=0.0):
+    """One run of a rigid event-driven kernel (``run_rocking`` or ``run_frustum``): the dimensionless arrays.
+
+    Parameters
+    ----------
+    runner : numba function
+    params : tuple
+        ``(constants, record [g], dt [tau], options)`` as the kernels take them.
+    t_scale : float
+        The kernel's time unit sqrt(L/g) [s] of its length L.
+    restitution : float
+        Planar landings' theta' after / before; negative: the kernel's own, ``1 - 2 / Iy``.
+    settings : ModelSettings
+        Its output step and tolerances.
+    y0 : numpy.ndarray
+    duration : float
+        The record and its tail [s].
+    settle_limit : float
+        Up to this much more [s], with the ground still, if the outcome is not decided at
+        ``duration`` (docs/model.md, "The end of a run"); the output rows end where the run
+        does (not before ``duration``).
+    """
+    record, dt = params[1], params[2]
     tau_end = duration / t_scale
     tau_settle = (duration + settle_limit) / t_scale
     n_out = int(math.floor((duration + settle_limit) / settings.output_step + 1e-9)) + 1
@@ -266,8 +329,6 @@ def _run(column, settings, record, dt, y0, duration, settle_limit=0.0):
     phase = np.zeros(n_out, dtype=np.int8)
     breaks = np.arange(record.shape[0]) * dt  # kinks of the linearly interpolated record
     summary = np.zeros(hy.N_SUMMARY)
-    restitution = -1.0 if settings.restitution is None else float(settings.restitution)
-    runner = run_rocking if models.get(settings.model).planar else run_frustum
     impacts = np.empty((MAX_LOGGED_IMPACTS, 4))  # the kernel fills every logged row; only those are read
     n = runner(params, restitution, y0, tau_end, tau_settle, tau, states, phase, breaks, settings.rtol,
                settings.atol, summary, impacts)
@@ -301,9 +362,18 @@ def _diagnostics(raw, settings):
 
 def _summary(column, settings, raw, diag, motion, excitation):
     """Scalar results, all read from the kernel's own summary (none from the output grid)."""
+    return kernel_summary(raw, column.R, column.critical_tilt, settings, motion, excitation)
+
+
+def kernel_summary(raw, length, theta_crit, settings, motion, excitation):
+    """Scalar results of a rigid kernel's run, all read from its own summary (none from the output grid).
+
+    ``length`` [m] is the kernel's unit of length (energies per weight and the base's position
+    are in it), ``theta_crit`` [rad] the critical tilt ``peak_theta_ratio`` divides by.
+    """
     s = raw.summary
     ts = raw.t_scale
-    R = column.R  # energies per m g: dimensionless times R [m]
+    R = length  # energies per m g: dimensionless times R [m]
     e_start, e_end = s[hy.S_ENERGY_START], s[hy.S_ENERGY_END]
     work, dissipated, friction = s[hy.S_WORK], s[hy.S_DISSIPATED], s[hy.S_FRICTION]
     balance = (e_end - e_start) - (work + s[hy.S_TRANSITION] - dissipated - friction)
@@ -311,7 +381,7 @@ def _summary(column, settings, raw, diag, motion, excitation):
     out = {
         "model": settings.model,
         "peak_theta": float(s[hy.S_PEAK_THETA]),
-        "peak_theta_ratio": float(s[hy.S_PEAK_THETA] / column.critical_tilt),
+        "peak_theta_ratio": float(s[hy.S_PEAK_THETA] / theta_crit),
         "peak_time": float(s[hy.S_PEAK_TIME] * ts),
         "overturned": not math.isnan(s[hy.S_OVERTURN_TIME]),
         "undecided": bool(s[hy.S_UNDECIDED]),

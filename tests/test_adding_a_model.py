@@ -100,7 +100,7 @@ QUASI_STATIC = Model(
         "Bulletin of the Seismological Society of America 53(2), 403-417",
     ),
     in_short="quasi-static uplift check of a rigid block (a test model)",
-    drums=False,
+    bodies=("column",),
     angle_invariant=True,  # it reads the magnitude of the horizontal acceleration only
     planar=False,
     numeric_options=read(),

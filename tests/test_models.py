@@ -2,7 +2,8 @@
 
 One test set, parametrised over :data:`pipeline.models.REGISTRY`: a model added with a kernel
 and one entry is checked here without a test of its own being written first. Each case runs
-the paper's column (R 0.5, r 0.4, h 4 m; a model of drums gets it in two drums) under a
+the paper's column (R 0.5, r 0.4, h 4 m; a model of drums gets it in two drums, a model of colonnades
+two of it with capitals carrying an epistyle, pipeline.structures.kinds.example) under a
 one-sine pulse of 4 m/s^2 and 0.5 s, strong enough to rock it (its uplift acceleration is
 g R / (h/2) ~ 2.5 m/s^2).
 """
@@ -22,6 +23,7 @@ from pipeline.groundmotion.synthesis import one_sine_pulse
 from pipeline.models.options import OPTIONS
 from pipeline.settings import Excitation, ModelSettings
 from pipeline.simulate import simulate
+from pipeline.structures.kinds import example
 
 PAPER = Column(0.5, 0.4, 4.0)
 MODELS = list(models.REGISTRY.values())
@@ -34,7 +36,8 @@ def pulse():
 
 
 def _run(model, pulse, angle=20.0, histories=True):
-    body = DrumColumn.equal(PAPER, 2) if model.drums else PAPER
+    # the most elaborate structure it runs: the paper's column, in two drums, or two of it carrying an epistyle
+    body = example(model.bodies[-1])
     return simulate(body, pulse, Excitation(angle=angle), ModelSettings(model=model.name, tail=0.4),
                     histories=histories)
 

@@ -15,6 +15,7 @@ from pipeline.limits import check_tolerance
 from pipeline.paths import check_output_file, check_plot_file
 from pipeline.response import outcome
 from pipeline.settings import FREE_MOTION, ModelSettings
+from pipeline.structures.colonnade import named_colonnades
 from pipeline.units import MARBLE_DENSITY
 
 DEFAULTS = ModelSettings()  # the options' defaults, written once (pipeline.settings)
@@ -34,6 +35,11 @@ examples:
   the compliant-contact model: the same column as 6 drums on joints of contact points:
     frustum simulate --column 0.5,0.4,4 --model 3d-compliant --drums 6 --joint-friction 0.6 \\
         --record FEMA-FF-01 --out drums.nc
+  the rigid frame of two such columns with capitals carrying an epistyle 0.5 m high, axes 2 m apart:
+    frustum simulate --column 0.5,0.4,4 --capital 1.0,0.4 --model 2d-frame --colonnade 2 --interaxial 2 \\
+        --epistyle 0.5 --record FEMA-FF-01 --out frame.nc
+  the Parthenon's east front (a named colonnade) as that frame:
+    frustum simulate --model 2d-frame --colonnade parthenon-east --record FEMA-FF-01 --out parthenon.nc
   free motion released on the rim (the paper's Section 4 case, rates in rad/s):
     frustum simulate --column 0.5,0.4,4 --theta0 10 --phi-dot0 0.44 --psi-dot0 -0.89 \\
         --duration 20 --out free.nc
@@ -51,8 +57,9 @@ def register(subparsers):
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     geo = p.add_argument_group("column")
-    geo.add_argument("--column", required=True, metavar="R,r,h",
-                     help="bottom radius R, top radius r and height h of the column [m], e.g. 0.5,0.4,4")
+    geo.add_argument("--column", metavar="R,r,h",
+                     help="bottom radius R, top radius r and height h of the column [m], e.g. 0.5,0.4,4 (required, "
+                     "but with a named --colonnade, which brings its own)")
     geo.add_argument("--density", type=float, default=MARBLE_DENSITY, metavar="KG_M3",
                      help="mass density [kg/m^3] for forces in newtons and energy in joules "
                      f"(default {MARBLE_DENSITY:g}, marble)")
@@ -78,6 +85,20 @@ def register(subparsers):
                         help="heights of the drums bottom first [m], adding up to h (instead of --drums)")
     joints.add_argument("--capital", default=None, metavar="SIDE,HEIGHT",
                         help="a square capital block on top, side and height [m]")
+    rows = ", ".join(m.name for m in REGISTRY.values() if m.runs("colonnade"))
+    row = p.add_argument_group(f"colonnade (--model {rows})")
+    row.add_argument("--colonnade", default=None, metavar="N|NAME",
+                     help="a row of N of the column (with its drums and --capital) carrying an epistyle of N - 1 "
+                     "blocks laid from axis to axis; or a named colonnade of pipeline/data/colonnades.toml "
+                     f"({', '.join(sorted(named_colonnades()))}), which brings its column, spacing and epistyle")
+    row.add_argument("--interaxial", type=float, default=None, metavar="S",
+                     help="spacing of the column axes [m], at least the abacus side")
+    row.add_argument("--epistyle", default=None, metavar="HEIGHT[,WIDTH]",
+                     help="height of the epistyle blocks and their width across the row [m] (width default: the "
+                     "abacus side, 2 r without --capital)")
+    row.add_argument("--course", type=float, default=None, metavar="HEIGHT",
+                     help="a course on the epistyle (frieze and cornice) as a height [m] of its width and density, "
+                     "carried as mass (default 0: none)")
     add_model_options(p)
     free = p.add_argument_group("initial state (free motion)")
     for name, unit, default, text in [  # noqa: B007
@@ -182,26 +203,40 @@ def run_simulate(args):
     for name in ("rtol", "atol"):
         if getattr(args, name) is not None:
             check_tolerance(name, getattr(args, name), f"--{name}")
-    column = _drum_column(args, Column.parse(args.column, density=args.density))
+    colonnade = _named_row(args, models)
+    if colonnade is not None:  # it brings its column
+        column = colonnade.column.column
+    else:
+        if args.column is None:
+            raise InputError("give the column as --column R,r,h in metres (e.g. 0.5,0.4,4), or a named --colonnade")
+        column = _drum_column(args, Column.parse(args.column, density=args.density))
+        colonnade = _row(args, column)
+    bodies = {m: colonnade if REGISTRY[m].runs("colonnade") else column for m in models}
+    if args.animate and colonnade is not None:
+        raise InputError("--animate draws columns, not yet a colonnade: drop --animate (the histories file holds the "
+                         "frame's tilt and the epistyle's translation; --plot draws them)")
     if args.animate:
         from pipeline.animate import check_animation_path
 
         check_animation_path(args.animate, "--animate", inputs=inputs + [("results file", args.out)])
     if args.record:
-        runs = _earthquake(args, column, models)
+        runs = _earthquake(args, bodies, models)
     else:
-        if models != [ROLLING_FRUSTUM.name] or not isinstance(column, Column):
-            raise InputError(f"--model {args.model}: a free motion is the {ROLLING_FRUSTUM.title} only (drop --model "
-                             "and the drum options)")
+        if models != [ROLLING_FRUSTUM.name] or not isinstance(column, Column) or colonnade is not None:
+            raise InputError(f"--model {args.model}: a free motion is the {ROLLING_FRUSTUM.title} only (drop --model, "
+                             "the drum options and --colonnade)")
         runs = [_free(args, column)]
     outline = getattr(column, "column", column)
     label = f"R{outline.R:g}-r{outline.r:g}-h{outline.h:g}"
+    if colonnade is not None:
+        label = colonnade.name or f"{label}-x{colonnade.n_columns}"
     # the summary goes into the file too: what the console prints must not be all there is of it
     ds = histories_file([h for h, _ in runs], column=label, record=runs[0][0].attrs.get("record_id", "free-motion"),
                         summaries=[s for _, s in runs])
     append_history(ds, "frustum simulate " + " ".join(_argv_echo(args)))
     write_netcdf(ds, args.out)
-    print(column.describe())
+    for body in dict.fromkeys(bodies.values()):
+        print(body.describe())
     for (histories, summary), model in zip(runs, models):
         line = f"{model}: peak theta = {math.degrees(summary['peak_theta']):.3f} deg"
         if args.record:
@@ -277,6 +312,72 @@ def _drum_column(args, column):
     return DrumColumn.equal(column, 1 if args.drums is None else args.drums, capital)
 
 
+def _named_row(args, models):
+    """The named colonnade of ``--colonnade NAME``, or None; the colonnade's options are refused where
+    nothing reads them, or where they are missing."""
+    from pipeline.structures.colonnade import named_colonnade
+
+    runs_rows = [m for m in models if REGISTRY[m].runs("colonnade")]
+    given = [f"--{name}" for name in ("interaxial", "epistyle", "course") if getattr(args, name) is not None]
+    if args.colonnade is None:
+        if given:
+            raise InputError(f"{given[0]} describes a colonnade: give --colonnade N (the number of columns) too, or "
+                             f"drop {given[0]}")
+        needs = [m for m in runs_rows if not REGISTRY[m].runs("column")]
+        if needs:
+            raise InputError(f"--model {needs[0]} runs a colonnade: give --colonnade N --interaxial S --epistyle HEIGHT "
+                             f"(or a named colonnade, e.g. --colonnade {sorted(named_colonnades())[0]})")
+        return None
+    if not runs_rows:
+        readers = ", ".join(m.name for m in REGISTRY.values() if m.runs("colonnade"))
+        raise InputError(f"--colonnade is read by --model {readers}; --model {args.model} does not run colonnades "
+                         "(drop --colonnade, or run a model that reads it)")
+    text = str(args.colonnade).strip()
+    if _number(text) is not None:
+        missing = [flag for flag, value in (("--interaxial", args.interaxial), ("--epistyle", args.epistyle))
+                   if value is None]
+        if missing:
+            raise InputError(f"--colonnade {text}: give {' and '.join(missing)} too (the spacing of the axes and the "
+                             "height of the epistyle in metres, e.g. --interaxial 2.0 --epistyle 0.5)")
+        return None
+    if text not in named_colonnades():
+        raise InputError(f"--colonnade {text}: give a whole number of columns (at least 2), or the name of a named "
+                         f"colonnade ({', '.join(sorted(named_colonnades()))})")
+    mine = given + [f"--{name.replace('_', '-')}" for name in ("column", "drums", "drum_heights", "capital")
+                    if getattr(args, name) is not None]
+    if mine:
+        raise InputError(f"--colonnade {text} is a named colonnade, which brings its column and epistyle: drop "
+                         f"{mine[0]}, or describe the row yourself with --colonnade N --interaxial S --epistyle HEIGHT")
+    return named_colonnade(text)
+
+
+def _number(text):
+    try:
+        return float(text)
+    except ValueError:
+        return None
+
+
+def _row(args, column):
+    """The colonnade of ``--colonnade N --interaxial S --epistyle HEIGHT[,WIDTH] [--course HEIGHT]`` of
+    ``column``, or None without ``--colonnade``."""
+    from pipeline.structures.colonnade import Colonnade
+
+    if args.colonnade is None:
+        return None
+    n = _number(args.colonnade)
+    if not (math.isfinite(n) and n == int(n)):
+        raise InputError(f"--colonnade {args.colonnade}: give a whole number of columns (at least 2), or the name of "
+                         f"a named colonnade ({', '.join(sorted(named_colonnades()))})")
+    epistyle = _floats(args.epistyle, "--epistyle", "HEIGHT[,WIDTH]")
+    if len(epistyle) not in (1, 2):
+        raise InputError(f"--epistyle {args.epistyle!r}: give the height of the blocks, and optionally their width, in "
+                         "metres (e.g. 0.5 or 0.5,1.0)")
+    width = epistyle[1] if len(epistyle) == 2 else None
+    return Colonnade(column, int(n), args.interaxial, epistyle[0], width,
+                     0.0 if args.course is None else args.course)
+
+
 def _floats(text, option, form):
     try:
         return [float(x) for x in str(text).split(",")]
@@ -289,8 +390,8 @@ def _suffixed(path, model):
     return f"{stem}_{model}{ext}"
 
 
-def _earthquake(args, column, models):
-    """[(histories, summary)] of the record under each model."""
+def _earthquake(args, bodies, models):
+    """[(histories, summary)] of the record under each model, each on its structure (``bodies[model]``)."""
     from pipeline.settings import Excitation
     from pipeline.simulate import simulate
 
@@ -307,7 +408,7 @@ def _earthquake(args, column, models):
     runs = []
     for model in models:
         settings = _model_settings(args, model, output_step=args.output_step)
-        response = simulate(column, motion, excitation, settings, progress=_progress_line(model, settings))
+        response = simulate(bodies[model], motion, excitation, settings, progress=_progress_line(model, settings))
         runs.append((response.histories, response.summary))
     return runs
 
@@ -385,7 +486,7 @@ def _check_history_memory(duration, output_step, what):
 
 def _argv_echo(args):
     keys = ("column", "density", "record", "units", "components", "missing_y", "dt", "baseline", "angle", "scale",
-            "model", "drums", "drum_heights", "capital", *_readers(), "phi0", "theta0", "psi0", "phi_dot0",
+            "model", "drums", "drum_heights", "capital", "colonnade", "interaxial", "epistyle", "course", *_readers(), "phi0", "theta0", "psi0", "phi_dot0",
             "theta_dot0", "psi_dot0", "duration", "output_step", "out")
     return [_echo(k.replace("_", "-"), getattr(args, k)) for k in keys if getattr(args, k, None) is not None]
 

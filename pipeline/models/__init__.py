@@ -1,7 +1,7 @@
 """The model registry: every model the pipeline runs, declared once.
 
 Each entry (:class:`pipeline.models.spec.Model`) says what its model is (title and words for
-help, plots and reports), the body it runs (monoliths, or drums too), whether the incidence
+help, plots and reports), the structures it runs (monoliths, drums, colonnades), whether the incidence
 angle matters, the options it reads (declared once in :mod:`pipeline.models.options`) and its
 numerical choices with their defaults, units and ranges, its state layout and histories, its
 compiled kernels and where its simulation is. Everything above the kernels asks the registry and compares no model's name:
@@ -11,6 +11,7 @@ its new variables (docs/architecture.md).
 
 from pipeline.errors import InputError
 from pipeline.models.compliant import COMPLIANT_DRUMS
+from pipeline.models.frame import RIGID_FRAME
 from pipeline.models.rigid import PLANAR_ROCKING, ROLLING_FRUSTUM
 from pipeline.models.options import OPTIONS, Option
 from pipeline.models.spec import Model, ModelDescription, StateLayout
@@ -19,7 +20,7 @@ __all__ = ["Model", "ModelDescription", "StateLayout", "Option", "OPTIONS", "REG
            "style", "planar_pair", "base_of", "of_results", "flag", "results_title", "variant_text"]
 
 #: The models by name, in the order help and reports list them.
-REGISTRY = {m.name: m for m in (ROLLING_FRUSTUM, PLANAR_ROCKING, COMPLIANT_DRUMS)}
+REGISTRY = {m.name: m for m in (ROLLING_FRUSTUM, PLANAR_ROCKING, COMPLIANT_DRUMS, RIGID_FRAME)}
 #: The model run when none is named: the paper's.
 DEFAULT = ROLLING_FRUSTUM.name
 

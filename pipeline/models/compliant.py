@@ -61,7 +61,7 @@ COMPLIANT_DRUMS = Model(
     ),
     in_short="rigid bodies (the drums and capital of a column, or the monolith) on joints of contact points "
     "(spring-dashpots, elastic-Coulomb friction), run at every angle",
-    drums=True,
+    bodies=("column", "drums"),  # a monolith, or a stack of drums and a capital
     angle_invariant=False,  # its contact points are not axisymmetric: it feels the direction
     planar=False,
     numeric_options=NUMERICS,

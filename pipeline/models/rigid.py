@@ -90,7 +90,7 @@ RESULTS = ("peak_theta", "peak_theta_ratio", "peak_time", "overturn_time", "upli
            "residual_rotation", "residual_displacement", "work_ground", "energy_balance_error", "n_impacts",
            "overturned", "undecided", "uplifted", "sliding_onset", "lift_off")
 # what both rigid models share: a monolith, the same kernels' thresholds and results, one runner
-_RIGID = dict(drums=False, numeric_options=NUMERICS, results=RESULTS,
+_RIGID = dict(bodies=("column",), numeric_options=NUMERICS, results=RESULTS,
               runner="pipeline.simulate:simulate_rigid",
               # its impact law, contact tilt and couple, friction, ground that only pushes or holds the rim,
               # contact patch (k_n, c_n), tail and settle limit, tolerances

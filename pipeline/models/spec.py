@@ -12,6 +12,7 @@ from types import MappingProxyType
 from typing import NamedTuple
 
 from pipeline.models.options import OPTIONS, declared, defaults
+from pipeline.structures.kinds import KINDS
 
 __all__ = ["Model", "ModelDescription", "StateLayout", "read"]
 
@@ -94,9 +95,13 @@ class Model:
         Title and words for help, plots and reports.
     in_short : str
         What the model is in one line, for the comment of the CF ``model`` coordinate.
-    drums : bool
-        Runs columns built of drums (:class:`pipeline.structures.drums.DrumColumn`, and a capital) as well
-        as monoliths; a model without it runs monolithic :class:`pipeline.structures.column.Column` only.
+    bodies : tuple of str
+        The kinds of structure it runs (:data:`pipeline.structures.kinds.KINDS`): ``"column"``, a
+        monolithic :class:`pipeline.structures.column.Column`; ``"drums"``, a column built of drums
+        (:class:`pipeline.structures.drums.DrumColumn`, and a capital); ``"colonnade"``, a row of
+        columns carrying an epistyle (:class:`pipeline.structures.colonnade.Colonnade`). The first is
+        what it runs when nothing else is said (a study's kernel warm-up, the contract test).
+        :attr:`drums` is ``"drums" in bodies``.
     angle_invariant : bool
         Its results do not depend on the incidence angle (an axisymmetric column whose
         response turns with the record): a study runs it at one angle and repeats it.
@@ -152,7 +157,7 @@ class Model:
     name: str
     description: ModelDescription
     in_short: str
-    drums: bool
+    bodies: tuple
     angle_invariant: bool
     planar: bool
     numeric_options: MappingProxyType
@@ -168,6 +173,20 @@ class Model:
     calibration: str = ""
     checker: str = ""
 
+    def __post_init__(self):
+        unknown = [b for b in self.bodies if b not in KINDS]
+        if not self.bodies or unknown or isinstance(self.bodies, str):
+            raise ValueError(f"model {self.name}: bodies {self.bodies!r} must be a tuple of {', '.join(KINDS)}")
+
+    @property
+    def drums(self):
+        """Whether it runs columns built of drums (``"drums"`` in :attr:`bodies`)."""
+        return "drums" in self.bodies
+
+    def runs(self, kind):
+        """Whether it runs structures of ``kind`` (one of :data:`pipeline.structures.kinds.KINDS`)."""
+        return kind in self.bodies
+
     @property
     def numerics(self):
         """Its numerical choices' defaults, ``{name: value}``."""
@@ -179,7 +198,8 @@ class Model:
         return self.description.title
 
     def run(self, column, motion, excitation, settings, histories=True, progress=None):
-        """The response of ``column`` to ``motion`` in this model (see :func:`pipeline.simulate.simulate`)."""
+        """The response of ``column`` (a structure of one of :attr:`bodies`) to ``motion`` in this model (see
+        :func:`pipeline.simulate.simulate`)."""
         module, function = self.runner.split(":")
         return getattr(import_module(module), function)(column, motion, excitation, settings, histories, progress)
 

@@ -50,6 +50,9 @@ class Task:
     beds : tuple
         Per column, ``(c_n [Pa s/m], restitution [1])`` of the calibrated bed every model gets,
         or empty (no calibration).
+    colonnades : tuple
+        Per column, its colonnade (:class:`pipeline.structures.colonnade.Colonnade`), which the
+        models of colonnades run, or None; empty: no column carries one.
     """
 
     index: int
@@ -65,6 +68,7 @@ class Task:
     n_joints: int = 0
     drums: tuple = ()
     beds: tuple = ()
+    colonnades: tuple = ()
 
     @property
     def shape(self):
@@ -189,13 +193,15 @@ def plan(study, factors):
     bed = study.beds()
     columns = [c.column for c in study.columns]
     stacks = [c.stack for c in study.columns]
+    rows = [c.colonnade for c in study.columns] if any(c.colonnade for c in study.columns) else []
     tasks = []
     for ri in range(len(study.records)):
         for start in range(0, len(columns), size):
             stop = min(start + size, len(columns))
             tasks.append(Task(len(tasks), ri, start, stop, tuple(columns[start:stop]), angles,
                               tuple(float(f) for f in factors[ri]), settings, study.vertical,
-                              tuple(stacks[start:stop]), study.n_joints, drums, tuple(bed[start:stop])))
+                              tuple(stacks[start:stop]), study.n_joints, drums, tuple(bed[start:stop]),
+                              tuple(rows[start:stop])))
     return tasks
 
 

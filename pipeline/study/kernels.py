@@ -22,12 +22,13 @@ def warm_up(models):
     cache is rebuilt once rather than by every worker; workers call it too so
     that loading the cache is not counted inside the first task.
     """
-    from pipeline.structures.column import Column
     from pipeline.groundmotion.synthesis import one_sine_pulse
+    from pipeline.structures.kinds import example
 
     motion = one_sine_pulse(5.0, 0.2, dt=0.01, duration=0.3, record_id="warm-up")
     for model in models:
-        simulate(Column(0.5, 0.4, 4.0), motion, Excitation(), ModelSettings(model=model, tail=0.2),
+        # the first kind of structure it runs (the paper's column, or a small colonnade)
+        simulate(example(REGISTRY[model].bodies[0]), motion, Excitation(), ModelSettings(model=model, tail=0.2),
                  histories=False)
     return True
 

@@ -49,6 +49,8 @@ def run_task(task, motion):
             # monoliths the shaft as a monolith
             drums = task.drums[mi] if task.drums else model.drums
             column = stack if (stack is not None and drums) else shaft
+            if task.colonnades and task.colonnades[ci] is not None and model.runs("colonnade"):
+                column = task.colonnades[ci]  # a model of colonnades runs the column's row
             if task.beds:  # the study's calibrated bed, the same for every model
                 settings = replace(settings, contact_damping=task.beds[ci][0], restitution=task.beds[ci][1])
             for si, factor in enumerate(task.factors):

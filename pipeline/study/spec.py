@@ -53,6 +53,11 @@ class ModelVariant:
         """Whether it runs a column's drums (a model of drums, not told to run the outline)."""
         return REGISTRY[self.model].drums and self.body != "outline"
 
+    @property
+    def colonnade(self):
+        """Whether it runs a column's colonnade (a model of colonnades)."""
+        return REGISTRY[self.model].runs("colonnade")
+
     def describe(self):
         """What makes it a variant, in words (``"body = outline; numerics edge_band = 1"``), or ""."""
         parts = [f"body = {self.body}"] if self.body else []
@@ -98,6 +103,9 @@ class ColumnInfo:
     stack : pipeline.structures.drums.DrumColumn or None
         The column as drums (and capital) that the compliant model runs; None: the monolith
         ``column``. The rigid models always run ``column``, the shaft as one body.
+    colonnade : pipeline.structures.colonnade.Colonnade or None
+        A row of the column (``stack``, or the monolith) carrying an epistyle, which the models
+        of colonnades run; None: the column stands alone.
     """
 
     column: Column
@@ -106,6 +114,7 @@ class ColumnInfo:
     longitude: float = math.nan
     source: str = ""
     stack: object = None
+    colonnade: object = None
 
     @property
     def n_bodies(self):
@@ -113,7 +122,10 @@ class ColumnInfo:
         return 1 if self.stack is None else self.stack.n_bodies
 
     def body(self, variant):
-        """What a :class:`ModelVariant` runs: the drums for a model of drums, else the shaft as a monolith."""
+        """What a :class:`ModelVariant` runs: the colonnade for a model of colonnades, the drums for a model of
+        drums, else the shaft as a monolith."""
+        if self.colonnade is not None and variant.colonnade:
+            return self.colonnade
         return self.stack if (self.stack is not None and variant.drums) else self.column
 
 

@@ -33,6 +33,15 @@ see docs/studies.md for the full reference)::
     h = 4.0
     drums = 4                        # or drum_heights = [1.0, 1.5, 1.5] (bottom first, sum h)
     capital = [1.2, 0.5]
+    [[columns]]                      # a colonnade of the column for "2d-frame" (the others run the column)
+    name = "row"
+    R = 0.5
+    r = 0.4
+    h = 4.0
+    capital = [1.0, 0.4]
+    colonnade = {columns = 2, interaxial = 2.0, epistyle_height = 0.5}   # epistyle_width, course_height
+    [[columns]]
+    colonnade = "parthenon-east"     # a named colonnade (pipeline/data/colonnades.toml): its column too
 
     [column_grid]                    # ... and/or a grid: R x slenderness h/R x beta r/R
     R = 0.5
@@ -69,6 +78,7 @@ from collections import Counter
 from pathlib import Path
 
 from pipeline.structures.named import named_columns
+from pipeline.structures.colonnade import Colonnade, named_colonnades
 from pipeline.structures.drums import Capital, DrumColumn
 from pipeline.errors import InputError
 from pipeline.structures.column import Column
@@ -85,6 +95,9 @@ _TOP = {"title", "summary", "output", "models", "calibration", "columns", "colum
         "options", "execution"}
 _COLUMN = {"name", "R", "r", "h", "named"}
 _DRUMS = {"drums", "drum_heights", "capital"}  # a column of drums (the compliant model)
+# a row of the column carrying an epistyle (pipeline.structures.colonnade), for the models that run colonnades:
+# a table of these, or the name of a colonnade of pipeline/data/colonnades.toml
+_COLONNADE = {"columns", "interaxial", "epistyle_height", "epistyle_width", "course_height"}
 _GRID = {"R", "slenderness", "beta"}
 _GRID_OPTIONAL = {"drums"}  # a grid axis of drum counts (equal drums, no capital)
 _RECORDS = {"ids", "sets", "files", "synthetic"}
@@ -243,6 +256,7 @@ def parse_study(data, path="<study>", digest=""):
             variant_settings(named.get(m, ModelVariant(m, m)), options)
         except InputError as exc:
             ck.fail(f"models.{m}" if m in named else "options", str(exc))
+    _check_bodies(ck, models, named, columns)
     calibration = _calibration(data.get("calibration"), ck, models, named)
     execution = ck.table(data.get("execution", {}), "execution", _EXECUTION)
     block = execution.get("block_columns")
@@ -452,9 +466,10 @@ def _columns(data, ck):
     presets = None
     for i, entry in enumerate(entries):
         field = f"columns[{i}]"
-        ck.table(entry, field, _COLUMN | _DRUMS)
+        ck.table(entry, field, _COLUMN | _DRUMS | {"colonnade"})
+        entry = _named_colonnade_column(ck, entry, field)
         if "named" in entry:
-            if set(entry) - {"named", "name"} - _DRUMS:
+            if set(entry) - {"named", "name", "colonnade"} - _DRUMS:
                 ck.fail(field, "a named column takes no dimensions (give either named = ID or R, r, h)")
             presets = presets or named_columns()
             key = ck.string(entry["named"], f"{field}.named")
@@ -474,7 +489,7 @@ def _columns(data, ck):
             info = ColumnInfo(Column(*dims, name=label), label, source="study file")
         info = _drum_column(ck, entry, info, p if "named" in entry else {}, field)
         _check(ck, info.column, field)
-        out.append(info)
+        out.append(_colonnade(ck, entry, info, field))
     grid = data.get("column_grid")
     if grid is not None:
         ck.table(grid, "column_grid", _GRID | _GRID_OPTIONAL)
@@ -565,6 +580,74 @@ def _drum_column(ck, entry, info, preset, field):
     if stack.n_bodies == 1:
         return info  # one drum, no capital: the monolith
     return replace(info, stack=stack)
+
+
+def _named_colonnade_column(ck, entry, field):
+    """``entry``, and for ``colonnade = "ID"`` (a named colonnade, which brings its column) with its column
+    named (``named = `` the colonnade's column, ``name = `` the colonnade's id unless given)."""
+    value = entry.get("colonnade")
+    if not isinstance(value, str):
+        return entry
+    presets = named_colonnades()
+    if value not in presets:
+        ck.fail(f"{field}.colonnade", f"{value!r} is not a named colonnade; known: {', '.join(sorted(presets))} (or "
+                "give a table {columns = N, interaxial = S, epistyle_height = H})")
+    mine = sorted(set(entry) & ({"named", "R", "r", "h"} | _DRUMS))
+    if mine:
+        ck.fail(f"{field}.{mine[0]}", f"colonnade = {value!r} is a named colonnade, which brings its column: drop "
+                f"{mine[0]}, or describe the row with colonnade = {{columns = N, interaxial = S, epistyle_height = H}}")
+    return {**entry, "named": presets[value]["column"], "name": entry.get("name", value)}
+
+
+def _colonnade(ck, entry, info, field):
+    """``info`` with the colonnade of the entry (``colonnade = {...}`` or a named one), if it has one.
+
+    The row is of the column as given (its drums and capital, its density); the models that run
+    colonnades run it, the others the column (:meth:`pipeline.study.spec.ColumnInfo.body`).
+    """
+    from dataclasses import replace
+
+    value = entry.get("colonnade")
+    if value is None:
+        return info
+    where = f"{field}.colonnade"
+    if isinstance(value, str):
+        preset = named_colonnades()[value]
+        table = {k: preset[k] for k in _COLONNADE if k in preset}
+        source = preset.get("source", "")
+    else:
+        table = ck.table(value, where, _COLONNADE)
+        missing = [k for k in ("columns", "interaxial", "epistyle_height") if k not in table]
+        if missing:
+            ck.fail(f"{where}.{missing[0]}", "missing: a colonnade needs columns (their number), interaxial (the "
+                    "spacing of the axes [m]) and epistyle_height [m]")
+        for key in ("interaxial", "epistyle_height", "epistyle_width", "course_height"):
+            if key in table:
+                ck.number(table[key], f"{where}.{key}")
+        n = table["columns"]
+        if isinstance(n, bool) or not isinstance(n, int):
+            ck.fail(f"{where}.columns", f"must be a whole number of columns (at least 2), got {n!r}")
+        source = info.source
+    body = info.stack if info.stack is not None else DrumColumn(info.column)
+    try:
+        row = Colonnade(body, table["columns"], table["interaxial"], table["epistyle_height"],
+                        table.get("epistyle_width"), table.get("course_height", 0.0), info.label)
+    except InputError as exc:
+        ck.fail(where, str(exc))
+    return replace(info, colonnade=row, source=source)
+
+
+def _check_bodies(ck, models, named, columns):
+    """Every model of the study runs every column: one that runs colonnades only needs each column to carry one."""
+    for m in models:
+        model = REGISTRY[named[m].model if m in named else m]
+        if model.runs("column") or model.runs("drums"):
+            continue
+        bare = [c.label for c in columns if c.colonnade is None]
+        if bare:
+            ck.fail("columns", f"model {m!r} runs colonnades, and column {bare[0]!r} carries none: give it colonnade "
+                    "= {columns = N, interaxial = S, epistyle_height = H} (or a named colonnade, e.g. colonnade = "
+                    f"{sorted(named_colonnades())[0]!r}), or run {m!r} in a study of its own")
 
 
 def _check(ck, column, field):

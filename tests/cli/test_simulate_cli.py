@@ -102,7 +102,7 @@ QUAKE = ["--column", "0.5,0.4,4", "--record", "FEMA-FF-01"]
     # a flag no model of the run reads would be ignored, and the file would look as if it had taken it
     (QUAKE + ["--model", "3d,2d", "--joint-friction", "0.6"],
      "--joint-friction is an option of --model 3d-compliant; --model 3d,2d does not read it"),
-    (FREE + ["--friction", "0.5"], "--friction is an option of --model 3d,2d,3d-compliant; a free motion"),
+    (FREE + ["--friction", "0.5"], "--friction is an option of --model 3d,2d,3d-compliant,2d-frame; a free motion"),
 ])
 def test_impossible_requests_are_refused_before_computing(argv, message, tmp_path, capsys, no_computing,
                                                           monkeypatch):

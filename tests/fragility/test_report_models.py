@@ -39,7 +39,7 @@ def _sentences_of(model, ran=()):
 
 
 def test_every_model_has_one_description():
-    assert len({m.title for m in MD.REGISTRY.values()}) == len(MD.REGISTRY) == 3
+    assert len({m.title for m in MD.REGISTRY.values()}) == len(MD.REGISTRY)
     assert all(m.description.body and m.description.reference for m in MD.REGISTRY.values())
 
 

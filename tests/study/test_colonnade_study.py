@@ -1,0 +1,85 @@
+"""Study files run colonnades: a column entry carries a row (a table, or a named colonnade); the models of
+colonnades run it and the others the column, with the numbers of simulate() (issue 37, items 1 and 2)."""
+
+import numpy as np
+import pytest
+
+from pipeline.errors import InputError
+from pipeline.settings import Excitation
+from pipeline.simulate import simulate
+from pipeline.structures.colonnade import named_colonnade
+from pipeline.study import load_motions, load_study, run_study
+
+STUDY = """\
+title = "colonnade"
+output = "colonnade.nc"
+models = ["2d", "2d-frame"]
+
+[[columns]]
+name = "row"
+R = 0.5
+r = 0.4
+h = 4.0
+capital = [1.0, 0.4]
+colonnade = {columns = 3, interaxial = 2.0, epistyle_height = 0.5, course_height = 0.3}
+
+[[columns]]
+colonnade = "parthenon-east"
+
+[records]
+synthetic = [{generator = "ricker_wavelet", id = "ricker", ap = 4.0, fp = 2.0, dt = 0.01, duration = 2.0}]
+
+[excitation]
+angles = [0.0, 30.0]
+scales = [1.0, 3.0]
+
+[options]
+tail = 1.0
+"""
+
+
+def test_a_study_runs_the_frame_on_each_columns_row_and_the_2d_model_on_the_column(write_study):
+    study = load_study(write_study(STUDY))
+    row, front = study.columns
+    assert row.colonnade.n_columns == 3 and row.colonnade.course_height == 0.3 and row.colonnade.capital.side == 1.0
+    named = named_colonnade("parthenon-east")  # the same row (only the labels differ)
+    assert front.label == "parthenon-east" and front.colonnade.frame == named.frame
+    assert front.colonnade.column.cuts == named.column.cuts and front.colonnade.capital == named.capital
+    assert "parthenon" in front.source and front.column.R == 0.9525
+    assert row.body(study.variant("2d-frame")) is row.colonnade
+    ds = run_study(study, serial=True, progress=False).dataset
+    assert np.all(ds.status.values == 0)
+    motion = load_motions(study)[0]
+    for info in study.columns:
+        for model in ("2d", "2d-frame"):
+            direct = simulate(info.body(study.variant(model)), motion, Excitation(angle=30.0, scale=3.0),
+                              study.settings(model), histories=False).summary
+            cell = ds.sel(column=info.label, model=model, angle=30.0, scale=3.0).isel(record=0)
+            for name in ("peak_theta", "peak_theta_ratio", "uplift_time", "residual_displacement"):
+                assert float(cell[name]) == direct[name] or (np.isnan(cell[name]) and np.isnan(direct[name])), name
+    # the frame and the column alone differ: the epistyle changes the answer
+    frame, alone = (ds.sel(column="row", model=m).peak_theta.values for m in ("2d-frame", "2d"))
+    assert not np.allclose(frame, alone)
+
+
+@pytest.mark.parametrize("change, fragments", [
+    (("colonnade = {columns = 3", "colonnade = {columns = 1"), ["columns[0].colonnade", "colonnade columns = 1"]),
+    (("columns = 3, interaxial = 2.0", "columns = 3, interaxial = 0.5"),
+     ["columns[0].colonnade", "less than the abacus side 1 m"]),
+    ((", epistyle_height = 0.5", ""), ["columns[0].colonnade.epistyle_height", "missing"]),
+    (("course_height = 0.3", "course_height = 0.3, frieze = 1"), ["columns[0].colonnade.frieze", "unknown field"]),
+    (("columns = 3,", "columns = 3.5,"), ["columns[0].colonnade.columns", "whole number"]),
+    (('colonnade = "parthenon-east"', 'colonnade = "nope"'), ["columns[1].colonnade", "'nope' is not a named "
+                                                              "colonnade; known: parthenon-east"]),
+    (('colonnade = "parthenon-east"', 'colonnade = "parthenon-east"\nR = 1.0'),
+     ["columns[1].R", "is a named colonnade, which brings its column"]),
+    (('[[columns]]\ncolonnade = "parthenon-east"\n', '[[columns]]\nnamed = "paper"\n'),
+     ["field columns", "model '2d-frame' runs colonnades, and column 'paper' carries none"]),
+])
+def test_a_bad_colonnade_names_its_field(write_study, change, fragments):
+    text = STUDY.replace(*change)
+    assert text != STUDY
+    with pytest.raises(InputError) as err:
+        load_study(write_study(text), load_records=False)
+    for fragment in fragments:
+        assert fragment in str(err.value)
