@@ -48,12 +48,16 @@ numbers, so the part beyond is bounded and stated rather than silently dropped:
 * ``central``: the last segment's power law extended beyond a_L, the first one's below a_0.
 
 ``central`` lies between the bounds. Where the fragility's median lies beyond a_L, most of the
-risk comes from the extrapolation and the result is flagged (``risk_flag``) and warned about.
+risk comes from the extrapolation and the result is flagged (``risk_flag``) and warned about. Where
+the first segment falls so steeply that, extended below a_0, the integral passes the largest float,
+``central`` is NaN with ``risk_flag`` ``integral_overflows`` (:func:`no_risk_reason` says which
+segment); ``lower`` remains.
 
 Public functions: :func:`read_hazard_curve`, :func:`read_openquake_csv`, :func:`read_plain_csv`,
 :func:`annual_rate`, :func:`segment_integral`, :func:`risk_integral`, :func:`probability_in`,
 :func:`fragility_im`, :func:`check_im`, :func:`site_risk`, :func:`open_fragility`,
-:func:`risk_rows`, :func:`write`, :func:`write_csv`.
+:func:`risk_rows`, :func:`write`, :func:`write_csv`; in words: :func:`one_in`, :func:`percent`,
+:func:`years_words`, :func:`no_risk_reason`.
 """
 
 import csv
@@ -86,14 +90,25 @@ LEVEL_UNITS = {
 _VELOCITY_UNITS = {"m/s", "m s-1", "cm/s", "cm s-1"}
 SI_UNITS = {"pga": "m s-2", "sa": "m s-2", "pgv": "m s-1"}
 
+#: The highest intensity level a hazard curve may hold, in SI: 30 g for PGA and Sa, 30 m/s for PGV. No
+#: ground motion comes near it: the strongest PGA recorded is 4.36 g (vector sum of three components,
+#: KiK-net IWTH25, 2008 Iwate-Miyagi Nairiku earthquake), the strongest PGV 3.18 m/s (1999 Chi-Chi;
+#: Anderson 2010, BSSA 100(1)), and response spectra stay within some 3 times the PGA (Sa < 15 g). Hazard
+#: calculations for the rarest shaking (1e-8 /yr) list levels of up to about 10 g. A level beyond the
+#: bound is a slip (a level in cm/s^2 written as g, a missing decimal point), and it would make the curve
+#: seem to cover shaking that never happens, narrowing the curve-end bounds to a false certainty.
+MAX_LEVEL = {"pga": 30.0 * G, "sa": 30.0 * G, "pgv": 30.0}
+_STRONGEST = {"pga": "PGA 4.36 g", "sa": "PGA 4.36 g", "pgv": "PGV 3.18 m/s"}
+
 #: risk_flag values: how far a number rests on the data (CF flag_values / flag_meanings).
-RISK_OK, RISK_MEDIAN_BEYOND, RISK_NO_EXCEEDANCE, RISK_ALL_EXCEED, RISK_NO_FIT = range(5)
+RISK_OK, RISK_MEDIAN_BEYOND, RISK_NO_EXCEEDANCE, RISK_ALL_EXCEED, RISK_NO_FIT, RISK_OVERFLOW = range(6)
 RISK_FLAGS = {
     RISK_OK: "ok",
     RISK_MEDIAN_BEYOND: "median_beyond_hazard_curve",
     RISK_NO_EXCEEDANCE: "no_median_no_exceedance_observed",
     RISK_ALL_EXCEED: "no_median_every_run_exceeds",
     RISK_NO_FIT: "no_fit",
+    RISK_OVERFLOW: "integral_overflows",
 }
 
 #: Shares of the risk at which the intensity is stated (``intensity_risk_05`` ...): 5, 50, 95 %.
@@ -193,7 +208,8 @@ def annual_rate(poe, investigation_time):
 
 def probability_in(rate, years):
     """Probability of at least one occurrence in ``years`` of a Poisson process of ``rate`` [1/yr]: 1 - exp(-rate T)."""
-    return -np.expm1(-np.asarray(rate, float) * float(years))
+    with np.errstate(over="ignore"):  # rate T beyond the largest float is inf, and the probability 1
+        return -np.expm1(-np.asarray(rate, float) * float(years))
 
 
 _IMT = re.compile(r"^\s*(PGA|PGV|SA\s*\(\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(?:s)?\s*\))\s*$", re.IGNORECASE)
@@ -454,7 +470,8 @@ def usable_curve(hazard, site_index):
     rate = np.asarray(hazard.rate[site_index], float)
     levels = np.asarray(hazard.levels, float)
     site = hazard.sites[site_index]
-    rising = np.nonzero(np.diff(rate) > 1e-9 * np.maximum(rate[:-1], 1e-300))[0]
+    # compared, not subtracted: saturated levels (PoE = 1) have an infinite rate, and inf - inf is NaN
+    rising = np.nonzero(rate[1:] > rate[:-1] + 1e-9 * np.maximum(rate[:-1], 1e-300))[0]
     if rising.size:
         i = int(rising[0])
         raise InputError(f"{hazard.source}: site {site}: the rate of exceedance rises from {rate[i]:.4g} to "
@@ -628,27 +645,46 @@ def risk_integral(levels, rates, median, beta):
                      h_last=h_last, p_last=p_last)
 
 
+def _log_probability(im, median, beta):
+    """ln P(DS | im) of a lognormal fragility (:func:`pipeline.fragility.probability`), from ``log_ndtr``
+    where it is smooth, so that the far lower tail stays a number where P itself underflows to 0."""
+    im, median, beta = np.broadcast_arrays(*(np.asarray(v, float) for v in (im, median, beta)))
+    with np.errstate(divide="ignore"):  # P = 0 (a step not reached, a median never reached): ln P = -inf
+        out = np.log(F.probability(im, median, beta))
+    smooth = np.isfinite(median) & (median > 0) & (beta > 0)
+    out[smooth] = log_ndtr(np.log(im[smooth] / median[smooth]) / beta[smooth])
+    return out
+
+
 def _integrand(grid, levels, rates, median, beta):
-    """P(DS | a) |dH/d ln a| on ``grid`` [1/yr per unit ln a], and H(a) on it (curve extended by its end segments)."""
+    """P(DS | a) |dH/d ln a| on ``grid`` [1/yr per unit ln a], and H(a) on it (curve extended by its end segments).
+
+    The product is taken in logs: where the first segment, extended below the curve, gives a rate
+    beyond the largest float, P there is far below the smallest, and their product may be either.
+    """
     x, ln_h, k = _pieces(levels, rates)
     g = np.log(grid)
     seg = np.clip(np.searchsorted(x, g, side="right") - 1, 0, len(k) - 1)
     ln_hg = ln_h[seg] - k[seg] * (g - x[seg])
-    hg = np.exp(ln_hg)
-    p = F.probability(grid, median[..., None], np.where(np.isfinite(median) & (median > 0), beta, 1.0)[..., None])
-    return p * k[seg] * hg, hg, p
+    b = np.where(np.isfinite(median) & (median > 0), beta, 1.0)[..., None]
+    p = F.probability(grid, median[..., None], b)
+    with np.errstate(divide="ignore"):  # a flat segment (k = 0) adds nothing: ln k = -inf
+        ln_k = np.log(k[seg])
+    with np.errstate(over="ignore"):  # beyond the largest float the value is inf (risk_flag integral_overflows)
+        return np.exp(_log_probability(grid, median[..., None], b) + ln_k + ln_hg), np.exp(ln_hg), p
 
 
 def _shares(grid, density, below, total, shares=RISK_SHARES):
     """Intensities below which the given shares of ``total`` accrue (NaN where the grid does not reach them)."""
     g = np.log(grid)
-    steps = 0.5 * (density[..., 1:] + density[..., :-1]) * np.diff(g)
-    cum = np.concatenate([np.zeros(density.shape[:-1] + (1,)), np.cumsum(steps, axis=-1)], axis=-1)
-    cum = cum + below[..., None]
+    with np.errstate(over="ignore", invalid="ignore"):  # sums beyond the largest float: inf, skipped below
+        steps = (0.5 * density[..., 1:] + 0.5 * density[..., :-1]) * np.diff(g)
+        cum = np.concatenate([np.zeros(density.shape[:-1] + (1,)), np.cumsum(steps, axis=-1)], axis=-1)
+        cum = cum + below[..., None]
     out = np.full(density.shape[:-1] + (len(shares),), np.nan)
     for index in np.ndindex(density.shape[:-1]):
         t = total[index]
-        if not (np.isfinite(t) and t > 0):
+        if not (np.isfinite(t) and t > 0 and np.all(np.isfinite(cum[index]))):
             continue
         frac = cum[index] / t
         for j, s in enumerate(shares):
@@ -727,14 +763,26 @@ def check_im(frag, hazard):
 # --------------------------------------------------------------------------- the risk dataset
 
 
-def _flags(status, beyond_curve):
+def _flags(status, beyond_curve, overflow):
     flag = np.full(status.shape, RISK_NO_FIT, np.int8)
     flag[(status == F.FIT_OK) | (status == F.FIT_SEPARATED)] = RISK_OK
     flag[status == F.FIT_NO_EXCEEDANCE] = RISK_NO_EXCEEDANCE
     flag[status == F.FIT_ALL_EXCEED] = RISK_ALL_EXCEED
     out = np.broadcast_to(flag, beyond_curve.shape).copy()
     out[(out == RISK_OK) & beyond_curve] = RISK_MEDIAN_BEYOND
+    out[overflow] = RISK_OVERFLOW  # no number at all says more than where the median lies
     return out
+
+
+def return_period(annual_frequency):
+    """Mean return period 1/lambda [yr]: ``inf`` where lambda is 0, NaN where it is NaN.
+
+    Where 1/lambda is beyond the largest float (lambda subnormal) it is ``inf`` as well, without
+    numpy's overflow warning.
+    """
+    lam = np.asarray(annual_frequency, float)
+    out = np.where(np.isnan(lam), np.nan, np.inf)
+    return np.divide(1.0, lam, out=out, where=lam > 1.0 / np.finfo(float).max)
 
 
 def _grid(hazard, medians, betas, n):
@@ -799,28 +847,32 @@ def site_risk(frag, hazard, years=DEFAULT_YEARS, n_grid=301):
     integrand = np.full(shape + (grid.size,), np.nan)
     h_grid = np.full((nS, grid.size), np.nan)
     beyond_curve = np.zeros(shape, bool)
+    overflow = np.zeros(shape, bool)
     curve_end = np.full(nS, np.nan)
     for s in range(nS):
         levels, rates = usable_curve(hazard, s)
         curve_end[s] = levels[-1]
         parts = risk_integral(levels, rates, median, beta)
+        # a usable fit whose integral is no number: beyond the largest float (risk_flag integral_overflows)
+        overflow[s] = usable & ~np.isfinite(parts.central)
+        central = np.where(overflow[s], np.nan, parts.central)
         with np.errstate(invalid="ignore", divide="ignore"):
-            out["annual_frequency"][s] = parts.central
+            out["annual_frequency"][s] = central
             out["annual_frequency_lower"][s] = parts.lower
             out["annual_frequency_upper"][s] = parts.upper
-            out["share_below_first_level"][s] = parts.below / parts.central
-            out["share_beyond_last_level"][s] = (parts.central - parts.below - parts.inside) / parts.central
+            out["share_below_first_level"][s] = parts.below / central
+            out["share_beyond_last_level"][s] = (central - parts.below - parts.inside) / central
         beyond_curve[s] = np.isfinite(median) & (median > levels[-1])
         dens, hg, _ = _integrand(grid, levels, rates, median, beta)
         integrand[s] = dens
         h_grid[s] = hg
-        shares[s] = _shares(grid, dens, parts.below, parts.central)
+        shares[s] = _shares(grid, dens, parts.below, central)
         if replicates:
             lam = risk_integral(levels, rates, med_b, bet_b).central  # (bootstrap, state, column, model)
             lo, hi = _band(lam, confidence)
             out["annual_frequency_band_lower"][s] = np.where(usable, lo, np.nan)
             out["annual_frequency_band_upper"][s] = np.where(usable, hi, np.nan)
-    flag = _flags(status, beyond_curve)
+    flag = _flags(status, beyond_curve, overflow)
     _warn(hazard, frag, flag, median, curve_end, units)
 
     dims = ("site", "state", "column", "model")
@@ -830,8 +882,7 @@ def site_risk(frag, hazard, years=DEFAULT_YEARS, n_grid=301):
         ds[name] = (dims, values)
     for name in ("", "_lower", "_upper", "_band_lower", "_band_upper"):
         ds[f"probability_in_period{name}"] = (dims, probability_in(out[f"annual_frequency{name}"], years))
-    with np.errstate(divide="ignore"):
-        ds["return_period"] = (dims, np.where(out["annual_frequency"] > 0, 1.0 / out["annual_frequency"], np.inf))
+    ds["return_period"] = (dims, return_period(out["annual_frequency"]))
     for j, share in enumerate(RISK_SHARES):
         ds[f"intensity_risk_{round(100 * share):02d}"] = (dims, shares[..., j], {"units": units})
     ds["risk_flag"] = (dims, flag)
@@ -1042,9 +1093,84 @@ def one_in(p):
     return f"about 1 in {n:,.0f}"
 
 
+def percent(p):
+    """A probability in percent as the command, the figure and the report print it, never rounded to a
+    certainty it is not.
+
+    Two significant digits (``2.4 %``, ``0.059 %``, ``99 %``); from 99.5 % on, the decimals that keep it
+    below 100 (``99.7 %``, ``99.97 %``), and ``> 99.99 %`` beyond; ``< 0.0001 %`` below 1e-6; ``0 %``
+    for 0 and ``n/a`` for NaN.
+    """
+    if not np.isfinite(p):
+        return "n/a"
+    if p <= 0:
+        return "0 %"
+    if p < 1e-6:
+        return "< 0.0001 %"
+    if p < 0.995:
+        return f"{float(f'{100 * p:.2g}'):g} %"
+    for digits in (1, 2):
+        text = f"{100 * p:.{digits}f}"
+        if float(text) < 100:
+            return f"{text} %"
+    return "> 99.99 %"
+
+
+def years_words(period):
+    """A return period [yr] in words: ``2,100 years`` (two significant digits, as :func:`one_in`),
+    ``more than a million years``, ``never`` (infinite), ``n/a`` (NaN)."""
+    if np.isnan(period):
+        return "n/a"
+    if period == np.inf:
+        return "never"
+    if period > 1e6:
+        return "more than a million years"
+    if period < 1e-3:
+        return "less than 0.001 years"
+    r = float(f"{period:.2g}")
+    text = f"{r:,.0f}" if r >= 10 else f"{r:g}"
+    return f"{text} year{'' if r == 1 else 's'}"
+
+
+def no_risk_reason(risk, site, column, model, state):
+    """Why a cell of :func:`site_risk` has no annual frequency, in words; None when it has one.
+
+    The reason follows ``risk_flag``: the fragility has no median (no run, or every run, reached the
+    state), was not fitted (its ``fit_status``), or the integral is beyond the largest float (which
+    part of the hazard curve makes it so, and the lower bound that remains).
+    """
+    cell = risk.sel(site=site, column=column, model=model, state=state)
+    if np.isfinite(float(cell["annual_frequency"])):
+        return None
+    flag = RISK_FLAGS[int(cell["risk_flag"])]
+    if flag == "no_median_no_exceedance_observed":
+        return f"no run reached {state}, so the fragility has no median to integrate"
+    if flag == "no_median_every_run_exceeds":
+        return f"every run reached {state}, so the fragility has no median to integrate"
+    if flag == "no_fit":
+        return f"the fragility was not fitted ({F.FIT_STATUS.get(int(cell['fit_status']), '?').replace('_', ' ')})"
+    if flag != "integral_overflows":
+        return f"the risk integral is not a number (risk_flag {flag})"
+    factor, unit = (1.0 / G, "g") if risk["intensity"].attrs.get("units") == "m s-2" else (1.0, "m/s")
+    rate = risk["hazard_rate"].sel(site=site).values
+    keep = np.isfinite(rate) & (rate > 0)
+    levels, rates = risk["hazard_level"].values[keep], rate[keep]
+    parts = risk_integral(levels, rates, float(cell["fragility_median"]), float(cell["fragility_beta"]))
+    lower = f"{float(cell['annual_frequency_lower']):.3g} /yr"
+    if np.isfinite(parts.below):  # the integral is at most about the largest rate: not met in practice
+        return f"the risk integral is beyond the largest number a float holds (at least {lower})"
+    k = (math.log(rates[0]) - math.log(rates[1])) / math.log(levels[1] / levels[0])  # a ratio may overflow
+    a0, a1 = (f"{v * factor:.3g}" for v in levels[:2])
+    return (f"the hazard curve's first segment ({a0} to {a1} {unit}) falls as a^-{float(f'{k:.3g}'):g}; extended "
+            f"below {a0} {unit}, as the central value extends it, it carries the risk integral beyond the largest "
+            "number a float holds (1.8e308 /yr); hazard curves flatten towards weak shaking (slopes of a few): check "
+            f"the rates of the first levels, or give lower levels (shaking above {a0} {unit} alone gives at least "
+            f"{lower})")
+
+
 __all__ = [
     "DEFAULT_YEARS", "HazardCurve", "RiskParts", "RISK_FLAGS", "annual_rate", "probability_in", "parse_imt",
     "read_hazard_curve", "read_openquake_csv", "read_plain_csv", "usable_curve", "segment_integral",
     "risk_integral", "hazard_rate_at", "open_fragility", "fragility_im", "check_im", "site_risk", "risk_rows", "write", "write_csv",
-    "one_in", "describe_im",
+    "one_in", "describe_im", "percent", "years_words", "no_risk_reason", "return_period", "MAX_LEVEL",
 ]

@@ -66,6 +66,20 @@ def power_law_text(k0, k, median_ms2, levels=40, header="PGA [g],annual_rate [1/
     return plain_text(a / G, k0 * a ** -k, header)
 
 
+def fixed_fragility(frag, median_g, beta, state="overturning"):
+    """A copy of a fragility Dataset whose ``state`` has the given lognormal fit in every column and model
+    (median [g], beta [1], fit_status ok) and no bootstrap replicates: a risk whose numbers follow from the
+    hazard curve and these two alone."""
+    from pipeline import fragility as F
+
+    out = frag.drop_vars([n for n in frag.variables if "bootstrap" in frag[n].dims], errors="ignore")
+    out = out.drop_dims("bootstrap", errors="ignore").copy(deep=True)
+    out["median"].loc[{"state": state}] = median_g * G
+    out["beta"].loc[{"state": state}] = beta
+    out["fit_status"].loc[{"state": state}] = F.FIT_OK
+    return out
+
+
 if __name__ == "__main__":  # regenerate tests/data/hazard/hazard_curve-mean-PGA_1.csv
     import sys
     from pathlib import Path
