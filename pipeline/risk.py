@@ -29,7 +29,9 @@ Hazard curves
   lines starting with ``#`` are comments.
 
 Several sites in one file give a ``site`` dimension. Every level is converted to SI on reading
-(m/s^2 for PGA and Sa, m/s for PGV), the units of the fragility's medians.
+(m/s^2 for PGA and Sa, m/s for PGV), the units of the fragility's medians. Refused by name: fields
+separated by ``;`` or tabs, an engine export without its ``#`` metadata row, an empty column name (a
+trailing comma), and a level no ground motion reaches (beyond :data:`MAX_LEVEL`, 30 g).
 
 The integral
 ------------
@@ -243,10 +245,12 @@ def read_hazard_curve(path):
         Levels in SI ([m/s^2] for PGA and Sa, [m/s] for PGV), rates [1/yr].
     """
     path = os.fspath(path)
-    lines = _lines(path)
-    first = next((line for line in lines if line.strip()), "")
-    if first.lstrip().startswith("#") and _openquake_header(lines):
-        return read_openquake_csv(path)
+    rows = [line for line in _lines(path) if line.strip()]
+    at = _header_index(rows)
+    if at is not None:
+        _check_separator(rows[at], f"{path}: ")
+        if _is_openquake_header(rows[at]):
+            return read_openquake_csv(path)
     return read_plain_csv(path)
 
 
@@ -265,13 +269,58 @@ def _lines(path):
         raise InputError(f"{path}: cannot be read ({exc.strerror or exc})") from None
 
 
-def _openquake_header(lines):
-    """Whether the first line after the comment is the engine's header (lon, lat, poe-...)."""
-    rows = [line for line in lines if line.strip()]
-    if len(rows) < 2:
-        return False
-    header = [c.strip() for c in next(csv.reader([rows[1]]))]
-    return "lon" in header and "lat" in header and any(c.startswith("poe-") for c in header)
+def _header_index(rows):
+    """Index of the first row that is not a ``#`` comment (the header), or None."""
+    return next((i for i, row in enumerate(rows) if not row.lstrip().startswith("#")), None)
+
+
+def _is_openquake_header(row):
+    """Whether a row is the engine's header (lon, lat, poe-...), whatever separates its fields."""
+    names = [c.strip() for c in re.split(r"[,;\t]", row)]
+    return "lon" in names and "lat" in names and any(c.startswith("poe-") for c in names)
+
+
+def _check_separator(row, where):
+    """Refuse a header whose fields are separated by ';' or tabs (a spreadsheet's "CSV" in some locales)."""
+    if "," in row:
+        return
+    sep = next((s for s in (";", "\t") if s in row), None)
+    if sep is None:
+        return
+    shown = row if len(row) <= 40 else row[:37] + "..."
+    raise InputError(f"{where}the fields are separated by {'tabs' if sep == chr(9) else repr(sep)} ({shown!r}); "
+                     "a hazard curve CSV separates them by commas, with decimal points, as the OpenQuake engine "
+                     "writes it: export the curves again ('oq export hcurves') or save the file as comma-separated")
+
+
+def _check_names(names, where):
+    """Refuse empty column names in the header: a trailing comma, or two commas in a row."""
+    empty = [i for i, name in enumerate(names) if not name]
+    if not empty:
+        return
+    if empty == [len(names) - 1]:
+        raise InputError(f"{where}the header ends in an empty column (a trailing comma after {names[-2]!r}); remove "
+                         "the trailing comma (and any at the end of the rows)")
+    raise InputError(f"{where}column {empty[0] + 1} of the header has no name (two commas in a row?); name every "
+                     "column or remove the empty ones")
+
+
+def _check_trailing(row, width, line_no, where):
+    """A row longer than the header only by empty fields: say it is a trailing comma."""
+    if len(row) > width and not any(c.strip() for c in row[width:]):
+        raise InputError(f"{where}line {line_no} ends in {len(row) - width} empty field(s) beyond the {width} of "
+                         "the header (a trailing comma?); remove the trailing comma")
+
+
+def _check_reachable(levels, im, names, where, unit, factor, fix):
+    """Refuse levels [SI] beyond :data:`MAX_LEVEL`, naming the first (``names``: its column or line)."""
+    beyond = np.nonzero(levels > MAX_LEVEL[im])[0]
+    if not beyond.size:
+        return
+    i = int(beyond[0])
+    bound = MAX_LEVEL[im] / factor
+    raise InputError(f"{where}{names[i]}: a level of {levels[i] / factor:g} {unit} is beyond any ground motion (the "
+                     f"strongest recorded: {_STRONGEST[im]}; levels up to {bound:g} {unit} are accepted); {fix}")
 
 
 def _meta(comment, key):
@@ -303,10 +352,17 @@ def read_openquake_csv(path):
     path = os.fspath(path)
     lines = [line for line in _lines(path) if line.strip()]
     where = f"{path}: "
-    if len(lines) < 3:
-        raise InputError(f"{where}an OpenQuake hazard curve file has a comment line, a header and a row per "
-                         f"site; this one has {len(lines)} line(s)")
-    comment = lines[0]
+    at = _header_index(lines)
+    if at == 0 and _is_openquake_header(lines[0]):
+        raise InputError(f"{where}the first line is the header (lon,lat,...,poe-<IML>); the OpenQuake engine's "
+                         "export starts with a '#' row of metadata before it (kind='mean', investigation_time=50.0, "
+                         "imt='PGA'), without which the probabilities of exceedance cannot be turned into annual "
+                         "rates: restore that row from the engine's export ('oq export hcurves')")
+    if at is None or at == 0 or len(lines) < at + 2:
+        raise InputError(f"{where}an OpenQuake hazard curve file has a '#' comment line of metadata, a header and a "
+                         f"row per site; this one has {len(lines)} line(s)")
+    _check_separator(lines[at], where)
+    comment = " ".join(lines[:at])
     time_text = _meta(comment, "investigation_time")
     imt_text = _meta(comment, "imt")
     if imt_text is None:  # the file name says it too: hazard_curve-mean-PGA_12.csv
@@ -328,7 +384,8 @@ def read_openquake_csv(path):
     im, period = parse_imt(imt_text, where)
     kind = _meta(comment, "kind") or ""
 
-    header = [c.strip() for c in next(csv.reader([lines[1]]))]
+    header = [c.strip() for c in next(csv.reader([lines[at]]))]
+    _check_names(header, where)
     poe_cols = [i for i, c in enumerate(header) if c.startswith("poe-")]
     other = [c for i, c in enumerate(header) if i not in poe_cols]
     unknown = [c for c in other if c not in ("custom_site_id", "lon", "lat", "depth")]
@@ -346,10 +403,14 @@ def read_openquake_csv(path):
     if not (np.all(np.isfinite(iml)) and np.all(iml > 0) and np.all(np.diff(iml) > 0)):
         raise InputError(f"{where}the levels poe-<IML> must be positive and increasing; found "
                          f"{', '.join(f'{v:g}' for v in iml)}")
-    rows = list(csv.reader(lines[2:]))
+    unit, factor = OPENQUAKE_UNITS[im]
+    _check_reachable(iml * factor, im, [f"column {header[i]!r}" for i in poe_cols], where, unit, factor,
+                     f"give each level in {unit}, as the OpenQuake engine writes it (poe-0.5000000 for 0.5 {unit})")
+    rows = list(csv.reader(lines[at + 1:]))
     sites, lon, lat, depth, poe = [], [], [], [], []
     for n, row in enumerate(rows):
-        line_no = n + 3
+        line_no = n + at + 2
+        _check_trailing(row, len(header), line_no, where)
         if len(row) != len(header):
             raise InputError(f"{where}line {line_no} has {len(row)} fields, the header {len(header)}")
         try:
@@ -369,7 +430,6 @@ def read_openquake_csv(path):
     if len(set(sites)) != len(sites):
         raise InputError(f"{where}site labels repeat ({', '.join(sorted({s for s in sites if sites.count(s) > 1}))})")
     poe = np.array(poe)
-    unit, factor = OPENQUAKE_UNITS[im]
     return HazardCurve(im=im, period=period, levels=iml * factor, rate=annual_rate(poe, T), sites=tuple(sites),
                        lon=np.array(lon), lat=np.array(lat), depth=np.array(depth), investigation_time=T, poe=poe,
                        source=path, format="openquake", imt=imt_text, file_units=unit, kind=kind)
@@ -402,9 +462,15 @@ def read_plain_csv(path):
     """
     path = os.fspath(path)
     where = f"{path}: "
-    rows = [(n + 1, row) for n, row in enumerate(csv.reader(_lines(path)))
+    lines = _lines(path)
+    first = next((line for line in lines if line.strip() and not line.lstrip().startswith("#")), None)
+    if first is not None:
+        _check_separator(first, where)
+    rows = [(n + 1, row) for n, row in enumerate(csv.reader(lines))
             if row and any(c.strip() for c in row) and not row[0].lstrip().startswith("#")]
     example = "e.g. 'PGA [g],annual_rate [1/yr]' or 'SA(1.0) [g],poe in 50 years'"
+    if rows:
+        _check_names([c.strip() for c in rows[0][1]], where)
     if len(rows) < 3:
         raise InputError(f"{where}a hazard curve needs a header ({example}) and at least two levels")
     _, header = rows[0]
@@ -436,6 +502,7 @@ def read_plain_csv(path):
                          "('annual_rate [1/yr]') or a probability of exceedance with its time ('poe in 50 years')")
     levels, values = [], []
     for line_no, row in rows[1:]:
+        _check_trailing(row, 2, line_no, where)
         if len(row) != 2:
             raise InputError(f"{where}line {line_no} has {len(row)} fields; give two: level, rate")
         try:
@@ -446,6 +513,8 @@ def read_plain_csv(path):
     levels, values = np.array(levels), np.array(values)
     if not (np.all(np.isfinite(levels)) and np.all(levels > 0) and np.all(np.diff(levels) > 0)):
         raise InputError(f"{where}the levels must be positive and increasing, one per line")
+    _check_reachable(levels * LEVEL_UNITS[key], im, [f"line {n}" for n, _ in rows[1:]], where, unit, LEVEL_UNITS[key],
+                     f"give the levels in the unit the header names ({unit})")
     if T is None:
         if np.any(~np.isfinite(values) | (values < 0)):
             raise InputError(f"{where}annual rates must be non-negative numbers")

@@ -131,7 +131,29 @@ CATALOGUE = [
                                      "tcp://127.0.0.1:9", "--quiet"], 2, ["--scheduler", "cannot connect"]),
     ("study-every-cell-failed", ["study", "run", "{study}", OUT, "{tmp}/s.nc", "--serial", "--quiet"], 1,
      ["all 1 cells of the study failed", "the first: record ricker:", "found no rebound peak"]),
+    # issue 38, item 2: hazard files refused naming what is wrong
+    ("risk-hazard-level-no-motion-reaches", ["risk", "{fragility}", "--hazard", "{hazard_1e300}", OUT, "{tmp}/r.nc"],
+     2, ["level-1e300.csv: column 'poe-1e300': a level of 1e+300 g is beyond any ground motion",
+         "levels up to 30 g are accepted", "give each level in g"]),
+    ("risk-hazard-semicolons", ["risk", "{fragility}", "--hazard", "{hazard_semicolons}", OUT, "{tmp}/r.nc"], 2,
+     ["semicolons.csv: the fields are separated by ';'", "save the file as comma-separated"]),
+    ("risk-hazard-without-metadata-row", ["risk", "{fragility}", "--hazard", "{hazard_no_metadata}", OUT,
+                                          "{tmp}/r.nc"], 2,
+     ["no-metadata.csv: the first line is the header", "starts with a '#' row of metadata", "investigation_time"]),
+    ("risk-hazard-header-trailing-comma", ["risk", "{fragility}", "--hazard", "{hazard_trailing_comma}", OUT,
+                                           "{tmp}/r.nc"], 2,
+     ["trailing-comma.csv: the header ends in an empty column (a trailing comma after 'poe-2.0000000')"]),
+    ("report-hazard-semicolons", ["report", "{results}", OUT, "{tmp}/rep", "--hazard", "{hazard_semicolons}"], 2,
+     ["semicolons.csv: the fields are separated by ';'"]),
 ]
+
+#: Hazard files of the issue 38 entries: the committed engine export, edited as a spreadsheet or a hand would.
+ISSUE_38_HAZARD = {
+    "hazard_1e300": ("level-1e300.csv", lambda b: b.replace(b"poe-2.0000000", b"poe-1e300")),
+    "hazard_semicolons": ("semicolons.csv", lambda b: b.replace(b",", b";")),
+    "hazard_no_metadata": ("no-metadata.csv", lambda b: b.split(b"\r\n", 1)[1]),
+    "hazard_trailing_comma": ("trailing-comma.csv", lambda b: b.replace(b"poe-2.0000000\r\n", b"poe-2.0000000,\r\n")),
+}
 
 
 @pytest.fixture
@@ -166,6 +188,9 @@ def files(tmp_path, results_nc, histories_nc, failed_results_nc):
     paths["photo_gif"].write_bytes(b"GIF89a a photo of the site\n")
     paths["hazard"] = tmp_path / "hazard_curve-mean-PGA_1.csv"
     shutil.copy(HAZARD, paths["hazard"])
+    for key, (name, edit) in ISSUE_38_HAZARD.items():
+        paths[key] = tmp_path / name
+        paths[key].write_bytes(edit(HAZARD.read_bytes()))
     for key, name, data in (("notes_dir", "report.md", b"# my notes\n"), ("photos_dir", "figures/site.png", b"\x89PNG"),
                             ("table_dir", "summary.csv", b"column,height\nA,4\n")):
         paths[key] = tmp_path / key

@@ -61,8 +61,9 @@ def plain_text(levels_g, rates, header="PGA [g],annual_rate [1/yr]"):
 
 
 def power_law_text(k0, k, median_ms2, levels=40, header="PGA [g],annual_rate [1/yr]"):
-    """A plain curve H = k0 a^-k (a in m/s^2) over 1e-3..1e3 times the median, levels written in g."""
-    a = np.geomspace(median_ms2 * 1e-3, median_ms2 * 1e3, levels)
+    """A plain curve H = k0 a^-k (a in m/s^2) from 1e-3 times the median to 1e3 times it or 20 g, whichever
+    is lower (the reader refuses levels beyond 30 g, pipeline.risk.MAX_LEVEL), levels written in g."""
+    a = np.geomspace(median_ms2 * 1e-3, min(median_ms2 * 1e3, 20.0 * G), levels)
     return plain_text(a / G, k0 * a ** -k, header)
 
 

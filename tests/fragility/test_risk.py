@@ -39,7 +39,7 @@ def _kennedy(k0, k, median, beta):
     (1e-4, 2.0, 0.3, 0.3), (1e-4, 3.5, 0.6, 0.6), (2e-3, 1.5, 0.1, 0.8), (1e-5, 6.0, 1.0, 0.5), (5e-4, 3.0, 0.45, 0.2),
 ])
 def test_kennedy_closed_form_for_a_power_law_hazard(tmp_path, k0, k, median_g, beta):
-    """A power law H = k0 a^-k (a in m/s^2) read from a plain CSV in g, 40 levels over 1e-3..1e3 x median.
+    """A power law H = k0 a^-k (a in m/s^2) read from a plain CSV in g, 40 levels from 1e-3 x median to 20 g.
 
     Tolerance 0.5 % (the issue's): the closed form per segment is exact for a power law, so what is
     left is the g <-> m/s^2 round trip of the levels written with repr (17 digits), ~1e-15.
@@ -189,6 +189,17 @@ def test_poe_in_50_years_equals_annual_rates(tmp_path):
     ("PGA [g],rate\n0.1,1e-3\n0.2,1e-2\n", "never rises"),
     ("PGA [g],rate\n0.1,1e-3\n", "at least two levels"),
     ("AvgSA [g],rate\n0.1,1e-2\n0.2,1e-3\n", "name the intensity measure"),
+    # issue 38, item 2: what is wrong, by name
+    ("PGA [g];annual_rate [1/yr]\n0,1;1e-2\n0,2;1e-3\n", "the fields are separated by ';'"),
+    ("PGA [g]\tannual_rate [1/yr]\n0.1\t1e-2\n0.2\t1e-3\n", "the fields are separated by tabs"),
+    ("PGA [g],annual_rate [1/yr],\n0.1,1e-2,\n0.2,1e-3,\n",
+     "the header ends in an empty column (a trailing comma after 'annual_rate [1/yr]')"),
+    ("PGA [g],annual_rate [1/yr]\n0.1,1e-2\n0.2,1e-3,\n", "line 3 ends in 1 empty field(s) beyond the 2 of the header"),
+    ("PGA [g],annual_rate [1/yr]\n0.1,1e-2\n500,1e-3\n", "line 3: a level of 500 g is beyond any ground motion"),
+    ("PGA [cm/s2],annual_rate [1/yr]\n100,1e-2\n50000,1e-3\n", "line 3: a level of 50000 cm/s2 is beyond"),
+    ("PGV [cm/s],annual_rate [1/yr]\n10,1e-2\n5000,1e-3\n",
+     "line 3: a level of 5000 cm/s is beyond any ground motion (the strongest recorded: PGV 3.18 m/s; levels up to "
+     "3000 cm/s are accepted)"),
 ])
 def test_bad_plain_curves_are_refused_by_name(tmp_path, text, words):
     path = _write(tmp_path, "bad.csv", text)
@@ -291,7 +302,7 @@ def test_median_beyond_the_curve_warns_and_flags(tmp_path, frag):
     assert float(cell["annual_frequency_lower"]) < float(cell["annual_frequency"]) < float(cell["annual_frequency_upper"])
 
 
-# -- issue 38, item 2: saturated levels, extreme rates, the words printed ------------------------
+# -- issue 38, item 2: saturated levels, extreme rates, absurd levels and files, the words printed -
 
 def test_saturated_levels_raise_no_warning_and_keep_the_risk(tmp_path, frag):
     """PoE = 1 at the lowest levels, common in real exports: no numpy warning, and the risk that the
@@ -359,6 +370,41 @@ def test_extreme_rates_say_the_integral_overflows_without_a_numpy_warning(tmp_pa
     reason = R.no_risk_reason(risk, "site-0", "paper", "3d", "overturning")
     assert reason.startswith("the hazard curve's first segment (0.1 to 0.2 g) falls as a^-")
     assert reason.endswith(f"(shaking above 0.1 g alone gives at least {lower:.3g} /yr)")
+
+
+@pytest.mark.parametrize("edit, message", [
+    (lambda t: t.replace(",", ";"),
+     "the fields are separated by ';' ('lon;lat;depth;poe-0.0050000;poe-0.010...'); a hazard curve CSV separates "
+     "them by commas, with decimal points, as the OpenQuake engine writes it: export the curves again ('oq export "
+     "hcurves') or save the file as comma-separated"),
+    (lambda t: t.split("\r\n", 1)[1],
+     "the first line is the header (lon,lat,...,poe-<IML>); the OpenQuake engine's export starts with a '#' row of "
+     "metadata before it (kind='mean', investigation_time=50.0, imt='PGA'), without which the probabilities of "
+     "exceedance cannot be turned into annual rates: restore that row from the engine's export ('oq export hcurves')"),
+    (lambda t: t.replace("poe-2.0000000\r\n", "poe-2.0000000,\r\n"),
+     "the header ends in an empty column (a trailing comma after 'poe-2.0000000'); remove the trailing comma (and "
+     "any at the end of the rows)"),
+    (lambda t: t.replace("\r\n22.88", ",\r\n22.88"),
+     "line 3 ends in 1 empty field(s) beyond the 19 of the header (a trailing comma?); remove the trailing comma"),
+    (lambda t: t.replace("poe-2.0000000", "poe-1e300"),
+     "column 'poe-1e300': a level of 1e+300 g is beyond any ground motion (the strongest recorded: PGA 4.36 g; levels "
+     "up to 30 g are accepted); give each level in g, as the OpenQuake engine writes it (poe-0.5000000 for 0.5 g)"),
+    (lambda t: t.replace("poe-2.0000000", "poe-31.0000000"), "column 'poe-31.0000000': a level of 31 g is beyond"),
+])
+def test_bad_openquake_files_are_refused_saying_what_is_wrong(tmp_path, edit, message):
+    """The engine's export edited as a spreadsheet or a hand would: the message names the fault, not
+    "needs a header and at least two levels" or "unknown: "; a level no ground motion reaches is refused
+    rather than narrowing the curve-end bounds to a false certainty (pipeline.risk.MAX_LEVEL)."""
+    path = _write(tmp_path, "hazard_curve-mean-PGA_1.csv", edit(example_openquake_text()))
+    with pytest.raises(InputError) as info:
+        R.read_hazard_curve(path)
+    assert str(info.value).startswith(f"{path}: {message}"), str(info.value)
+
+
+def test_a_level_of_30_g_is_still_read(tmp_path):
+    """The bound is MAX_LEVEL: 30 g, a level of an extreme hazard calculation, is accepted."""
+    text = example_openquake_text().replace("poe-2.0000000", "poe-30.0000000")
+    assert R.read_hazard_curve(_write(tmp_path, "hazard_curve-mean-PGA_1.csv", text)).levels[-1] == 30.0 * G
 
 
 @pytest.mark.parametrize("p, text", [
