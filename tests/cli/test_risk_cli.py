@@ -220,3 +220,16 @@ def test_report_hazard_section_in_the_same_words(fixed, inputs, tmp_path):
     assert ("- At site site-0, column 'paper' (3D): no risk is stated: the hazard curve's first segment (0.1 to "
             "0.2 g) falls as a^-332;") in text
 
+
+def test_help_names_the_fragility_file_the_readme_writes(capsys):
+    """`frustum fragility --help` writes, and `frustum risk --help` reads, out/quickstart_fragility.nc, as the
+    README's quickstart does (it said out/quickstart-fragility.nc)."""
+    readme = (Path(__file__).parents[2] / "README.md").read_text(encoding="utf-8")
+    assert "--out out/quickstart_fragility.nc" in readme and "frustum risk out/quickstart_fragility.nc" in readme
+    for command, words in (("fragility", "--out out/quickstart_fragility.nc"),
+                           ("risk", "frustum risk out/quickstart_fragility.nc --hazard")):
+        with pytest.raises(SystemExit) as done:
+            main([command, "--help"])
+        assert done.value.code == 0
+        text = capsys.readouterr().out
+        assert words in text and "quickstart-fragility" not in text, text
