@@ -241,10 +241,11 @@ FLAGS = {
                  "the normal contact force reached zero and the column flew"),
     "status": ([0, 1], "ok failed", "status of the simulation (failed: values are NaN or 0)"),
     "drum_kind": ([0, 1], "drum capital", "kind of body: a drum (frustum) or a capital (square block)"),
-    "risk_flag": ([0, 1, 2, 3, 4], "ok median_beyond_hazard_curve no_median_no_exceedance_observed "
-                  "no_median_every_run_exceeds no_fit",
+    "risk_flag": ([0, 1, 2, 3, 4, 5], "ok median_beyond_hazard_curve no_median_no_exceedance_observed "
+                  "no_median_every_run_exceeds no_fit integral_overflows",
                   "how far the site risk rests on the data: the fragility's median beyond the hazard curve's last "
-                  "level (mostly extrapolated), or no median to integrate"),
+                  "level (mostly extrapolated), no median to integrate, or an integral beyond the largest float "
+                  "(a hazard curve too steep where it is extended)"),
 }
 
 

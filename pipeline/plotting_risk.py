@@ -10,7 +10,7 @@ frequency, so the figure shows which shaking levels carry the risk.
 import numpy as np
 
 from pipeline.plotting_fragility import _plain_log, _secondary, _style, im_axis, plt
-from pipeline.risk import RISK_FLAGS, describe_im, one_in
+from pipeline.risk import RISK_FLAGS, describe_im, one_in, percent
 
 
 def _draw(risk, axes, site, column, state, models):
@@ -22,16 +22,23 @@ def _draw(risk, axes, site, column, state, models):
     first = float(risk["hazard_level"].values[np.isfinite(risk["hazard_rate"].sel(site=site).values)
                                               & (risk["hazard_rate"].sel(site=site).values > 0)][0])
     ax_h, ax_p, ax_i = axes
+    ax_h.set_yscale("log")
     h = risk["hazard_rate_interpolated"].sel(site=site).values
+    levels = risk["hazard_level"].values * factor
+    rate = risk["hazard_rate"].sel(site=site).values
+    # rates drawn within 1e-30..1e30 /yr (no hazard curve leaves them), on whole decades set rather than
+    # autoscaled: matplotlib's margins and log ticks overflow on absurd rates (1e300 /yr)
+    h = np.where((h >= 1e-30) & (h <= 1e30), h, np.nan)
+    ok = np.isfinite(rate) & (rate >= 1e-30) & (rate <= 1e30)
+    drawn = np.concatenate([h[np.isfinite(h)], rate[ok]])
+    if drawn.size:  # before plotting: the limits set, matplotlib no longer autoscales
+        lo, hi = np.floor(np.log10(drawn.min())), np.ceil(np.log10(drawn.max()))
+        ax_h.set_ylim(10.0 ** lo, 10.0 ** max(hi, lo + 1))
     inside = (risk["intensity"].values >= first) & (risk["intensity"].values <= end)
     ax_h.plot(x[inside], h[inside], color="C0", lw=1.6, label="log-log interpolation")
     ax_h.plot(np.where(inside, np.nan, x), np.where(inside, np.nan, h), color="C0", lw=1.2, ls=":",
               label="extended by the end segments")
-    levels = risk["hazard_level"].values * factor
-    rate = risk["hazard_rate"].sel(site=site).values
-    ok = np.isfinite(rate) & (rate > 0)
     ax_h.plot(levels[ok], rate[ok], "o", color="C0", ms=4, label=f"hazard curve ({risk.attrs.get('hazard_file', '')})")
-    ax_h.set_yscale("log")
     ax_h.set_ylabel("annual rate of exceedance\nH(a) [1/yr]")
     ax_h.legend(fontsize="small", loc="lower left")
     years = float(risk["years"])
@@ -44,10 +51,11 @@ def _draw(risk, axes, site, column, state, models):
         ax_p.plot(x, cell["fragility_probability"].values, color=color, ls=style["ls"], lw=1.6,
                   label=f"{m.upper()}: median {med * factor:.3g}" if np.isfinite(med) else f"{m.upper()}: no median")
         dens = cell["risk_integrand"].values
+        dens = np.where(dens <= 1e30, dens, np.nan)  # the window of the hazard panel: ticks overflow beyond
         lam = float(cell["annual_frequency"])
         p = float(cell["probability_in_period"])
         flag = RISK_FLAGS[int(cell["risk_flag"])]
-        text = (f"{m.upper()}: λ = {lam:.3g} /yr, {years:g} yr: {100 * p:.3g} % ({one_in(p)})" if np.isfinite(lam)
+        text = (f"{m.upper()}: λ = {lam:.3g} /yr, {years:g} yr: {percent(p)} ({one_in(p)})" if np.isfinite(lam)
                 else f"{m.upper()}: not computed ({flag.replace('_', ' ')})")
         if flag == "median_beyond_hazard_curve":
             text += " - median beyond the curve"

@@ -632,20 +632,6 @@ def _overturning_all_columns(frag, stem):
 RISK_SENTENCES_MAX = 8
 
 
-def _pct2(p):
-    """A small probability with two significant digits: ``0.059 %``, ``2.4 %``, ``< 0.0001 %``."""
-    if not np.isfinite(p):
-        return "n/a"
-    if 0.0 < p < 1e-6:
-        return "< 0.0001 %"
-    return f"{float(f'{100 * p:.2g}'):g} %"
-
-
-def _years(value):
-    """``2,100 years`` (two significant digits)."""
-    return f"{float(f'{value:.2g}'):,.0f} years"
-
-
 def _risk_section(risk, hazard, frag):
     """The "Risk at the site" section: the chance of overturning in the period, in plain words."""
     from pipeline import risk as R
@@ -676,24 +662,24 @@ def _risk_section(risk, hazard, frag):
                 cell = risk.sel(site=site, column=c, model=m, state=state)
                 p = float(cell["probability_in_period"])
                 flag = R.RISK_FLAGS[int(cell["risk_flag"])]
-                if flag in ("no_median_no_exceedance_observed", "no_median_every_run_exceeds", "no_fit"):
+                if R.no_risk_reason(risk, site, c, m, state) is not None:
                     lines.append(f"| {site} | {c} | {m.upper()} | n/a | {flag.replace('_', ' ')} | | | |")
-                    notes.append(_risk_no_median(risk, hazard, frag, site, str(c), str(m), flag, years))
+                    notes.append(_risk_no_median(risk, hazard, frag, site, str(c), str(m), flag, years, state))
                     continue
-                lam = float(cell["annual_frequency"])
-                band = (f"{_pct2(float(cell['probability_in_period_band_lower']))} to "
-                        f"{_pct2(float(cell['probability_in_period_band_upper']))}"
+                band = (f"{R.percent(float(cell['probability_in_period_band_lower']))} to "
+                        f"{R.percent(float(cell['probability_in_period_band_upper']))}"
                         if np.isfinite(float(cell["probability_in_period_band_lower"])) else "n/a")
                 a05, a95 = (float(cell[f"intensity_risk_{q}"]) / G for q in ("05", "95"))
                 span = f"{_fmt(a05, 2)} and {_fmt(a95, 2)} g" if np.isfinite(a05) and np.isfinite(a95) else "n/a"
-                once = _years(1 / lam) if lam > 0 else "never"
+                once = R.years_words(float(cell["return_period"]))
                 mark = " (extrapolated)" if flag == "median_beyond_hazard_curve" else ""
-                lines.append(f"| {site} | {c} | {m.upper()} | {_pct2(p)}{mark} | {R.one_in(p)} | {once} | {band} | "
+                lines.append(f"| {site} | {c} | {m.upper()} | {R.percent(p)}{mark} | {R.one_in(p)} | {once} | {band} | "
                              f"{span} |")
                 if len(sentences) < RISK_SENTENCES_MAX:
                     where = _site_where(cell)
                     text = (f"- At site {site}{where}, column '{c}' ({MD.results_title(frag, str(m))}): **{R.one_in(p)} chance of "
-                            f"overturning in {yrs}** ({_pct2(p)}" + (f"; bootstrap band {band}" if band != "n/a" else "")
+                            f"overturning in {yrs}** ({R.percent(p)}"
+                            + (f"; bootstrap band {band}" if band != "n/a" else "")
                             + f"), on average once in {once}.")
                     if span != "n/a":
                         text += f" 90 % of this risk comes from shaking with a PGA between {span}."
@@ -703,7 +689,7 @@ def _risk_section(risk, hazard, frag):
                                  f"{_fmt(float(risk['hazard_curve_end'].sel(site=site)) / G)} g, below this column's "
                                  f"median PGA of overturning ({_fmt(float(cell['fragility_median']) / G)} g); the "
                                  f"number extends the curve beyond its last level, and whatever the curve does there "
-                                 f"the chance lies between {_pct2(lo)} and {_pct2(hi)}.")
+                                 f"the chance lies between {R.percent(lo)} and {R.percent(hi)}.")
                     sentences.append(text)
     lines.append("")
     lines += sentences + notes
@@ -725,20 +711,20 @@ def _site_where(cell):
     return f" ({abs(lat):.3f}° {'N' if lat >= 0 else 'S'}, {abs(lon):.3f}° {'E' if lon >= 0 else 'W'})"
 
 
-def _risk_no_median(risk, hazard, frag, site, column, model, flag, years):
-    """The sentence for a column whose fragility has no median (nothing to integrate)."""
+def _risk_no_median(risk, hazard, frag, site, column, model, flag, years, state="overturning"):
+    """The sentence for a column without a risk: its fragility has no median, or the integral has no number."""
     from pipeline import risk as R
 
     if flag != "no_median_no_exceedance_observed" or "im_simulated_max" not in frag:
-        return (f"- At site {site}, column '{column}' ({model.upper()}): no fragility to integrate "
-                f"({flag.replace('_', ' ')}), so no risk is stated.")
+        return (f"- At site {site}, column '{column}' ({model.upper()}): no risk is stated: "
+                f"{R.no_risk_reason(risk, site, column, model, state)}.")
     top = float(frag["im_simulated_max"].sel(column=column, model=model))
     index = [str(s) for s in risk["site"].values].index(site)
     p_top = float(R.probability_in(R.hazard_rate_at(hazard, index, top), years))
     return (f"- At site {site}, column '{column}' ({model.upper()}): no run overturned, up to a PGA of "
             f"{_fmt(top / G)} g, so the fragility has no median and these runs cannot give the risk. For scale: "
-            f"shaking stronger than {_fmt(top / G)} g has {R.one_in(p_top)} chance ({_pct2(p_top)}) of happening there "
-            f"in {years:g} years; run stronger shaking to learn whether it would overturn the column.")
+            f"shaking stronger than {_fmt(top / G)} g has {R.one_in(p_top)} chance ({R.percent(p_top)}) of happening "
+            f"there in {years:g} years; run stronger shaking to learn whether it would overturn the column.")
 
 
 def _extrapolated_mark(where):

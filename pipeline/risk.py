@@ -29,7 +29,9 @@ Hazard curves
   lines starting with ``#`` are comments.
 
 Several sites in one file give a ``site`` dimension. Every level is converted to SI on reading
-(m/s^2 for PGA and Sa, m/s for PGV), the units of the fragility's medians.
+(m/s^2 for PGA and Sa, m/s for PGV), the units of the fragility's medians. Refused by name: fields
+separated by ``;`` or tabs, an engine export without its ``#`` metadata row, an empty column name (a
+trailing comma), and a level no ground motion reaches (beyond :data:`MAX_LEVEL`, 30 g).
 
 The integral
 ------------
@@ -48,12 +50,16 @@ numbers, so the part beyond is bounded and stated rather than silently dropped:
 * ``central``: the last segment's power law extended beyond a_L, the first one's below a_0.
 
 ``central`` lies between the bounds. Where the fragility's median lies beyond a_L, most of the
-risk comes from the extrapolation and the result is flagged (``risk_flag``) and warned about.
+risk comes from the extrapolation and the result is flagged (``risk_flag``) and warned about. Where
+the first segment falls so steeply that, extended below a_0, the integral passes the largest float,
+``central`` is NaN with ``risk_flag`` ``integral_overflows`` (:func:`no_risk_reason` says which
+segment); ``lower`` remains.
 
 Public functions: :func:`read_hazard_curve`, :func:`read_openquake_csv`, :func:`read_plain_csv`,
 :func:`annual_rate`, :func:`segment_integral`, :func:`risk_integral`, :func:`probability_in`,
 :func:`fragility_im`, :func:`check_im`, :func:`site_risk`, :func:`open_fragility`,
-:func:`risk_rows`, :func:`write`, :func:`write_csv`.
+:func:`risk_rows`, :func:`write`, :func:`write_csv`; in words: :func:`one_in`, :func:`percent`,
+:func:`years_words`, :func:`no_risk_reason`.
 """
 
 import csv
@@ -86,14 +92,25 @@ LEVEL_UNITS = {
 _VELOCITY_UNITS = {"m/s", "m s-1", "cm/s", "cm s-1"}
 SI_UNITS = {"pga": "m s-2", "sa": "m s-2", "pgv": "m s-1"}
 
+#: The highest intensity level a hazard curve may hold, in SI: 30 g for PGA and Sa, 30 m/s for PGV. No
+#: ground motion comes near it: the strongest PGA recorded is 4.36 g (vector sum of three components,
+#: KiK-net IWTH25, 2008 Iwate-Miyagi Nairiku earthquake), the strongest PGV 3.18 m/s (1999 Chi-Chi;
+#: Anderson 2010, BSSA 100(1)), and response spectra stay within some 3 times the PGA (Sa < 15 g). Hazard
+#: calculations for the rarest shaking (1e-8 /yr) list levels of up to about 10 g. A level beyond the
+#: bound is a slip (a level in cm/s^2 written as g, a missing decimal point), and it would make the curve
+#: seem to cover shaking that never happens, narrowing the curve-end bounds to a false certainty.
+MAX_LEVEL = {"pga": 30.0 * G, "sa": 30.0 * G, "pgv": 30.0}
+_STRONGEST = {"pga": "PGA 4.36 g", "sa": "PGA 4.36 g", "pgv": "PGV 3.18 m/s"}
+
 #: risk_flag values: how far a number rests on the data (CF flag_values / flag_meanings).
-RISK_OK, RISK_MEDIAN_BEYOND, RISK_NO_EXCEEDANCE, RISK_ALL_EXCEED, RISK_NO_FIT = range(5)
+RISK_OK, RISK_MEDIAN_BEYOND, RISK_NO_EXCEEDANCE, RISK_ALL_EXCEED, RISK_NO_FIT, RISK_OVERFLOW = range(6)
 RISK_FLAGS = {
     RISK_OK: "ok",
     RISK_MEDIAN_BEYOND: "median_beyond_hazard_curve",
     RISK_NO_EXCEEDANCE: "no_median_no_exceedance_observed",
     RISK_ALL_EXCEED: "no_median_every_run_exceeds",
     RISK_NO_FIT: "no_fit",
+    RISK_OVERFLOW: "integral_overflows",
 }
 
 #: Shares of the risk at which the intensity is stated (``intensity_risk_05`` ...): 5, 50, 95 %.
@@ -193,7 +210,8 @@ def annual_rate(poe, investigation_time):
 
 def probability_in(rate, years):
     """Probability of at least one occurrence in ``years`` of a Poisson process of ``rate`` [1/yr]: 1 - exp(-rate T)."""
-    return -np.expm1(-np.asarray(rate, float) * float(years))
+    with np.errstate(over="ignore"):  # rate T beyond the largest float is inf, and the probability 1
+        return -np.expm1(-np.asarray(rate, float) * float(years))
 
 
 _IMT = re.compile(r"^\s*(PGA|PGV|SA\s*\(\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(?:s)?\s*\))\s*$", re.IGNORECASE)
@@ -227,10 +245,12 @@ def read_hazard_curve(path):
         Levels in SI ([m/s^2] for PGA and Sa, [m/s] for PGV), rates [1/yr].
     """
     path = os.fspath(path)
-    lines = _lines(path)
-    first = next((line for line in lines if line.strip()), "")
-    if first.lstrip().startswith("#") and _openquake_header(lines):
-        return read_openquake_csv(path)
+    rows = [line for line in _lines(path) if line.strip()]
+    at = _header_index(rows)
+    if at is not None:
+        _check_separator(rows[at], f"{path}: ")
+        if _is_openquake_header(rows[at]):
+            return read_openquake_csv(path)
     return read_plain_csv(path)
 
 
@@ -249,13 +269,58 @@ def _lines(path):
         raise InputError(f"{path}: cannot be read ({exc.strerror or exc})") from None
 
 
-def _openquake_header(lines):
-    """Whether the first line after the comment is the engine's header (lon, lat, poe-...)."""
-    rows = [line for line in lines if line.strip()]
-    if len(rows) < 2:
-        return False
-    header = [c.strip() for c in next(csv.reader([rows[1]]))]
-    return "lon" in header and "lat" in header and any(c.startswith("poe-") for c in header)
+def _header_index(rows):
+    """Index of the first row that is not a ``#`` comment (the header), or None."""
+    return next((i for i, row in enumerate(rows) if not row.lstrip().startswith("#")), None)
+
+
+def _is_openquake_header(row):
+    """Whether a row is the engine's header (lon, lat, poe-...), whatever separates its fields."""
+    names = [c.strip() for c in re.split(r"[,;\t]", row)]
+    return "lon" in names and "lat" in names and any(c.startswith("poe-") for c in names)
+
+
+def _check_separator(row, where):
+    """Refuse a header whose fields are separated by ';' or tabs (a spreadsheet's "CSV" in some locales)."""
+    if "," in row:
+        return
+    sep = next((s for s in (";", "\t") if s in row), None)
+    if sep is None:
+        return
+    shown = row if len(row) <= 40 else row[:37] + "..."
+    raise InputError(f"{where}the fields are separated by {'tabs' if sep == chr(9) else repr(sep)} ({shown!r}); "
+                     "a hazard curve CSV separates them by commas, with decimal points, as the OpenQuake engine "
+                     "writes it: export the curves again ('oq export hcurves') or save the file as comma-separated")
+
+
+def _check_names(names, where):
+    """Refuse empty column names in the header: a trailing comma, or two commas in a row."""
+    empty = [i for i, name in enumerate(names) if not name]
+    if not empty:
+        return
+    if empty == [len(names) - 1]:
+        raise InputError(f"{where}the header ends in an empty column (a trailing comma after {names[-2]!r}); remove "
+                         "the trailing comma (and any at the end of the rows)")
+    raise InputError(f"{where}column {empty[0] + 1} of the header has no name (two commas in a row?); name every "
+                     "column or remove the empty ones")
+
+
+def _check_trailing(row, width, line_no, where):
+    """A row longer than the header only by empty fields: say it is a trailing comma."""
+    if len(row) > width and not any(c.strip() for c in row[width:]):
+        raise InputError(f"{where}line {line_no} ends in {len(row) - width} empty field(s) beyond the {width} of "
+                         "the header (a trailing comma?); remove the trailing comma")
+
+
+def _check_reachable(levels, im, names, where, unit, factor, fix):
+    """Refuse levels [SI] beyond :data:`MAX_LEVEL`, naming the first (``names``: its column or line)."""
+    beyond = np.nonzero(levels > MAX_LEVEL[im])[0]
+    if not beyond.size:
+        return
+    i = int(beyond[0])
+    bound = MAX_LEVEL[im] / factor
+    raise InputError(f"{where}{names[i]}: a level of {levels[i] / factor:g} {unit} is beyond any ground motion (the "
+                     f"strongest recorded: {_STRONGEST[im]}; levels up to {bound:g} {unit} are accepted); {fix}")
 
 
 def _meta(comment, key):
@@ -287,10 +352,17 @@ def read_openquake_csv(path):
     path = os.fspath(path)
     lines = [line for line in _lines(path) if line.strip()]
     where = f"{path}: "
-    if len(lines) < 3:
-        raise InputError(f"{where}an OpenQuake hazard curve file has a comment line, a header and a row per "
-                         f"site; this one has {len(lines)} line(s)")
-    comment = lines[0]
+    at = _header_index(lines)
+    if at == 0 and _is_openquake_header(lines[0]):
+        raise InputError(f"{where}the first line is the header (lon,lat,...,poe-<IML>); the OpenQuake engine's "
+                         "export starts with a '#' row of metadata before it (kind='mean', investigation_time=50.0, "
+                         "imt='PGA'), without which the probabilities of exceedance cannot be turned into annual "
+                         "rates: restore that row from the engine's export ('oq export hcurves')")
+    if at is None or at == 0 or len(lines) < at + 2:
+        raise InputError(f"{where}an OpenQuake hazard curve file has a '#' comment line of metadata, a header and a "
+                         f"row per site; this one has {len(lines)} line(s)")
+    _check_separator(lines[at], where)
+    comment = " ".join(lines[:at])
     time_text = _meta(comment, "investigation_time")
     imt_text = _meta(comment, "imt")
     if imt_text is None:  # the file name says it too: hazard_curve-mean-PGA_12.csv
@@ -312,7 +384,8 @@ def read_openquake_csv(path):
     im, period = parse_imt(imt_text, where)
     kind = _meta(comment, "kind") or ""
 
-    header = [c.strip() for c in next(csv.reader([lines[1]]))]
+    header = [c.strip() for c in next(csv.reader([lines[at]]))]
+    _check_names(header, where)
     poe_cols = [i for i, c in enumerate(header) if c.startswith("poe-")]
     other = [c for i, c in enumerate(header) if i not in poe_cols]
     unknown = [c for c in other if c not in ("custom_site_id", "lon", "lat", "depth")]
@@ -330,10 +403,14 @@ def read_openquake_csv(path):
     if not (np.all(np.isfinite(iml)) and np.all(iml > 0) and np.all(np.diff(iml) > 0)):
         raise InputError(f"{where}the levels poe-<IML> must be positive and increasing; found "
                          f"{', '.join(f'{v:g}' for v in iml)}")
-    rows = list(csv.reader(lines[2:]))
+    unit, factor = OPENQUAKE_UNITS[im]
+    _check_reachable(iml * factor, im, [f"column {header[i]!r}" for i in poe_cols], where, unit, factor,
+                     f"give each level in {unit}, as the OpenQuake engine writes it (poe-0.5000000 for 0.5 {unit})")
+    rows = list(csv.reader(lines[at + 1:]))
     sites, lon, lat, depth, poe = [], [], [], [], []
     for n, row in enumerate(rows):
-        line_no = n + 3
+        line_no = n + at + 2
+        _check_trailing(row, len(header), line_no, where)
         if len(row) != len(header):
             raise InputError(f"{where}line {line_no} has {len(row)} fields, the header {len(header)}")
         try:
@@ -353,7 +430,6 @@ def read_openquake_csv(path):
     if len(set(sites)) != len(sites):
         raise InputError(f"{where}site labels repeat ({', '.join(sorted({s for s in sites if sites.count(s) > 1}))})")
     poe = np.array(poe)
-    unit, factor = OPENQUAKE_UNITS[im]
     return HazardCurve(im=im, period=period, levels=iml * factor, rate=annual_rate(poe, T), sites=tuple(sites),
                        lon=np.array(lon), lat=np.array(lat), depth=np.array(depth), investigation_time=T, poe=poe,
                        source=path, format="openquake", imt=imt_text, file_units=unit, kind=kind)
@@ -386,9 +462,15 @@ def read_plain_csv(path):
     """
     path = os.fspath(path)
     where = f"{path}: "
-    rows = [(n + 1, row) for n, row in enumerate(csv.reader(_lines(path)))
+    lines = _lines(path)
+    first = next((line for line in lines if line.strip() and not line.lstrip().startswith("#")), None)
+    if first is not None:
+        _check_separator(first, where)
+    rows = [(n + 1, row) for n, row in enumerate(csv.reader(lines))
             if row and any(c.strip() for c in row) and not row[0].lstrip().startswith("#")]
     example = "e.g. 'PGA [g],annual_rate [1/yr]' or 'SA(1.0) [g],poe in 50 years'"
+    if rows:
+        _check_names([c.strip() for c in rows[0][1]], where)
     if len(rows) < 3:
         raise InputError(f"{where}a hazard curve needs a header ({example}) and at least two levels")
     _, header = rows[0]
@@ -420,6 +502,7 @@ def read_plain_csv(path):
                          "('annual_rate [1/yr]') or a probability of exceedance with its time ('poe in 50 years')")
     levels, values = [], []
     for line_no, row in rows[1:]:
+        _check_trailing(row, 2, line_no, where)
         if len(row) != 2:
             raise InputError(f"{where}line {line_no} has {len(row)} fields; give two: level, rate")
         try:
@@ -430,6 +513,8 @@ def read_plain_csv(path):
     levels, values = np.array(levels), np.array(values)
     if not (np.all(np.isfinite(levels)) and np.all(levels > 0) and np.all(np.diff(levels) > 0)):
         raise InputError(f"{where}the levels must be positive and increasing, one per line")
+    _check_reachable(levels * LEVEL_UNITS[key], im, [f"line {n}" for n, _ in rows[1:]], where, unit, LEVEL_UNITS[key],
+                     f"give the levels in the unit the header names ({unit})")
     if T is None:
         if np.any(~np.isfinite(values) | (values < 0)):
             raise InputError(f"{where}annual rates must be non-negative numbers")
@@ -454,7 +539,8 @@ def usable_curve(hazard, site_index):
     rate = np.asarray(hazard.rate[site_index], float)
     levels = np.asarray(hazard.levels, float)
     site = hazard.sites[site_index]
-    rising = np.nonzero(np.diff(rate) > 1e-9 * np.maximum(rate[:-1], 1e-300))[0]
+    # compared, not subtracted: saturated levels (PoE = 1) have an infinite rate, and inf - inf is NaN
+    rising = np.nonzero(rate[1:] > rate[:-1] + 1e-9 * np.maximum(rate[:-1], 1e-300))[0]
     if rising.size:
         i = int(rising[0])
         raise InputError(f"{hazard.source}: site {site}: the rate of exceedance rises from {rate[i]:.4g} to "
@@ -628,27 +714,46 @@ def risk_integral(levels, rates, median, beta):
                      h_last=h_last, p_last=p_last)
 
 
+def _log_probability(im, median, beta):
+    """ln P(DS | im) of a lognormal fragility (:func:`pipeline.fragility.probability`), from ``log_ndtr``
+    where it is smooth, so that the far lower tail stays a number where P itself underflows to 0."""
+    im, median, beta = np.broadcast_arrays(*(np.asarray(v, float) for v in (im, median, beta)))
+    with np.errstate(divide="ignore"):  # P = 0 (a step not reached, a median never reached): ln P = -inf
+        out = np.log(F.probability(im, median, beta))
+    smooth = np.isfinite(median) & (median > 0) & (beta > 0)
+    out[smooth] = log_ndtr(np.log(im[smooth] / median[smooth]) / beta[smooth])
+    return out
+
+
 def _integrand(grid, levels, rates, median, beta):
-    """P(DS | a) |dH/d ln a| on ``grid`` [1/yr per unit ln a], and H(a) on it (curve extended by its end segments)."""
+    """P(DS | a) |dH/d ln a| on ``grid`` [1/yr per unit ln a], and H(a) on it (curve extended by its end segments).
+
+    The product is taken in logs: where the first segment, extended below the curve, gives a rate
+    beyond the largest float, P there is far below the smallest, and their product may be either.
+    """
     x, ln_h, k = _pieces(levels, rates)
     g = np.log(grid)
     seg = np.clip(np.searchsorted(x, g, side="right") - 1, 0, len(k) - 1)
     ln_hg = ln_h[seg] - k[seg] * (g - x[seg])
-    hg = np.exp(ln_hg)
-    p = F.probability(grid, median[..., None], np.where(np.isfinite(median) & (median > 0), beta, 1.0)[..., None])
-    return p * k[seg] * hg, hg, p
+    b = np.where(np.isfinite(median) & (median > 0), beta, 1.0)[..., None]
+    p = F.probability(grid, median[..., None], b)
+    with np.errstate(divide="ignore"):  # a flat segment (k = 0) adds nothing: ln k = -inf
+        ln_k = np.log(k[seg])
+    with np.errstate(over="ignore"):  # beyond the largest float the value is inf (risk_flag integral_overflows)
+        return np.exp(_log_probability(grid, median[..., None], b) + ln_k + ln_hg), np.exp(ln_hg), p
 
 
 def _shares(grid, density, below, total, shares=RISK_SHARES):
     """Intensities below which the given shares of ``total`` accrue (NaN where the grid does not reach them)."""
     g = np.log(grid)
-    steps = 0.5 * (density[..., 1:] + density[..., :-1]) * np.diff(g)
-    cum = np.concatenate([np.zeros(density.shape[:-1] + (1,)), np.cumsum(steps, axis=-1)], axis=-1)
-    cum = cum + below[..., None]
+    with np.errstate(over="ignore", invalid="ignore"):  # sums beyond the largest float: inf, skipped below
+        steps = (0.5 * density[..., 1:] + 0.5 * density[..., :-1]) * np.diff(g)
+        cum = np.concatenate([np.zeros(density.shape[:-1] + (1,)), np.cumsum(steps, axis=-1)], axis=-1)
+        cum = cum + below[..., None]
     out = np.full(density.shape[:-1] + (len(shares),), np.nan)
     for index in np.ndindex(density.shape[:-1]):
         t = total[index]
-        if not (np.isfinite(t) and t > 0):
+        if not (np.isfinite(t) and t > 0 and np.all(np.isfinite(cum[index]))):
             continue
         frac = cum[index] / t
         for j, s in enumerate(shares):
@@ -727,14 +832,26 @@ def check_im(frag, hazard):
 # --------------------------------------------------------------------------- the risk dataset
 
 
-def _flags(status, beyond_curve):
+def _flags(status, beyond_curve, overflow):
     flag = np.full(status.shape, RISK_NO_FIT, np.int8)
     flag[(status == F.FIT_OK) | (status == F.FIT_SEPARATED)] = RISK_OK
     flag[status == F.FIT_NO_EXCEEDANCE] = RISK_NO_EXCEEDANCE
     flag[status == F.FIT_ALL_EXCEED] = RISK_ALL_EXCEED
     out = np.broadcast_to(flag, beyond_curve.shape).copy()
     out[(out == RISK_OK) & beyond_curve] = RISK_MEDIAN_BEYOND
+    out[overflow] = RISK_OVERFLOW  # no number at all says more than where the median lies
     return out
+
+
+def return_period(annual_frequency):
+    """Mean return period 1/lambda [yr]: ``inf`` where lambda is 0, NaN where it is NaN.
+
+    Where 1/lambda is beyond the largest float (lambda subnormal) it is ``inf`` as well, without
+    numpy's overflow warning.
+    """
+    lam = np.asarray(annual_frequency, float)
+    out = np.where(np.isnan(lam), np.nan, np.inf)
+    return np.divide(1.0, lam, out=out, where=lam > 1.0 / np.finfo(float).max)
 
 
 def _grid(hazard, medians, betas, n):
@@ -799,28 +916,32 @@ def site_risk(frag, hazard, years=DEFAULT_YEARS, n_grid=301):
     integrand = np.full(shape + (grid.size,), np.nan)
     h_grid = np.full((nS, grid.size), np.nan)
     beyond_curve = np.zeros(shape, bool)
+    overflow = np.zeros(shape, bool)
     curve_end = np.full(nS, np.nan)
     for s in range(nS):
         levels, rates = usable_curve(hazard, s)
         curve_end[s] = levels[-1]
         parts = risk_integral(levels, rates, median, beta)
+        # a usable fit whose integral is no number: beyond the largest float (risk_flag integral_overflows)
+        overflow[s] = usable & ~np.isfinite(parts.central)
+        central = np.where(overflow[s], np.nan, parts.central)
         with np.errstate(invalid="ignore", divide="ignore"):
-            out["annual_frequency"][s] = parts.central
+            out["annual_frequency"][s] = central
             out["annual_frequency_lower"][s] = parts.lower
             out["annual_frequency_upper"][s] = parts.upper
-            out["share_below_first_level"][s] = parts.below / parts.central
-            out["share_beyond_last_level"][s] = (parts.central - parts.below - parts.inside) / parts.central
+            out["share_below_first_level"][s] = parts.below / central
+            out["share_beyond_last_level"][s] = (central - parts.below - parts.inside) / central
         beyond_curve[s] = np.isfinite(median) & (median > levels[-1])
         dens, hg, _ = _integrand(grid, levels, rates, median, beta)
         integrand[s] = dens
         h_grid[s] = hg
-        shares[s] = _shares(grid, dens, parts.below, parts.central)
+        shares[s] = _shares(grid, dens, parts.below, central)
         if replicates:
             lam = risk_integral(levels, rates, med_b, bet_b).central  # (bootstrap, state, column, model)
             lo, hi = _band(lam, confidence)
             out["annual_frequency_band_lower"][s] = np.where(usable, lo, np.nan)
             out["annual_frequency_band_upper"][s] = np.where(usable, hi, np.nan)
-    flag = _flags(status, beyond_curve)
+    flag = _flags(status, beyond_curve, overflow)
     _warn(hazard, frag, flag, median, curve_end, units)
 
     dims = ("site", "state", "column", "model")
@@ -830,8 +951,7 @@ def site_risk(frag, hazard, years=DEFAULT_YEARS, n_grid=301):
         ds[name] = (dims, values)
     for name in ("", "_lower", "_upper", "_band_lower", "_band_upper"):
         ds[f"probability_in_period{name}"] = (dims, probability_in(out[f"annual_frequency{name}"], years))
-    with np.errstate(divide="ignore"):
-        ds["return_period"] = (dims, np.where(out["annual_frequency"] > 0, 1.0 / out["annual_frequency"], np.inf))
+    ds["return_period"] = (dims, return_period(out["annual_frequency"]))
     for j, share in enumerate(RISK_SHARES):
         ds[f"intensity_risk_{round(100 * share):02d}"] = (dims, shares[..., j], {"units": units})
     ds["risk_flag"] = (dims, flag)
@@ -1042,9 +1162,84 @@ def one_in(p):
     return f"about 1 in {n:,.0f}"
 
 
+def percent(p):
+    """A probability in percent as the command, the figure and the report print it, never rounded to a
+    certainty it is not.
+
+    Two significant digits (``2.4 %``, ``0.059 %``, ``99 %``); from 99.5 % on, the decimals that keep it
+    below 100 (``99.7 %``, ``99.97 %``), and ``> 99.99 %`` beyond; ``< 0.0001 %`` below 1e-6; ``0 %``
+    for 0 and ``n/a`` for NaN.
+    """
+    if not np.isfinite(p):
+        return "n/a"
+    if p <= 0:
+        return "0 %"
+    if p < 1e-6:
+        return "< 0.0001 %"
+    if p < 0.995:
+        return f"{float(f'{100 * p:.2g}'):g} %"
+    for digits in (1, 2):
+        text = f"{100 * p:.{digits}f}"
+        if float(text) < 100:
+            return f"{text} %"
+    return "> 99.99 %"
+
+
+def years_words(period):
+    """A return period [yr] in words: ``2,100 years`` (two significant digits, as :func:`one_in`),
+    ``more than a million years``, ``never`` (infinite), ``n/a`` (NaN)."""
+    if np.isnan(period):
+        return "n/a"
+    if period == np.inf:
+        return "never"
+    if period > 1e6:
+        return "more than a million years"
+    if period < 1e-3:
+        return "less than 0.001 years"
+    r = float(f"{period:.2g}")
+    text = f"{r:,.0f}" if r >= 10 else f"{r:g}"
+    return f"{text} year{'' if r == 1 else 's'}"
+
+
+def no_risk_reason(risk, site, column, model, state):
+    """Why a cell of :func:`site_risk` has no annual frequency, in words; None when it has one.
+
+    The reason follows ``risk_flag``: the fragility has no median (no run, or every run, reached the
+    state), was not fitted (its ``fit_status``), or the integral is beyond the largest float (which
+    part of the hazard curve makes it so, and the lower bound that remains).
+    """
+    cell = risk.sel(site=site, column=column, model=model, state=state)
+    if np.isfinite(float(cell["annual_frequency"])):
+        return None
+    flag = RISK_FLAGS[int(cell["risk_flag"])]
+    if flag == "no_median_no_exceedance_observed":
+        return f"no run reached {state}, so the fragility has no median to integrate"
+    if flag == "no_median_every_run_exceeds":
+        return f"every run reached {state}, so the fragility has no median to integrate"
+    if flag == "no_fit":
+        return f"the fragility was not fitted ({F.FIT_STATUS.get(int(cell['fit_status']), '?').replace('_', ' ')})"
+    if flag != "integral_overflows":
+        return f"the risk integral is not a number (risk_flag {flag})"
+    factor, unit = (1.0 / G, "g") if risk["intensity"].attrs.get("units") == "m s-2" else (1.0, "m/s")
+    rate = risk["hazard_rate"].sel(site=site).values
+    keep = np.isfinite(rate) & (rate > 0)
+    levels, rates = risk["hazard_level"].values[keep], rate[keep]
+    parts = risk_integral(levels, rates, float(cell["fragility_median"]), float(cell["fragility_beta"]))
+    lower = f"{float(cell['annual_frequency_lower']):.3g} /yr"
+    if np.isfinite(parts.below):  # the integral is at most about the largest rate: not met in practice
+        return f"the risk integral is beyond the largest number a float holds (at least {lower})"
+    k = (math.log(rates[0]) - math.log(rates[1])) / math.log(levels[1] / levels[0])  # a ratio may overflow
+    a0, a1 = (f"{v * factor:.3g}" for v in levels[:2])
+    return (f"the hazard curve's first segment ({a0} to {a1} {unit}) falls as a^-{float(f'{k:.3g}'):g}; extended "
+            f"below {a0} {unit}, as the central value extends it, it carries the risk integral beyond the largest "
+            "number a float holds (1.8e308 /yr); hazard curves flatten towards weak shaking (slopes of a few): check "
+            f"the rates of the first levels, or give lower levels (shaking above {a0} {unit} alone gives at least "
+            f"{lower})")
+
+
 __all__ = [
     "DEFAULT_YEARS", "HazardCurve", "RiskParts", "RISK_FLAGS", "annual_rate", "probability_in", "parse_imt",
     "read_hazard_curve", "read_openquake_csv", "read_plain_csv", "usable_curve", "segment_integral",
     "risk_integral", "hazard_rate_at", "open_fragility", "fragility_im", "check_im", "site_risk", "risk_rows", "write", "write_csv",
-    "one_in", "describe_im",
+    "one_in", "describe_im", "percent", "years_words", "no_risk_reason", "return_period", "MAX_LEVEL",
 ]

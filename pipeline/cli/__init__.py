@@ -7,6 +7,7 @@ a ``register(subparsers)`` function; this module only assembles them.
 import argparse
 import contextlib
 import importlib
+import re
 import signal
 import sys
 import threading
@@ -20,9 +21,32 @@ from pipeline.errors import HazardWarning, InputError, RecordWarning
 _COMMAND_MODULES = ("simulate", "records", "study", "workflow", "fragility", "risk", "report", "animate")
 
 
+class Parser(argparse.ArgumentParser):
+    """An :class:`argparse.ArgumentParser` that reads every negative number as a value.
+
+    argparse takes an argument that starts with ``-`` for an option unless it looks like a
+    negative number, and before Python 3.14 only ``-5`` and ``-0.5`` do: ``--step -1e-5`` then
+    ends in argparse's "expected one argument" instead of the option's own check. Python 3.14
+    widened the test to any argument starting ``-<digit>`` or ``-.<digit>`` (argparse's
+    ``_negative_number_matcher``, the one place argparse decides this); this class sets that
+    test on every parser of the command, sub-commands included (``add_subparsers`` makes its
+    parsers of the parent's class), and adds ``-inf`` and ``-nan``, which the options' checks
+    refuse by name. No option of the command starts with ``-<digit>``, ``-inf`` or ``-nan``,
+    which argparse requires for this reading (its "Arguments containing -" section).
+    ``--step=-1e-5`` works on any Python.
+    """
+
+    #: Arguments read as a (negative) number, not as an option: Python 3.14's test, plus -inf and -nan.
+    NEGATIVE_NUMBER = re.compile(r"-(?:\.?\d|inf(?:inity)?$|nan$)", re.IGNORECASE)
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = self.NEGATIVE_NUMBER
+
+
 def build_parser():
     """Return the top-level argument parser with every available sub-command."""
-    parser = argparse.ArgumentParser(
+    parser = Parser(
         prog="frustum",
         description="Earthquake response of free-standing columns modelled as rigid "
         "conical frustums rolling on the rim of their base.",

@@ -7,7 +7,7 @@ from pipeline.errors import InputError
 _EXAMPLES = """\
 examples:
   overturning and damage-state curves against PGA, 200 bootstrap replicates:
-    frustum fragility out/quickstart.nc --out out/quickstart-fragility.nc --bootstrap 200 --seed 1
+    frustum fragility out/quickstart.nc --out out/quickstart_fragility.nc --bootstrap 200 --seed 1
   against PGV, damage states at 0.3 and 0.6 theta_crit:
     frustum fragility out/quickstart.nc --out frag-pgv.nc --im pgv --states 0.3,0.6
   a study of drums (model 3d-compliant): residual joint slip of 2 % and 20 % of the joint's diameter:

@@ -8,7 +8,7 @@ from pipeline.errors import InputError
 _EXAMPLES = """\
 examples:
   the risk of every column, model and damage state at the sites of an OpenQuake hazard curve (PGA):
-    frustum risk out/quickstart-fragility.nc --hazard hazard_curve-mean-PGA_12.csv --out risk.nc
+    frustum risk out/quickstart_fragility.nc --hazard hazard_curve-mean-PGA_12.csv --out risk.nc
   in 100 years, with a spreadsheet and a figure:
     frustum risk frag.nc --hazard curve.csv --years 100 --out risk.nc --csv risk.csv --plot risk.png
   a plain two-column curve: first line 'PGA [g],annual_rate [1/yr]' (or 'SA(1.0) [g],poe in 50 years')
@@ -89,21 +89,23 @@ def _print_summary(risk, state):
         for c in risk["column"].values:
             for m in risk["model"].values:
                 cell = risk.sel(site=site, column=c, model=m, state=state)
+                head = f"{site} {c} {m} {state}:"
+                reason = R.no_risk_reason(risk, site, c, m, state)
+                if reason is not None:
+                    print(f"{head} no risk computed: {reason}")
+                    continue
                 lam = float(cell["annual_frequency"])
                 flag = R.RISK_FLAGS[int(cell["risk_flag"])]
-                if not math.isfinite(lam):
-                    print(f"{site} {c} {m} {state}: no risk computed ({flag.replace('_', ' ')})")
+                note = "" if flag == "ok" else f"; {flag.replace('_', ' ')}"
+                if lam <= 0:
+                    print(f"{head} 0 /yr{note}")
                     continue
                 p = float(cell["probability_in_period"])
                 lo, hi = float(cell["probability_in_period_lower"]), float(cell["probability_in_period_upper"])
-                note = "" if flag == "ok" else f"; {flag.replace('_', ' ')}"
-                if lam <= 0:
-                    print(f"{site} {c} {m} {state}: 0 /yr{'' if flag == 'ok' else '; ' + flag.replace('_', ' ')}")
-                    continue
                 blo, bhi = (float(cell[f"probability_in_period_band_{b}"]) for b in ("lower", "upper"))
-                band = f"; bootstrap band {100 * blo:.2g}-{100 * bhi:.2g} %" if math.isfinite(blo) else ""
-                once = float(f"{1 / lam:.2g}")
-                print(f"{site} {c} {m} {state}: {lam:.3g} /yr, once in {once:,.0f} yr on average; in {years:g} yr "
-                      f"{100 * p:.2g} % ({R.one_in(p)}{band}; curve-end bounds {100 * lo:.2g}-{100 * hi:.2g} %{note})")
+                band = f"; bootstrap band {R.percent(blo)} to {R.percent(bhi)}" if math.isfinite(blo) else ""
+                print(f"{head} {lam:.3g} /yr, once in {R.years_words(float(cell['return_period']))} on average; in "
+                      f"{years:g} yr {R.percent(p)} ({R.one_in(p)}{band}; curve-end bounds {R.percent(lo)} to "
+                      f"{R.percent(hi)}{note})")
     if len(sites) > 10:
         print(f"... and {len(sites) - 10} more site(s): see the netCDF or --csv")

@@ -7,6 +7,7 @@ or field, the fix where there is one, and every file of the user's
 byte-identical afterwards. Nothing here computes more than one 2-s record.
 """
 
+import math
 import os
 import shutil
 from pathlib import Path
@@ -160,6 +161,35 @@ CATALOGUE = [
     ("report-reference-not-in-the-results", ["report", "{results}", OUT, "{tmp}/rep", "--bootstrap", "0",
                                              "--reference", "stack"], 2,
      ["--reference 'stack' is not a model of", "its models are 3d: give one of them"]),
+    # issue 38, item 2: hazard files refused naming what is wrong; a negative number after any flag of any
+    # subcommand reaches the option's own check (argparse said "expected one argument")
+    ("risk-hazard-level-no-motion-reaches", ["risk", "{fragility}", "--hazard", "{hazard_1e300}", OUT, "{tmp}/r.nc"],
+     2, ["level-1e300.csv: column 'poe-1e300': a level of 1e+300 g is beyond any ground motion",
+         "levels up to 30 g are accepted", "give each level in g"]),
+    ("risk-hazard-semicolons", ["risk", "{fragility}", "--hazard", "{hazard_semicolons}", OUT, "{tmp}/r.nc"], 2,
+     ["semicolons.csv: the fields are separated by ';'", "save the file as comma-separated"]),
+    ("risk-hazard-without-metadata-row", ["risk", "{fragility}", "--hazard", "{hazard_no_metadata}", OUT,
+                                          "{tmp}/r.nc"], 2,
+     ["no-metadata.csv: the first line is the header", "starts with a '#' row of metadata", "investigation_time"]),
+    ("risk-hazard-header-trailing-comma", ["risk", "{fragility}", "--hazard", "{hazard_trailing_comma}", OUT,
+                                           "{tmp}/r.nc"], 2,
+     ["trailing-comma.csv: the header ends in an empty column (a trailing comma after 'poe-2.0000000')"]),
+    ("report-hazard-semicolons", ["report", "{results}", OUT, "{tmp}/rep", "--hazard", "{hazard_semicolons}"], 2,
+     ["semicolons.csv: the fields are separated by ';'"]),
+    ("simulate-step-negative-exponent", SIM + ["--model", "3d-compliant", "--step", "-1e-5", OUT, "{tmp}/h.nc"], 2,
+     ["step", "-1e-05"]),
+    ("simulate-tail-negative-exponent", SIM + [OUT, "{tmp}/h.nc", "--tail", "-1e-3"], 2,
+     ["--tail -0.001", "[0, 3600]"]),
+    ("simulate-scale-minus-inf", SIM + [OUT, "{tmp}/h.nc", "--scale", "-inf"], 2, ["scale = -inf", "positive"]),
+    ("risk-years-negative-exponent", ["risk", "{fragility}", "--hazard", "{hazard}", OUT, "{tmp}/r.nc", "--years",
+                                      "-5e1"], 2, ["--years -50: give a positive number of years"]),
+    ("report-years-negative-exponent", ["report", "{results}", OUT, "{tmp}/rep", "--hazard", "{hazard}", "--years",
+                                        "-1E2"], 2, ["--years -100: give a positive number of years"]),
+    ("fragility-confidence-negative-exponent", ["fragility", "{results}", OUT, "{tmp}/f.nc", "--confidence",
+                                                "-.5e-1"], 2, ["--confidence -0.05"]),
+    ("animate-fps-negative-exponent", ["animate", "{histories}", OUT, "{tmp}/a.gif", "--fps", "-1e1"], 2,
+     ["--fps -10", "between 0.1 and 100"]),
+    ("records-dt-negative-exponent", ["records", "show", "SYN-RICKER", "--dt", "-1e-2"], 2, ["--dt -0.01"]),
 ]
 
 #: Study files of the catalogue: the tiny study with one line replaced ({placeholder: (old, new)}).
@@ -172,6 +202,14 @@ STUDIES = {
     "study_step_safety": ('models = ["3d"]', '[models.a]\nmodel = "3d-compliant"\noptions = {step = 0.001}\n'
                           'numerics = {step_safety = 0.3}'),
     "study_named_2d": ('models = ["3d"]', '[models.2d]\nmodel = "3d"'),
+}
+
+#: Hazard files of the issue 38 entries: the committed engine export, edited as a spreadsheet or a hand would.
+ISSUE_38_HAZARD = {
+    "hazard_1e300": ("level-1e300.csv", lambda b: b.replace(b"poe-2.0000000", b"poe-1e300")),
+    "hazard_semicolons": ("semicolons.csv", lambda b: b.replace(b",", b";")),
+    "hazard_no_metadata": ("no-metadata.csv", lambda b: b.split(b"\r\n", 1)[1]),
+    "hazard_trailing_comma": ("trailing-comma.csv", lambda b: b.replace(b"poe-2.0000000\r\n", b"poe-2.0000000,\r\n")),
 }
 
 
@@ -214,6 +252,9 @@ def files(tmp_path, results_nc, histories_nc, failed_results_nc):
     paths["photo_gif"].write_bytes(b"GIF89a a photo of the site\n")
     paths["hazard"] = tmp_path / "hazard_curve-mean-PGA_1.csv"
     shutil.copy(HAZARD, paths["hazard"])
+    for key, (name, edit) in ISSUE_38_HAZARD.items():
+        paths[key] = tmp_path / name
+        paths[key].write_bytes(edit(HAZARD.read_bytes()))
     for key, name, data in (("notes_dir", "report.md", b"# my notes\n"), ("photos_dir", "figures/site.png", b"\x89PNG"),
                             ("table_dir", "summary.csv", b"column,height\nA,4\n")):
         paths[key] = tmp_path / key
@@ -269,3 +310,32 @@ def test_quiet_workflow_exits_75_in_silence_when_another_run_holds_the_lock(file
     finally:
         held.release()
     assert capsys.readouterr() == ("", "")
+
+
+def test_every_parser_of_the_command_reads_a_negative_number_as_a_value():
+    """Issue 38, item 2: the top parser, every subcommand and every action of a subcommand take any
+    '-<digit>', '-.<digit>', '-inf' or '-nan' for a value (Python 3.14's reading, pipeline.cli.Parser),
+    while an option after a flag is still an option."""
+    import argparse
+
+    from pipeline.cli import Parser, build_parser
+
+    def walk(parser, name):
+        yield name, parser
+        for action in parser._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                for sub, child in action.choices.items():
+                    yield from walk(child, f"{name} {sub}")
+
+    parsers = dict(walk(build_parser(), "frustum"))
+    assert {"frustum simulate", "frustum study run", "frustum records show", "frustum risk"} <= set(parsers)
+    assert [name for name, p in parsers.items() if not isinstance(p, Parser)] == []
+    p = Parser(prog="t")
+    p.add_argument("--x", type=float)
+    p.add_argument("--flag", action="store_true")
+    for text, value in (("-1e-5", -1e-5), ("-.5", -0.5), ("-2.5E+3", -2500.0), ("-1_000", -1000.0), ("-7", -7.0),
+                        ("-inf", -math.inf), ("-Infinity", -math.inf)):
+        assert p.parse_args(["--x", text]).x == value, text
+    assert math.isnan(p.parse_args(["--x", "-nan"]).x)
+    with pytest.raises(SystemExit):
+        p.parse_args(["--x", "--flag"])  # an option is not swallowed as a value

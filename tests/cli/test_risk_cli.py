@@ -7,11 +7,14 @@ user's files byte-identical.
 import csv
 import math
 import shutil
+import warnings
+from pathlib import Path
 
+import numpy as np
 import pytest
 import xarray as xr
 from cli_files import snapshot, unchanged
-from hazard_files import example_openquake_text, openquake_text
+from hazard_files import example_openquake_text, fixed_fragility, openquake_text, plain_text
 
 from pipeline.cli import main
 from pipeline.paths import result_kind
@@ -133,3 +136,100 @@ def test_report_with_hazard_states_the_risk_in_plain_words(results_nc, inputs, t
     assert not (tmp_path / "r2").exists()
     assert main(["report", str(results_nc), "--out", str(tmp_path / "r3"), "--years", "20"]) == 2
     assert "give --hazard" in _err(capsys)
+
+
+# -- issue 38, item 2: what frustum risk and report --hazard print -----------------------------------
+
+@pytest.fixture(scope="module")
+def fixed(inputs, tmp_path_factory):
+    """{median [g]: the fragility of ``inputs`` with overturning at that median, beta 0.3, no replicates}."""
+    from pipeline import fragility as F
+    from pipeline import risk as R
+
+    folder = tmp_path_factory.mktemp("fixed")
+    frag = R.open_fragility(inputs[0])
+    return {m: Path(F.write(fixed_fragility(frag, m, 0.3), folder / f"fixed-{m:g}.nc")) for m in (0.02, 1.9)}
+
+
+def _risk_lines(argv, capsys):
+    """stdout of ``frustum risk`` run in-process, with no numpy (or other Runtime) warning on the way."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        assert main(["risk", *argv]) == 0
+    assert not [w for w in caught if issubclass(w.category, RuntimeWarning)], [str(w.message) for w in caught]
+    return capsys.readouterr().out.splitlines()
+
+
+def test_summary_near_certainty_is_a_percentage_not_1e02(fixed, inputs, tmp_path, capsys):
+    """Median 0.02 g at the example's high site: 1 - exp(-50 lambda) = 99.69 %, printed '1e+02 %' before."""
+    lines = _risk_lines([str(fixed[0.02]), "--hazard", str(inputs[1]), "--out", str(tmp_path / "r.nc")], capsys)
+    with xr.open_dataset(tmp_path / "r.nc") as ds:
+        p = float(ds["probability_in_period"].sel(site="site-0", column="paper", model="3d", state="overturning"))
+    assert 0.9965 < p < 0.9975
+    assert lines[:2] == [
+        "site-0 paper 3d overturning: 0.115 /yr, once in 8.7 years on average; in 50 yr 99.7 % (almost certain (more "
+        "than 19 in 20); curve-end bounds 99.7 % to 99.7 %)",
+        "site-1 paper 3d overturning: 0.0463 /yr, once in 22 years on average; in 50 yr 90 % (about 9 in 10; "
+        "curve-end bounds 90 % to 90 %)",
+    ]
+
+
+def test_summary_of_an_astronomical_return_period(fixed, tmp_path, capsys):
+    """A curve that falls to 1e-300 /yr at 5 g: 4.25e-55 /yr, once in 2 followed by 54 digits years before."""
+    curve = tmp_path / "far.csv"
+    curve.write_text(plain_text(np.array([0.01, 0.02, 5.0]), (1e-2, 1e-3, 1e-300)))
+    lines = _risk_lines([str(fixed[1.9]), "--hazard", str(curve), "--out", str(tmp_path / "r.nc")], capsys)
+    assert lines[0] == ("site-0 paper 3d overturning: 4.25e-55 /yr, once in more than a million years on average; in "
+                        "50 yr < 0.0001 % (less than 1 in a million; curve-end bounds < 0.0001 % to < 0.0001 %)")
+
+
+def test_summary_says_the_integral_overflows_not_median_beyond_the_curve(fixed, tmp_path, capsys):
+    """Rates of 1e300 to 1e100 /yr over 0.1-0.5 g: before, numpy's overflow warnings and "no risk computed
+    (median beyond hazard curve)"; the median (0.02 g) lies below the curve's first level."""
+    curve = tmp_path / "steep.csv"
+    curve.write_text(plain_text(np.array([0.1, 0.2, 0.5]), (1e300, 1e200, 1e100)))
+    lines = _risk_lines([str(fixed[0.02]), "--hazard", str(curve), "--out", str(tmp_path / "r.nc"), "--plot",
+                         str(tmp_path / "r.png")], capsys)
+    assert lines[0] == (
+        "site-0 paper 3d overturning: no risk computed: the hazard curve's first segment (0.1 to 0.2 g) falls as "
+        "a^-332; extended below 0.1 g, as the central value extends it, it carries the risk integral beyond the "
+        "largest number a float holds (1.8e308 /yr); hazard curves flatten towards weak shaking (slopes of a few): "
+        "check the rates of the first levels, or give lower levels (shaking above 0.1 g alone gives at least "
+        "1e+300 /yr)")
+    with xr.open_dataset(tmp_path / "r.nc") as ds:
+        flag = ds["risk_flag"].sel(site="site-0", column="paper", model="3d", state="overturning")
+        assert flag.attrs["flag_meanings"].split()[int(flag)] == "integral_overflows"
+
+
+def test_report_hazard_section_in_the_same_words(fixed, inputs, tmp_path):
+    """The report's "Risk at the site": 99.7 % (not 1e+02 %), once in 8.7 years; the overflow's reason."""
+    from pipeline import report
+    from pipeline import risk as R
+
+    frag = R.open_fragility(fixed[0.02])
+    pga = R.read_hazard_curve(inputs[1])
+    text = "\n".join(report._risk_section(R.site_risk(frag, pga), pga, frag))
+    assert "| site-0 | paper | 3D | 99.7 % | almost certain (more than 19 in 20) | 8.7 years | n/a |" in text
+    steep = tmp_path / "steep.csv"
+    steep.write_text(plain_text(np.array([0.1, 0.2, 0.5]), (1e300, 1e200, 1e100)))
+    curve = R.read_hazard_curve(steep)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        text = "\n".join(report._risk_section(R.site_risk(frag, curve), curve, frag))
+    assert "| site-0 | paper | 3D | n/a | integral overflows | | | |" in text
+    assert ("- At site site-0, column 'paper' (3D): no risk is stated: the hazard curve's first segment (0.1 to "
+            "0.2 g) falls as a^-332;") in text
+
+
+def test_help_names_the_fragility_file_the_readme_writes(capsys):
+    """`frustum fragility --help` writes, and `frustum risk --help` reads, out/quickstart_fragility.nc, as the
+    README's quickstart does (it said out/quickstart-fragility.nc)."""
+    readme = (Path(__file__).parents[2] / "README.md").read_text(encoding="utf-8")
+    assert "--out out/quickstart_fragility.nc" in readme and "frustum risk out/quickstart_fragility.nc" in readme
+    for command, words in (("fragility", "--out out/quickstart_fragility.nc"),
+                           ("risk", "frustum risk out/quickstart_fragility.nc --hazard")):
+        with pytest.raises(SystemExit) as done:
+            main([command, "--help"])
+        assert done.value.code == 0
+        text = capsys.readouterr().out
+        assert words in text and "quickstart-fragility" not in text, text

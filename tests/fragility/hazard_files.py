@@ -61,9 +61,24 @@ def plain_text(levels_g, rates, header="PGA [g],annual_rate [1/yr]"):
 
 
 def power_law_text(k0, k, median_ms2, levels=40, header="PGA [g],annual_rate [1/yr]"):
-    """A plain curve H = k0 a^-k (a in m/s^2) over 1e-3..1e3 times the median, levels written in g."""
-    a = np.geomspace(median_ms2 * 1e-3, median_ms2 * 1e3, levels)
+    """A plain curve H = k0 a^-k (a in m/s^2) from 1e-3 times the median to 1e3 times it or 20 g, whichever
+    is lower (the reader refuses levels beyond 30 g, pipeline.risk.MAX_LEVEL), levels written in g."""
+    a = np.geomspace(median_ms2 * 1e-3, min(median_ms2 * 1e3, 20.0 * G), levels)
     return plain_text(a / G, k0 * a ** -k, header)
+
+
+def fixed_fragility(frag, median_g, beta, state="overturning"):
+    """A copy of a fragility Dataset whose ``state`` has the given lognormal fit in every column and model
+    (median [g], beta [1], fit_status ok) and no bootstrap replicates: a risk whose numbers follow from the
+    hazard curve and these two alone."""
+    from pipeline import fragility as F
+
+    out = frag.drop_vars([n for n in frag.variables if "bootstrap" in frag[n].dims], errors="ignore")
+    out = out.drop_dims("bootstrap", errors="ignore").copy(deep=True)
+    out["median"].loc[{"state": state}] = median_g * G
+    out["beta"].loc[{"state": state}] = beta
+    out["fit_status"].loc[{"state": state}] = F.FIT_OK
+    return out
 
 
 if __name__ == "__main__":  # regenerate tests/data/hazard/hazard_curve-mean-PGA_1.csv

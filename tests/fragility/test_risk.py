@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 import xarray as xr
 from fragility_synthetic import make_results
-from hazard_files import (EXAMPLE_LEVELS_G, example_openquake_text, openquake_text, plain_text, power_law_text,
-                          quadratic_curve)
-from scipy.special import ndtr
+from hazard_files import (EXAMPLE_LEVELS_G, example_openquake_text, fixed_fragility, openquake_text, plain_text,
+                          power_law_text, quadratic_curve)
+from scipy.special import log_ndtr, ndtr
 
 from pipeline import fragility as F
 from pipeline import risk as R
@@ -39,7 +39,7 @@ def _kennedy(k0, k, median, beta):
     (1e-4, 2.0, 0.3, 0.3), (1e-4, 3.5, 0.6, 0.6), (2e-3, 1.5, 0.1, 0.8), (1e-5, 6.0, 1.0, 0.5), (5e-4, 3.0, 0.45, 0.2),
 ])
 def test_kennedy_closed_form_for_a_power_law_hazard(tmp_path, k0, k, median_g, beta):
-    """A power law H = k0 a^-k (a in m/s^2) read from a plain CSV in g, 40 levels over 1e-3..1e3 x median.
+    """A power law H = k0 a^-k (a in m/s^2) read from a plain CSV in g, 40 levels from 1e-3 x median to 20 g.
 
     Tolerance 0.5 % (the issue's): the closed form per segment is exact for a power law, so what is
     left is the g <-> m/s^2 round trip of the levels written with repr (17 digits), ~1e-15.
@@ -189,6 +189,17 @@ def test_poe_in_50_years_equals_annual_rates(tmp_path):
     ("PGA [g],rate\n0.1,1e-3\n0.2,1e-2\n", "never rises"),
     ("PGA [g],rate\n0.1,1e-3\n", "at least two levels"),
     ("AvgSA [g],rate\n0.1,1e-2\n0.2,1e-3\n", "name the intensity measure"),
+    # issue 38, item 2: what is wrong, by name
+    ("PGA [g];annual_rate [1/yr]\n0,1;1e-2\n0,2;1e-3\n", "the fields are separated by ';'"),
+    ("PGA [g]\tannual_rate [1/yr]\n0.1\t1e-2\n0.2\t1e-3\n", "the fields are separated by tabs"),
+    ("PGA [g],annual_rate [1/yr],\n0.1,1e-2,\n0.2,1e-3,\n",
+     "the header ends in an empty column (a trailing comma after 'annual_rate [1/yr]')"),
+    ("PGA [g],annual_rate [1/yr]\n0.1,1e-2\n0.2,1e-3,\n", "line 3 ends in 1 empty field(s) beyond the 2 of the header"),
+    ("PGA [g],annual_rate [1/yr]\n0.1,1e-2\n500,1e-3\n", "line 3: a level of 500 g is beyond any ground motion"),
+    ("PGA [cm/s2],annual_rate [1/yr]\n100,1e-2\n50000,1e-3\n", "line 3: a level of 50000 cm/s2 is beyond"),
+    ("PGV [cm/s],annual_rate [1/yr]\n10,1e-2\n5000,1e-3\n",
+     "line 3: a level of 5000 cm/s is beyond any ground motion (the strongest recorded: PGV 3.18 m/s; levels up to "
+     "3000 cm/s are accepted)"),
 ])
 def test_bad_plain_curves_are_refused_by_name(tmp_path, text, words):
     path = _write(tmp_path, "bad.csv", text)
@@ -272,6 +283,9 @@ def test_no_overturning_is_flagged_not_crashed(tmp_path):
     risk = R.site_risk(frag, curve)
     cell = risk.sel(site="site-0", column="paper", model="3d", state="overturning")
     assert np.isnan(float(cell["annual_frequency"])) and np.isnan(float(cell["annual_frequency_band_upper"]))
+    assert np.isnan(float(cell["return_period"]))  # not "never": unknown (issue 38)
+    assert R.no_risk_reason(risk, "site-0", "paper", "3d", "overturning") == (
+        "no run reached overturning, so the fragility has no median to integrate")
     assert R.RISK_FLAGS[int(cell["risk_flag"])] == "no_median_no_exceedance_observed"
     assert R.write(risk, tmp_path / "risk.nc")
     assert R.write_csv(risk, tmp_path / "risk.csv")
@@ -286,6 +300,131 @@ def test_median_beyond_the_curve_warns_and_flags(tmp_path, frag):
     assert R.RISK_FLAGS[int(cell["risk_flag"])] == "median_beyond_hazard_curve"
     assert float(cell["share_beyond_last_level"]) > 0.5
     assert float(cell["annual_frequency_lower"]) < float(cell["annual_frequency"]) < float(cell["annual_frequency_upper"])
+
+
+# -- issue 38, item 2: saturated levels, extreme rates, absurd levels and files, the words printed -
+
+def test_saturated_levels_raise_no_warning_and_keep_the_risk(tmp_path, frag):
+    """PoE = 1 at the lowest levels, common in real exports: no numpy warning, and the risk that the
+    levels below saturation give, which for a power law H = k0 a^-k is Kennedy's closed form.
+
+    Tolerance 1e-4: the engine's %.6E PoE carries 7 digits; at the first unsaturated level (PoE
+    0.9972) -ln(1 - PoE) keeps them to 5e-7 / ((1 - PoE) |ln(1 - PoE)|) = 3e-5, felt only through the
+    slope of the first segment; near the median the rates keep ~1e-6.
+    """
+    k0, k, median, beta = 2e-3, 2.5, 0.6 * G, 0.4
+    poe = -np.expm1(-50.0 * k0 * (EXAMPLE_LEVELS_G * G) ** -k)
+    text = openquake_text(EXAMPLE_LEVELS_G, [poe], [(0.0, 0.0)])
+    assert text.count(",1.000000E+00") == 2  # 0.005 g and 0.01 g saturate in the engine's format
+    f = fixed_fragility(frag, median / G, beta)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        curve = R.read_hazard_curve(_write(tmp_path, "hazard_curve-mean-PGA_5.csv", text))
+        risk = R.site_risk(f, curve)
+    assert np.isinf(curve.rate[0, :2]).all() and R.usable_curve(curve, 0)[0].size == EXAMPLE_LEVELS_G.size - 2
+    lam = float(risk["annual_frequency"].sel(site="site-0", column="paper", model="3d", state="overturning"))
+    assert lam == pytest.approx(_kennedy(k0, k, median, beta), rel=1e-4)
+    # the same as the file without its saturated columns (same levels and rates, same sums)
+    cut = R.read_hazard_curve(_write(tmp_path, "hazard_curve-mean-PGA_6.csv",
+                                     openquake_text(EXAMPLE_LEVELS_G[2:], [poe[2:]], [(0.0, 0.0)])))
+    assert lam == pytest.approx(float(R.risk_integral(*R.usable_curve(cut, 0), median, beta).central), rel=1e-14)
+
+
+#: Curves that fall 100 (or 150) decades per level: extended below 0.1 g their rates leave the floats.
+STEEP = [(1e300, 1e200, 1e100), (1e-100, 1e-200, 1e-300), (1e-3, 1e-150, 1e-300)]
+
+
+@pytest.mark.parametrize("rates", STEEP)
+def test_extreme_rates_say_the_integral_overflows_without_a_numpy_warning(tmp_path, frag, rates):
+    """No numpy warning (integral, files, figure); risk_flag integral_overflows with the central value NaN,
+    not "median beyond the curve"; the lower bound (the curve's own levels) still a number.
+
+    The lower bound against a 400 001-point trapezoid of P |dH/d ln a| per segment, in logs, plus
+    P(a_L) H(a_L): the steepest segment (k = 500) changes by k dx = 9e-4 per step, a trapezoid error of
+    (k dx)^2 / 12 = 7e-8, so 1e-6.
+    """
+    from pipeline.plotting_risk import plot_risk
+
+    levels_g, median, beta = np.array([0.1, 0.2, 0.5]), 0.6 * G, 0.4
+    f = fixed_fragility(frag, median / G, beta)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        warnings.simplefilter("ignore", HazardWarning)  # medians beyond 0.5 g, rightly warned about
+        risk = R.site_risk(f, R.read_hazard_curve(_write(tmp_path, "h.csv", plain_text(levels_g, rates))))
+        R.write_csv(risk, tmp_path / "risk.csv")
+        R.write(risk, tmp_path / "risk.nc")
+        plot_risk(risk, tmp_path / "risk.png")
+    cell = risk.sel(site="site-0", column="paper", model="3d", state="overturning")
+    assert R.RISK_FLAGS[int(cell["risk_flag"])] == "integral_overflows"
+    for name in ("annual_frequency", "probability_in_period", "return_period", "share_below_first_level"):
+        assert np.isnan(float(cell[name])), name
+    assert np.isposinf(float(cell["annual_frequency_upper"]))
+    a, ln_h = levels_g * G, np.log(rates)
+    lower = ndtr((math.log(a[-1]) - math.log(median)) / beta) * rates[-1]
+    for i in range(2):
+        x = np.linspace(math.log(a[i]), math.log(a[i + 1]), 400_001)
+        k = (ln_h[i] - ln_h[i + 1]) / (x[-1] - x[0])
+        ln_d = log_ndtr((x - math.log(median)) / beta) + math.log(k) + ln_h[i] - k * (x - x[0])
+        lower += np.trapezoid(np.exp(ln_d - ln_d.max()), x) * math.exp(ln_d.max())
+    assert float(cell["annual_frequency_lower"]) == pytest.approx(lower, rel=1e-6)
+    reason = R.no_risk_reason(risk, "site-0", "paper", "3d", "overturning")
+    assert reason.startswith("the hazard curve's first segment (0.1 to 0.2 g) falls as a^-")
+    assert reason.endswith(f"(shaking above 0.1 g alone gives at least {lower:.3g} /yr)")
+
+
+@pytest.mark.parametrize("edit, message", [
+    (lambda t: t.replace(",", ";"),
+     "the fields are separated by ';' ('lon;lat;depth;poe-0.0050000;poe-0.010...'); a hazard curve CSV separates "
+     "them by commas, with decimal points, as the OpenQuake engine writes it: export the curves again ('oq export "
+     "hcurves') or save the file as comma-separated"),
+    (lambda t: t.split("\r\n", 1)[1],
+     "the first line is the header (lon,lat,...,poe-<IML>); the OpenQuake engine's export starts with a '#' row of "
+     "metadata before it (kind='mean', investigation_time=50.0, imt='PGA'), without which the probabilities of "
+     "exceedance cannot be turned into annual rates: restore that row from the engine's export ('oq export hcurves')"),
+    (lambda t: t.replace("poe-2.0000000\r\n", "poe-2.0000000,\r\n"),
+     "the header ends in an empty column (a trailing comma after 'poe-2.0000000'); remove the trailing comma (and "
+     "any at the end of the rows)"),
+    (lambda t: t.replace("\r\n22.88", ",\r\n22.88"),
+     "line 3 ends in 1 empty field(s) beyond the 19 of the header (a trailing comma?); remove the trailing comma"),
+    (lambda t: t.replace("poe-2.0000000", "poe-1e300"),
+     "column 'poe-1e300': a level of 1e+300 g is beyond any ground motion (the strongest recorded: PGA 4.36 g; levels "
+     "up to 30 g are accepted); give each level in g, as the OpenQuake engine writes it (poe-0.5000000 for 0.5 g)"),
+    (lambda t: t.replace("poe-2.0000000", "poe-31.0000000"), "column 'poe-31.0000000': a level of 31 g is beyond"),
+])
+def test_bad_openquake_files_are_refused_saying_what_is_wrong(tmp_path, edit, message):
+    """The engine's export edited as a spreadsheet or a hand would: the message names the fault, not
+    "needs a header and at least two levels" or "unknown: "; a level no ground motion reaches is refused
+    rather than narrowing the curve-end bounds to a false certainty (pipeline.risk.MAX_LEVEL)."""
+    path = _write(tmp_path, "hazard_curve-mean-PGA_1.csv", edit(example_openquake_text()))
+    with pytest.raises(InputError) as info:
+        R.read_hazard_curve(path)
+    assert str(info.value).startswith(f"{path}: {message}"), str(info.value)
+
+
+def test_a_level_of_30_g_is_still_read(tmp_path):
+    """The bound is MAX_LEVEL: 30 g, a level of an extreme hazard calculation, is accepted."""
+    text = example_openquake_text().replace("poe-2.0000000", "poe-30.0000000")
+    assert R.read_hazard_curve(_write(tmp_path, "hazard_curve-mean-PGA_1.csv", text)).levels[-1] == 30.0 * G
+
+
+@pytest.mark.parametrize("p, text", [
+    (0.024, "2.4 %"), (0.00059, "0.059 %"), (0.994, "99 %"), (0.995, "99.5 %"), (0.99689, "99.7 %"),
+    (0.9995, "99.95 %"), (0.999949, "99.99 %"), (0.99995, "> 99.99 %"), (1.0, "> 99.99 %"), (5e-7, "< 0.0001 %"),
+    (1.5e-6, "0.00015 %"), (0.0, "0 %"), (math.nan, "n/a"),
+])
+def test_percent_never_rounds_to_a_certainty(p, text):
+    """The words of issue 38: '1e+02 %' was printed for 99.5 % and above."""
+    assert R.percent(p) == text
+
+
+@pytest.mark.parametrize("period, text", [
+    (1e280, "more than a million years"), (1.5e6, "more than a million years"), (17544.0, "18,000 years"),
+    (2134.0, "2,100 years"), (999_999.0, "1,000,000 years"), (12.3, "12 years"), (1.0, "1 year"), (0.5, "0.5 years"),
+    (1e-5, "less than 0.001 years"), (math.inf, "never"), (math.nan, "n/a"),
+])
+def test_years_in_words(period, text):
+    """A return period printed with 280 digits before issue 38."""
+    assert R.years_words(period) == text
 
 
 def test_fragility_file_keeps_replicates_and_the_sa_period(frag):
