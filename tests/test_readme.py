@@ -166,3 +166,17 @@ def test_every_repository_path_the_readme_names_exists():
              if token.split("/")[0] in REPOSITORY_FOLDERS and "/" in token]
     assert len(named) >= 10  # the premise
     assert [path for path in named if not _held(path.rstrip("/"), held)] == []
+
+
+def test_the_licence_is_an_spdx_expression_and_the_build_asks_for_a_setuptools_that_reads_it():
+    """``license = { text = "MIT" }`` made setuptools (>= 77, which pip picks for the build) print a
+    deprecation warning twice on every install; an SPDX string needs setuptools >= 77 to be read.
+    Checked by hand: in a fresh venv with pip upgraded (26.3, as ``make`` does), ``pip install -e .``
+    printed it three times before and no longer prints it."""
+    import tomllib
+
+    data = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
+    assert data["project"]["license"] == "MIT"
+    (setuptools,) = [r for r in data["build-system"]["requires"] if r.startswith("setuptools")]
+    minimum = re.fullmatch(r"setuptools>=(\d+)(?:\.\d+)*", setuptools.replace(" ", ""))
+    assert minimum and int(minimum.group(1)) >= 77, setuptools
