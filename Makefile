@@ -32,7 +32,7 @@ udunits:
 
 # The main job: the default study (the paper's column, FEMA far-field pairs, several
 # angles and scales, both models) on a local Dask cluster of processes; writes
-# out/quickstart.nc and out/quickstart.png (under half a minute on two cores).
+# out/quickstart.nc and out/quickstart.png (how long: README.md, "The two commands").
 main: setup
 	$(BIN)/frustum study run studies/quickstart.toml --plot out/quickstart.png
 

@@ -22,10 +22,25 @@ for a capital, each placed by its own displacement, tilt and rotation
 Ground displacement is the double trapezoidal integral of the ground
 acceleration from rest, without baseline correction: it shows how the ground
 moves, not a survey of where it ends.
+
+A run ends at the overturn (:func:`frame`): the models compute no further,
+and the histories hold the last computed state to the end of the record (the
+compliant model stops when a body reaches its lying tilt, which for a drum
+high on the shaft is in mid-air). From the overturn on, a view shows that
+last state as one still picture, greyed, with plate, path and arrow stopped
+with it, and a caption saying when the column fell and which bodies fell. A
+body that fell is drawn only where it lies on the ground (a rigid column
+that lay down); one still in the air when the run ended is not drawn, and
+the caption says that where it came to rest is not computed. Drawing it
+anywhere, frozen in the air or laid on the ground at a guessed place, would
+show a position the model never computed, and where fallen drums lie is
+what an archaeologist compares with a site. The animation ends
+:data:`HOLD` seconds after the last of its runs ended.
 """
 
 import math
 import os
+import textwrap
 from dataclasses import dataclass
 
 import numpy as np
@@ -205,10 +220,17 @@ class Motion:
         if "drum_dx" in run and np.isfinite(run["drum_dx"].values).any():
             self._drums(run)
         self.overturn_time = math.nan
+        self.overturn_row = None  # the row holding the last computed state, from which the histories are held
         if "phase" in run:
             over = np.flatnonzero(run["phase"].values == 2)
             if over.size:
+                self.overturn_row = int(over[0])
                 self.overturn_time = float(self.time[over[0]])
+                if "overturn_time" in run and np.isfinite(run["overturn_time"].values):  # between two rows
+                    self.overturn_time = float(run["overturn_time"])
+        # the body that lay down or fell first (the bodies above it went with it); a file without it: all fell
+        first = int(run["overturn_drum"]) if "overturn_drum" in run else 0
+        self.fell_from = first if first >= 0 else 0
 
     def _drums(self, run):
         """Each drum's shape and, over time, its centre of mass [m] and Euler angles [rad]."""
@@ -227,6 +249,17 @@ class Motion:
     def index(self, t):
         """Row of the histories at time ``t`` [s] (the last at or before it)."""
         return int(np.clip(np.searchsorted(self.time, t + 1e-9, side="right") - 1, 0, self.time.size - 1))
+
+    @property
+    def ended(self):
+        """Whether the run ended before its record did (the column overturned)."""
+        return self.overturn_row is not None
+
+    def body_name(self, b):
+        """How a caption names body ``b``: ``"the column"``, ``"drum 2"`` (from the bottom, from 1) or ``"the capital"``."""
+        if len(self.drums) <= 1:
+            return "the column"
+        return "the capital" if self.drums[b].sides else f"drum {b + 1}"
 
 
 def rigid_bodies(motion, i):
@@ -250,6 +283,91 @@ def drum_bodies(motion, i):
         base = motion.drum_centre[i, b] - rotation[:, 2] * shape.z_cm + motion.ground[i]
         out.append((shape, Pose(base, rotation)))
     return out
+
+
+#: Seconds of animation a view's last computed state is shown after the last run in the animation ended [s].
+HOLD = 2.0
+#: A body whose lowest point is within this fraction of its base radius of the ground lies on it.
+ON_THE_GROUND = 0.1
+
+
+@dataclass(frozen=True)
+class Frame:
+    """What a view shows at one time.
+
+    Attributes
+    ----------
+    row : int
+        Row of the histories drawn (from the overturn on, the overturn's: the last computed state).
+    bodies : tuple
+        ``(index, Shape, Pose)`` of each body drawn; a body that fell and is not on the ground is left out.
+    ended : bool
+        The run has ended (the column overturned at or before this time): drawn greyed, still.
+    caption : str
+        What the view says of the end of the run ("" before it).
+    """
+
+    row: int
+    bodies: tuple
+    ended: bool
+    caption: str
+
+
+def lowest_point(shape, pose):
+    """Height of the lowest point of a body [m] (a vertex of its drawn outline)."""
+    faces, _ = frustum_faces(shape, pose)
+    return float(min(face[:, 2].min() for face in faces[-2:]))  # the base and the top hold every vertex
+
+
+def frame(motion, t, bodies=None):
+    """What the view of ``motion`` shows at time ``t`` [s] (:class:`Frame`), before drawing it.
+
+    Before the overturn, the bodies at the row of ``t``. From it on, the row of the overturn (the
+    last computed state): the bodies below the one that fell first as computed; the bodies that fell
+    only where they lie on the ground (lowest point within :data:`ON_THE_GROUND` of the base
+    radius), the others left out; the caption says when the column fell, which bodies fell and
+    that what followed is not computed.
+
+    Parameters
+    ----------
+    motion : Motion
+    t : float
+        Time [s].
+    bodies : callable, optional
+        ``bodies(motion, i) -> list of (Shape, Pose)`` (default :func:`drum_bodies` for a
+        column of drums, else :func:`rigid_bodies`).
+    """
+    if bodies is None:
+        bodies = drum_bodies if motion.drums else rigid_bodies
+    ended = motion.ended and t >= motion.overturn_time - 1e-9
+    row = motion.overturn_row if ended else motion.index(t)
+    drawn = [(b, shape, pose) for b, (shape, pose) in enumerate(bodies(motion, row))]
+    if not ended:
+        return Frame(row, tuple(drawn), False, "")
+    fell = [item for item in drawn if item[0] >= motion.fell_from]
+    lying = [item for item in fell if abs(lowest_point(item[1], item[2])) <= ON_THE_GROUND * item[1].R]
+    in_air = [b for b, _, _ in fell if b not in {b for b, _, _ in lying}]
+    drawn = [item for item in drawn if item[0] < motion.fell_from or item in lying]
+    words = [f"Overturned at {motion.overturn_time:.2f} s: the run ends here; greyed: its last computed state"]
+    if lying:
+        verb = "lies" if len(lying) == 1 else "lie"
+        words.append(f"{_names(motion, [b for b, _, _ in lying])} fell and {verb} on the ground as computed")
+    if in_air:
+        they = "it" if len(in_air) == 1 else "they"
+        words.append(f"{_names(motion, in_air)} fell: not drawn, where {they} came to rest is not computed")
+    return Frame(row, tuple(drawn), True, "\n".join(textwrap.fill(w, 80) for w in words))  # within a view
+
+
+def _names(motion, indices):
+    names = [motion.body_name(b) for b in indices]
+    text = ", ".join(names[:-1]) + " and " + names[-1] if len(names) > 1 else names[0]
+    return text[0].upper() + text[1:]
+
+
+def _greyed(colours):
+    """Face colours of the last computed state: their lightness kept, their colour gone, paler."""
+    light = colours @ np.array([0.299, 0.587, 0.114])
+    return np.repeat((0.45 + 0.45 * light)[:, None], 3, axis=1)
 
 
 class ModelView:
@@ -298,19 +416,26 @@ class ModelView:
             self.solids.append(solid)
         self.arrow_scale = 0.8 * self.plate_half / max(float(np.max(np.hypot(*motion.acc[:, :2].T))), 1e-9)
         self.title = ax.set_title("", fontsize=8)
+        self.caption = ax.text2D(0.5, 0.01, "", transform=ax.transAxes, ha="center", va="bottom", fontsize=7,
+                                 color="C3", wrap=False)
 
     def draw(self, t):
         """Move every artist to time ``t`` [s]."""
         m = self.motion
-        i = m.index(t)
+        now = frame(m, t, self.bodies)
+        i = now.row  # from the overturn on, everything stays with the last computed state
         g = m.ground[i]
         h = self.plate_half
         corners = np.array([[-h, -h, 0.0], [h, -h, 0.0], [h, h, 0.0], [-h, h, 0.0]]) + [g[0], g[1], 0.0]
         self.plate.set_verts([corners])
-        for solid, (shape, pose) in zip(self.solids, self.bodies(m, i)):
-            faces, colours = frustum_faces(shape, pose)
-            solid.set_verts(faces)
-            solid.set_facecolor(colours)
+        shown = {b: (shape, pose) for b, shape, pose in now.bodies}
+        for b, solid in enumerate(self.solids):
+            solid.set_visible(b in shown)
+            if b in shown:
+                faces, colours = frustum_faces(*shown[b])
+                solid.set_verts(faces)
+                solid.set_facecolor(_greyed(colours) if now.ended else colours)
+        self.caption.set_text(now.caption)
         drawn = np.isfinite(m.contact[: i + 1, 0])
         if math.isfinite(m.overturn_time):  # the path ends with the fall
             drawn &= m.time[: i + 1] < m.overturn_time
@@ -321,13 +446,13 @@ class ModelView:
         self.arrow.set_data_3d([base[0], tip[0]], [base[1], tip[1]], [0.0, 0.0])
         self.head.set_data_3d([tip[0]], [tip[1]], [0.0])
         tilt = math.degrees(m.theta[i])
-        state = (f", overturned at {m.overturn_time:.2f} s" if math.isfinite(m.overturn_time)
-                 and t >= m.overturn_time else "")
+        state = f", overturned at {m.overturn_time:.2f} s" if now.ended else ""
         name = model_title(m.model)
         if m.drums:
             name = f"{name}: {len(m.drums)} bodies"
         accel = float(np.hypot(*m.acc[i, :2])) / 9.80665
-        self.title.set_text(f"{name}\nt = {m.time[i]:5.2f} s   tilt θ = {tilt:5.2f}° "
+        clock = m.overturn_time if now.ended else m.time[i]  # the clock stops with the run
+        self.title.set_text(f"{name}\nt = {clock:5.2f} s   tilt θ = {tilt:5.2f}° "
                             f"(θ_crit {math.degrees(m.theta_crit):.1f}°){state}\n"
                             f"ground acceleration (red arrow) {accel:.2f} g")
 
@@ -354,16 +479,16 @@ def check_animation_options(fps, speed, dpi):
                          "inch, e.g. 80")
 
 
-def frame_times(time, fps, speed=1.0):
-    """Times [s] of the frames: every ``speed / fps`` seconds of motion from the first to the last row.
+def frame_times(time, fps, speed=1.0, end=None):
+    """Times [s] of the frames: every ``speed / fps`` seconds of motion from the first row to ``end``.
 
-    With ``speed`` 1 the animation plays in real time. More than :data:`MAX_FRAMES`
-    frames are refused before any is drawn.
+    With ``speed`` 1 the animation plays in real time. ``end`` [s]: the last time drawn (default
+    the last row's). More than :data:`MAX_FRAMES` frames are refused before any is drawn.
     """
     if not (fps > 0 and speed > 0):
         raise InputError(f"--fps {fps} and --speed {speed} must be positive numbers")
     step = speed / fps
-    span = float(time[-1] - time[0])
+    span = float(min(time[-1], time[-1] if end is None else end) - time[0])
     n = span / step + 1e-9
     if not n < MAX_FRAMES:
         raise InputError(f"--fps {fps:g} and --speed {speed:g}: {span:g} s of motion would take {n:.3g} frames "
@@ -437,6 +562,13 @@ def _figure(runs, dpi):
     return fig, views
 
 
+def _end_time(motions, speed):
+    """The last time drawn [s]: :data:`HOLD` seconds of animation after the last run ended (its record's end
+    if one of them did not overturn): nothing is left to see but still pictures."""
+    ends = [min(m.overturn_time + HOLD * speed, m.time[-1]) if m.ended else m.time[-1] for m in motions]
+    return max(ends)
+
+
 def render_frame(runs, t, dpi=80):
     """One frame of :func:`animate` at time ``t`` [s], as an RGB array (height, width, 3) of uint8."""
     import matplotlib.pyplot as plt
@@ -453,6 +585,9 @@ def render_frame(runs, t, dpi=80):
 
 def animate(runs, path, fps=10.0, speed=1.0, dpi=80, progress=None):
     """Write an animation of one or more runs side by side (one 3D view each).
+
+    A run that overturned is shown still and greyed from the overturn on (:func:`frame`); the
+    animation ends :data:`HOLD` seconds after the last run ended.
 
     Parameters
     ----------
@@ -482,7 +617,7 @@ def animate(runs, path, fps=10.0, speed=1.0, dpi=80, progress=None):
     writer = _writer(path, fps)
     fig, views = _figure(runs, dpi)
     try:
-        times = frame_times(views[0].motion.time, fps, speed)
+        times = frame_times(views[0].motion.time, fps, speed, end=_end_time([v.motion for v in views], speed))
         os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
         with atomic_path(path) as tmp, writer.saving(fig, tmp, dpi):  # the temporary name keeps the suffix
             for k, t in enumerate(times):
@@ -540,5 +675,5 @@ def animate_file(path, out, fps=10.0, speed=1.0, models=None, dpi=80):
 
 
 __all__ = ["check_animation_path", "check_animation_options", "MAX_FRAMES", "render_frame", "Shape", "Pose", "euler_rotation", "frustum_faces", "rigid_bodies",
-           "drum_bodies", "Motion", "ModelView",
+           "drum_bodies", "Motion", "ModelView", "Frame", "frame", "lowest_point", "HOLD",
            "frame_times", "animate", "animate_file"]

@@ -11,6 +11,7 @@ Accelerations are drawn in g with m/s^2 on a second axis; velocities in m/s.
 
 import math
 import os
+import textwrap
 
 import matplotlib
 
@@ -23,10 +24,6 @@ from pipeline.models import style as _style  # noqa: E402  (each model's line, m
 from pipeline.models import title as model_title  # noqa: E402
 from pipeline.units import G  # noqa: E402
 
-_LINE_NAME = {"-": "solid", "--": "dashed", "-.": "dash-dotted", ":": "dotted", (0, (1, 1)): "densely dotted",
-              (0, (5, 1)): "densely dashed", (0, (3, 1, 1, 1, 1, 1)): "dash-dot-dotted"}
-_MARKER_NAME = {"o": "circles", "s": "squares", "^": "triangles", "d": "thin diamonds", "v": "down triangles",
-                "<": "left triangles", ">": "right triangles"}
 # A study's variants of a model (``[models.NAME]``) are drawn apart from it and from each other.
 _VARIANT_LINES = ("-.", (0, (1, 1)), (0, (5, 1)), (0, (3, 1, 1, 1, 1, 1)))
 _VARIANT_MARKERS = "dv<>"
@@ -43,18 +40,6 @@ def model_style(ds, name):
     return style
 
 
-def line_key(models, ds=None):
-    """Which line is which model, in words: ``"3D (solid) and 2D (dashed)"``."""
-    styles = [model_style(ds, m) if ds is not None else _style(m) for m in models]
-    keys = [f"{m.upper()} ({_LINE_NAME.get(st['ls'], st['ls'])})" for m, st in zip(models, styles)]
-    return ", ".join(keys[:-1]) + " and " + keys[-1] if len(keys) > 1 else "".join(keys)
-
-
-def _marker_key(models, ds=None):
-    """Which marker is which model, in words: ``"3D filled circles, 2D open squares"``."""
-    styles = [model_style(ds, m) if ds is not None else _style(m) for m in models]
-    return ", ".join(f"{m.upper()} {'filled' if st['filled'] else 'open'} "
-                     f"{_MARKER_NAME.get(st['marker'], 'diamonds')}" for m, st in zip(models, styles))
 _STATE_COLORS = ["k", "C2", "C1", "C4", "C5", "C6"]
 
 
@@ -109,54 +94,78 @@ def _state_text(state, cell):
 def plot_fragility(frag, stem, column=None, states=None, models=None, title=None):
     """Fragility curves of one column: fitted curves, bootstrap bands and the stripe data.
 
+    Writes :func:`fragility_figure` as ``<stem>.png`` and ``<stem>.pdf`` and returns the two paths.
+
     Parameters
     ----------
     frag : xarray.Dataset
         From :func:`pipeline.fragility.fragility`.
     stem : str
         Output path without suffix (``.png`` and ``.pdf`` are written).
+    column, states, models, title
+        As :func:`fragility_figure`.
+    """
+    return _save(fragility_figure(frag, column=column, states=states, models=models, title=title), stem)
+
+
+def fragility_figure(frag, column=None, states=None, models=None, title=None):
+    """The figure of :func:`plot_fragility`, not saved (a ``matplotlib.figure.Figure``).
+
+    The legend sits below the axes, never over the curves, and the title and the legend's
+    longer entries are wrapped to the figure's width, which grows with the legend: any number
+    of models and states fits without the layout engine giving up.
+
+    Parameters
+    ----------
+    frag : xarray.Dataset
+        From :func:`pipeline.fragility.fragility`.
     column : str, optional
         Column label (default: the first).
     states : list of str, optional
         Damage states to draw (default: all).
     models : list of str, optional
         Models to draw (default: all in ``frag``).
+    title : str, optional
+        Title (default: the column's name); the bootstrap band's note is added to it.
     """
+    from matplotlib.lines import Line2D
+
     column = str(frag["column"].values[0]) if column is None else column
     states = [str(s) for s in frag["state"].values] if states is None else states
     models = [str(m) for m in frag["model"].values] if models is None else models
     im = frag.attrs.get("intensity_measure", "pga")
     factor, xlabel, secondary = im_axis(im, frag["median"].attrs.get("units", ""))
     grid = frag["im_level"].values * factor
-    fig, ax = plt.subplots(figsize=(8.5, 5.5), constrained_layout=True)
+    fig, ax = plt.subplots(figsize=(_WIDTH, 5.5), constrained_layout=True)
     level = frag.attrs.get("confidence_level")
-    order = list(enumerate(states))[::-1]  # overturning drawn last, thin and black on top
-    keys = []
-    for i, state in order:
-        color = _STATE_COLORS[i % len(_STATE_COLORS)]
+    # One state and several models (the report's overturning figure): the state's one colour
+    # would leave only line styles, which repeat past four variants, to tell the models apart.
+    by_model = len(states) == 1 and len(models) > 1
+    entries = []  # ((state index, model index), handle, label)
+    for i, state in list(enumerate(states))[::-1]:  # overturning drawn last, on top
         width = 1.4 if state == "overturning" else 2.4
-        for m in models:
+        for k, m in enumerate(models):
+            color = f"C{k}" if by_model else _STATE_COLORS[i % len(_STATE_COLORS)]
             cell = frag.sel(state=state, column=column, model=m)
             style = model_style(frag, m)
-            ls = style["ls"]
             med = float(cell["median"])
             bet = float(cell["beta"])
-            pretty = _state_text(state, cell)
             if np.isfinite(med) and np.isfinite(bet):
                 fit_text = f"median {med * factor:.3g}, β = {bet:.2f}"
             else:
                 fit_text = str(cell["fit_status"].attrs.get("flag_meanings", "").split()[int(cell["fit_status"])]) \
                     if "flag_meanings" in cell["fit_status"].attrs else "no fit"
-            label = f"{pretty}, {m.upper()}: {fit_text}"
-            ax.plot(grid, cell["probability"].values, color=color, ls=ls, lw=width, label=label, zorder=3 if i == 0 else 2)
-            keys.append((i, models.index(m)))
+            ax.plot(grid, cell["probability"].values, color=color, ls=style["ls"], lw=width, zorder=3 if i == 0 else 2)
             if "probability_lower" in frag:
                 ax.fill_between(grid, cell["probability_lower"].values, cell["probability_upper"].values,
                                 color=color, alpha=style["band_alpha"], lw=0)
             frac = cell["stripe_fraction"].values
             ok = np.isfinite(frac)
-            ax.plot(frag["stripe_im"].values[ok] * factor, frac[ok], ls="none",
-                    marker=style["marker"], mfc=color if style["filled"] else "none", mec=color, ms=5)
+            marker = dict(marker=style["marker"], mfc=color if style["filled"] else "none", mec=color, ms=5)
+            ax.plot(frag["stripe_im"].values[ok] * factor, frac[ok], ls="none", **marker)
+            # the legend's sample shows the line and the model's marker together: no separate key of markers
+            entries.append(((i, k), Line2D([], [], color=color, ls=style["ls"], lw=width, **marker),
+                            f"{_state_text(state, cell)}, {m.upper()}: {fit_text}"))
     ax.set_xscale("log")
     _plain_log(ax.xaxis)
     ax.set_xlabel(xlabel)
@@ -164,14 +173,65 @@ def plot_fragility(frag, stem, column=None, states=None, models=None, title=None
     ax.set_ylabel("probability of reaching the damage state [1]")
     ax.set_ylim(-0.02, 1.02)
     ax.grid(True, which="both", alpha=0.3)
+    entries.sort(key=lambda e: e[0])
+    handles = [e[1] for e in entries]
+    labels = [e[2] for e in entries]
     band = f"; shaded: {100 * level:g} % bootstrap band over records" if level and "probability_lower" in frag else ""
-    ax.plot([], [], "o", color="0.3", label=f"markers: observed fraction per scale stripe ({_marker_key(models, frag)})")
-    handles, labels = ax.get_legend_handles_labels()
-    order = sorted(range(len(keys)), key=lambda j: keys[j]) + [len(handles) - 1]
-    ax.legend([handles[j] for j in order], [labels[j] for j in order], fontsize="small", loc="upper left",
-              title=f"lines: lognormal fit (median in {xlabel.split('[')[-1][:-1]})", title_fontsize="small")
-    fig.suptitle((title or f"Fragility of column '{column}'") + band, fontsize="medium")
-    return _save(fig, stem)
+    unit = xlabel.split("[")[-1][:-1]
+    legend_title = f"lines: lognormal fit (median in {unit}); markers: observed fraction per scale stripe"
+    fit_below(fig, (title or f"Fragility of column '{column}'") + band, handles, labels, legend_title)
+    return fig
+
+
+#: Width of the fragility figures [in]; their height follows the legend below the axes.
+_WIDTH = 8.5
+#: Height of the axes and their labels, without the title and the legend [in].
+_PLOT_HEIGHT = 4.8
+
+
+def fit_below(fig, title, handles, labels, legend_title):
+    """Give ``fig`` a title and a legend below its axes, both wrapped to the figure's width.
+
+    The figure's height becomes the axes' height plus what the title and the legend need, so
+    that constrained layout always has room (it gives up, with the warning "constrained_layout
+    not applied", when decorations leave the axes no height) and nothing is cut at the edges.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        One with constrained layout.
+    title : str
+        Its title (one paragraph; wrapped here).
+    handles, labels : list
+        The legend's entries.
+    legend_title : str
+        The legend's title (wrapped here).
+    """
+    renderer = fig.canvas.get_renderer()
+    room = 0.96 * fig.bbox.width  # [pixels] the layout's margins take the rest
+    text = fig.suptitle(title, fontsize="medium")
+    _wrap(text, title, room, renderer)
+    legend = None
+    for ncols in ((2, 1) if len(labels) > 3 else (1,)):
+        if legend is not None:
+            legend.remove()
+        legend = fig.legend(handles, [textwrap.fill(lab, 60) for lab in labels], loc="outside lower center",
+                            ncols=ncols, fontsize="small", title=legend_title, title_fontsize="small")
+        _wrap(legend.get_title(), legend_title, room - 20, renderer)
+        if legend.get_window_extent(renderer).width <= room:
+            break
+    dpi = fig.dpi
+    fig.set_figheight(_PLOT_HEIGHT + (legend.get_window_extent(renderer).height
+                                      + text.get_window_extent(renderer).height) / dpi + 0.3)
+
+
+def _wrap(text, words, room, renderer):
+    """Wrap a text artist's ``words`` onto as many lines as it needs to be at most ``room`` pixels wide."""
+    width = len(words)
+    text.set_text(words)
+    while text.get_window_extent(renderer).width > room and width > 20:
+        width = int(width * 0.9)
+        text.set_text(textwrap.fill(words, width))
 
 
 def plot_ida(view, stem, title=None, units="m s-2", im="pga"):
@@ -536,6 +596,7 @@ def plot_curve_comparison(frags, stem, column, state="overturning", model=DEFAUL
 __all__ = [
     "im_axis",
     "plot_fragility",
+    "fragility_figure",
     "plot_ida",
     "plot_geometry_map",
     "plot_angle_polar",

@@ -475,8 +475,7 @@ def _write_report_into(results, out_dir, pga_levels_g, states, bootstrap, seed, 
     # figures
     figs += P.plot_fragility(frag, os.path.join(fig_dir, "fragility_overturning"), column=columns[0],
                              states=["overturning"],
-                             title=f"Probability of overturning, column '{columns[0]}'"
-                             + (f": {P.line_key(models, frag)}" if len(models) > 1 else ""))[:1]
+                             title=f"Probability of overturning, column '{columns[0]}'")[:1]
     for c in columns[:1] if grid_like else columns:
         figs += P.plot_fragility(frag, os.path.join(fig_dir, f"fragility_states_{c}"), column=c,
                                  models=[models[0]],

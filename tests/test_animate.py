@@ -21,6 +21,7 @@ from pipeline.groundmotion.synthesis import one_sine_pulse
 from pipeline.settings import Excitation, ModelSettings
 from pipeline.simulate import simulate
 
+COLUMN = Column(0.5, 0.4, 4.0)
 REFERENCE = Path(__file__).parent / "data" / "animate" / "frame_3d_2d.png"
 T_REFERENCE = 1.0  # [s]: both columns tilted
 
@@ -175,6 +176,104 @@ def test_frustum_animate_draws_a_compliant_run_of_two_drums(tmp_path, capsys):
     base0 = drum_bodies(drawn, i)[0][1].centre
     np.testing.assert_allclose(base0[:2], [run["x_b"].values[i] + ground[i, 0], run["y_b"].values[i] + ground[i, 1]],
                                rtol=0, atol=1e-9)
+
+
+def _supported(frame_):
+    """Whether every body a frame draws rests on the ground or on the drawn body below it (to 1 cm)."""
+    from pipeline.animate import frustum_faces, lowest_point
+
+    tops = {}
+    for b, shape, pose in frame_.bodies:
+        tops[b] = float(max(face[:, 2].max() for face in frustum_faces(shape, pose)[0]))
+    for b, shape, pose in frame_.bodies:
+        low = lowest_point(shape, pose)
+        if not (abs(low) <= 0.01 or (b - 1 in tops and low <= tops[b - 1] + 0.01)):
+            return False
+    return True
+
+
+@pytest.fixture(scope="module")
+def fallen_stack(tmp_path_factory):
+    """Two drums and a capital (the paper's column) that a 0.51 g one-sine pulse of 1 s overturns: the top
+    drum reaches its lying tilt at 2.21 s on the rim of the bottom one, 2 m up (the compliant run ends
+    there), written as 'frustum simulate' writes it, with its summary."""
+    from pipeline.structures.drums import Capital, DrumColumn
+
+    column = DrumColumn.equal(Column(0.5, 0.4, 4.0), 2, capital=Capital(1.1, 0.3))
+    response = simulate(column, one_sine_pulse(5.0, 1.0, dt=0.01, record_id="pulse"), Excitation(angle=30.0),
+                        ModelSettings(model="3d-compliant", tail=4.0, contact_sectors=16))
+    path = tmp_path_factory.mktemp("fallen") / "fallen.nc"
+    write_netcdf(histories_file([response.histories], column="two", record="pulse",
+                                summaries=[response.summary]), path)
+    return one_run(open_results(path)), response.summary
+
+
+def test_a_drum_column_that_overturned_is_shown_as_the_run_left_it_and_says_so(fallen_stack):
+    """From the overturn on: the caption says when and which bodies fell, the view stays at the last
+    computed row, and no body is drawn in the air (before: the top drum and the capital hung there for the
+    rest of the record while the ground moved on, and nothing said the run had ended)."""
+    from pipeline.animate import frame, lowest_point
+
+    run, summary = fallen_stack
+    motion = Motion(run)
+    assert summary["overturned"] and summary["overturn_drum"] == 1  # the premise: the top drum lay down first
+    over = summary["overturn_time"]
+    times = frame_times(motion.time, 10.0)
+    before = [frame(motion, t) for t in times if t < over]
+    after = [frame(motion, t) for t in times if t >= over]
+    assert len(before) > 10 and len(after) > 10
+    assert all(not f.ended and f.caption == "" and len(f.bodies) == 3 for f in before)
+    assert all(_supported(f) for f in before)  # the check below holds the standing column too
+    row = motion.overturn_row
+    in_the_air = [b for b, (shape, pose) in enumerate(drum_bodies(motion, row)) if lowest_point(shape, pose) > 1.0]
+    assert in_the_air == [1, 2]  # the premise: the last computed state has the top drum and capital up high
+    for f in after:
+        assert f.ended and f.row == row  # still: the last computed state, not the held rows moving on
+        assert f.caption.startswith(f"Overturned at {over:.2f} s: the run ends here")
+        assert "Drum 2 and the capital fell: not drawn" in f.caption
+        assert [b for b, _, _ in f.bodies] == [0]  # the bottom drum stands; nothing hangs in the air
+        assert _supported(f)
+
+
+def test_the_view_of_a_fallen_column_is_drawn_greyed_and_the_animation_ends_soon_after(fallen_stack):
+    from pipeline.animate import HOLD, _end_time
+
+    run, summary = fallen_stack
+    over = summary["overturn_time"]
+    motion = Motion(run)
+    assert motion.time[-1] == pytest.approx(5.0)  # the premise: 1 s pulse and 4 s of tail
+    times = frame_times(motion.time, 10.0, end=_end_time([motion], speed=1.0))
+    assert times[-1] == pytest.approx(math.floor((over + HOLD) * 10) / 10)  # not the 2.8 s of still frames after
+    for t, stone in ((over - 0.3, True), (over + 0.1, False)):
+        rgb = render_frame([run], t).astype(float) / 255.0
+        hue = rgb / np.maximum(rgb.sum(axis=2, keepdims=True), 1e-9)
+        coloured = (np.abs(hue - STONE / STONE.sum()).max(axis=2) < 0.02) & (rgb.sum(axis=2) > 0.6)
+        grey = (np.ptp(rgb, axis=2) < 0.01) & (rgb.sum(axis=2) > 0.6) & (rgb.sum(axis=2) < 2.7)
+        # before: marble-coloured drums; after: the standing drum in grey, no marble (a few edge pixels
+        # of the anti-aliased plate fall within the hue's 2 %: 8 of them here)
+        if stone:
+            assert coloured.sum() > 1000
+        else:
+            assert coloured.sum() < 50 and grey.sum() > 1000, (coloured.sum(), grey.sum())
+
+
+def test_a_rigid_column_that_overturned_lies_greyed_and_the_caption_says_when():
+    """The rigid models follow the final fall until the column lies on its side: drawn there, on the ground."""
+    from pipeline.animate import frame, lowest_point
+
+    motion_ = one_sine_pulse(8.0, 0.8, dt=0.01, record_id="pulse")
+    response = simulate(COLUMN, motion_, Excitation(angle=30.0, scale=2.0), ModelSettings(tail=2.0))
+    assert response.summary["overturned"]  # the premise
+    motion = Motion(one_run(histories_file([response.histories], column="paper", record="pulse",
+                                           summaries=[response.summary])))
+    after = [frame(motion, t) for t in frame_times(motion.time, 10.0) if t >= motion.overturn_time]
+    assert after
+    for f in after:
+        assert f.ended and f.row == motion.overturn_row
+        assert f.caption.startswith(f"Overturned at {motion.overturn_time:.2f} s: the run ends here")
+        assert "The column fell and lies on the ground as computed" in f.caption
+        ((b, shape, pose),) = f.bodies
+        assert abs(lowest_point(shape, pose)) < 0.01 and _supported(f)
 
 
 if __name__ == "__main__":  # regenerate the reference frame

@@ -14,11 +14,14 @@ examples:
 
 def register(subparsers):
     """Add the ``animate`` sub-command."""
+    from pipeline.animate import HOLD
+
     p = subparsers.add_parser(
         "animate", help="animate a simulated column (GIF or MP4)",
         description="Draw the column of a 'frustum simulate' file as a solid frustum in 3D moving with the "
         "ground: its contact path on the ground, an arrow for the ground acceleration, time and tilt; one view "
-        "per model, side by side.",
+        "per model, side by side. A column that overturned is shown from then on as the run left it, still and "
+        f"greyed, with when it fell and which bodies fell; the animation ends {HOLD:g} s after that.",
         epilog=_EXAMPLES, formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("result", metavar="RESULT.nc", help="histories written by 'frustum simulate'")
