@@ -19,10 +19,17 @@ Parts (run by hand, one or several):
   residual joint slip, energy balance. Single stack runs are chaotic: two integrators may
   differ in outcome on one record; the fragility statistics are in studies/drums_vs_rigid.
 
+* ``colonnade``: issue 37's speed goals: under FEMA-FF-01 x1 (35 s with the tail), CPU time on one
+  core of the 2-column frame (2 x (4 drums + capital) + 1 block), the 6-column row of the paper's
+  column (35 bodies) and the Parthenon's east front (8 x (11 drums + capital) + 7 blocks, 103
+  bodies), each as a ratio to the rigid 3d model's run of the paper's column on the same record
+  in the same process (goals 100x, 300x, 1000x), the 10-drum stack beside them, and what a 22 x 6
+  fragility of the Parthenon front takes on two cores.
+
 The first call compiles the kernel (~40 s) unless the numba cache is warm; it is not timed.
 
-Run by hand:  python benchmarks/bench_compliant.py record fragility discretisation drums [--reference 1,4]
-              [--json out.json]
+Run by hand:  python benchmarks/bench_compliant.py record fragility discretisation drums colonnade
+              [--reference 1,4] [--json out.json]
 """
 
 import argparse
@@ -196,9 +203,81 @@ def bench_drums(reference=(1, 4), counts=(1, 4, 10), repeat=3, scale=1.0):
     return rows
 
 
+# issue 37: CPU time of a colonnade's run as a ratio to the rigid 3d model's run of its column
+COLONNADE_GOALS = {"2-column frame": 100.0, "6-column row": 300.0, "Parthenon east front": 1000.0}
+# the paper's column with the capital of the issue's examples, its proportions those of the Parthenon's
+# front (interaxial 2.26 and architrave 0.71 lower diameters): 2.3 m and 0.7 m
+PAPER_ROW = dict(capital=(1.1, 0.3), interaxial=2.3, epistyle=0.7)
+
+
+def _cpu(run, repeat):
+    """(least CPU time [s] of ``repeat`` calls of ``run``, all of them, the last result)."""
+    times, out = [], None
+    for _ in range(repeat):
+        cpu = time.process_time()
+        out = run()
+        times.append(time.process_time() - cpu)
+    return min(times), times, out
+
+
+def bench_colonnade(repeat=3, parthenon=True):
+    """Issue 37's speed goals: colonnades under FEMA-FF-01 x1 against the rigid 3d run of their column,
+    CPU time of this process (the damping calibration cached, not timed), least of ``repeat``."""
+    from pipeline.groundmotion import load
+    from pipeline.settings import Excitation, ModelSettings
+    from pipeline.simulate import simulate
+    from pipeline.structures.colonnade import Colonnade, named_colonnade
+    from pipeline.structures.column import Column
+    from pipeline.structures.drums import Capital, DrumColumn
+
+    motion = load("FEMA-FF-01")
+    paper = Column(*PAPER)
+    column = DrumColumn.equal(paper, 4, Capital(*PAPER_ROW["capital"]))
+    cases = [("2-column frame", Colonnade(column, 2, PAPER_ROW["interaxial"], PAPER_ROW["epistyle"])),
+             ("6-column row", Colonnade(column, 6, PAPER_ROW["interaxial"], PAPER_ROW["epistyle"])),
+             ("10-drum stack", DrumColumn.equal(paper, 10))]
+    if parthenon:
+        cases.append(("Parthenon east front", named_colonnade("parthenon-east")))
+
+    def rigid():
+        return simulate(paper, motion, Excitation(), ModelSettings(model="3d"), histories=False).summary
+
+    rigid()  # compiles or loads the kernels: not timed
+    base, each, _ = _cpu(rigid, max(repeat, 5))
+    print(f"colonnade: FEMA-FF-01 x1, {motion.duration + ModelSettings().tail:g} s with the tail; rigid 3d run of "
+          f"the paper's column {base:.4f} s of CPU (least of {', '.join(f'{c:.4f}' for c in each)})", flush=True)
+    rows = [{"case": "rigid 3d", "cpu_seconds": base, "cpu_seconds_each": each}]
+    settings = ModelSettings(model="3d-compliant", joint_friction=0.6, settle_limit=0.0)
+    for name, structure in cases:
+        bodies = (structure.n_bodies if isinstance(structure, DrumColumn) else
+                  structure.n_columns * structure.column.n_bodies + structure.n_blocks)
+        simulate(structure.column if isinstance(structure, Colonnade) else structure, motion, Excitation(),
+                 ModelSettings(model="3d-compliant", tail=0.0), histories=False)  # calibrates: not timed
+        cpu, each, s = _cpu(lambda: simulate(structure, motion, Excitation(), settings, histories=False).summary,
+                            repeat if bodies < 60 else 1)
+        simulated = s["overturn_time"] if s["overturned"] else motion.duration + settings.tail
+        full = cpu / simulated * (motion.duration + settings.tail)
+        goal = COLONNADE_GOALS.get(name)
+        row = {"case": name, "bodies": bodies, "cpu_seconds": cpu, "cpu_seconds_each": each,
+               "ratio_to_rigid": cpu / base, "ratio_whole_record": full / base, "goal_ratio": goal,
+               "steps": s["steps"], "step": s["step"], "overturned": s["overturned"], "simulated_seconds": simulated,
+               "cpu_per_body_step_us": 1e6 * cpu / (s["steps"] * bodies)}
+        rows.append(row)
+        words = f" (goal {goal:g}x)" if goal else ""
+        least = f" (least of {', '.join(f'{c:.2f}' for c in each)})" if len(each) > 1 else ""
+        print(f"{name:22s} {bodies:3d} bodies: {cpu:7.2f} s of CPU{least}, {cpu / base:6.0f}x the rigid run{words}; "
+              f"{s['steps']} steps of {1e3 * s['step']:.3f} ms, {row['cpu_per_body_step_us']:.2f} us per body-step; "
+              f"{'overturned at %.1f s (%.0fx for the whole record)' % (simulated, full / base) if s['overturned'] else 'stands'}",
+              flush=True)
+        if name == "Parthenon east front":
+            night = 22 * 6 * full / 2.0 / 3600.0
+            print(f"{'':22s} a 22 x 6 fragility of it on two cores: about {night:.1f} h (goal: a night)", flush=True)
+    return rows
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("parts", nargs="+", choices=("record", "fragility", "discretisation", "drums"))
+    parser.add_argument("parts", nargs="+", choices=("record", "fragility", "discretisation", "drums", "colonnade"))
     parser.add_argument("--repeat", type=int, default=3,
                         help="runs of each case, the least time quoted (default 3; DOPRI5 drums run once)")
     parser.add_argument("--stripes", default="0.5,1,2,3", help="scale levels of the fragility sample")
@@ -209,6 +288,7 @@ def main():
     parser.add_argument("--scale", type=float, default=1.0,
                         help="scale of the record in the drums part (default 1, where the goals apply)")
     parser.add_argument("--json", help="also write the numbers to this file")
+    parser.add_argument("--no-parthenon", action="store_true", help="leave the Parthenon front out of the colonnade part")
     args = parser.parse_args()
     print(f"{platform.machine()} {platform.processor() or ''}, {os.cpu_count()} cores, load average "
           f"{', '.join(f'{x:.2f}' for x in os.getloadavg())}", flush=True)
@@ -222,6 +302,8 @@ def main():
     if "drums" in args.parts:
         out["drums"] = bench_drums([int(x) for x in args.reference.split(",") if x],
                                    [int(x) for x in args.drums.split(",") if x], max(1, args.repeat), args.scale)
+    if "colonnade" in args.parts:
+        out["colonnade"] = bench_colonnade(max(1, args.repeat), parthenon=not args.no_parthenon)
     if args.json:
         with open(args.json, "w") as f:
             json.dump(out, f, indent=2)

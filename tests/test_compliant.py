@@ -363,7 +363,7 @@ def test_a_drum_column_needs_the_compliant_model():
 def test_the_band_past_a_face_edge_is_a_numerical_choice_set_in_numerics():
     """edge_band sets the bed joints' run-off band and nothing else; the default is 0.5 ring spacings."""
     from pipeline.compliant import assemble
-    from pipeline.dynamics.compliant import stack as sk
+    from pipeline.dynamics.compliant import layout as sk
     from pipeline.models.compliant import COMPLIANT_DRUMS
 
     NUMERICS = COMPLIANT_DRUMS.numerics

@@ -150,9 +150,9 @@ def test_a_planar_model_names_the_3d_model_it_is_the_counterpart_of():
 def test_the_integrators_a_model_declares_are_its_kernels():
     """The registry names the compliant model's integrators without importing its kernels (the
     command's help stays free of numba); they must be the fixed-step one and the kernels' methods."""
-    from pipeline.dynamics.compliant import stack
+    from pipeline.dynamics.compliant import adaptive
 
-    assert models.get("3d-compliant").integrators == ("semi-implicit",) + tuple(stack.METHODS)
+    assert models.get("3d-compliant").integrators == ("semi-implicit",) + tuple(adaptive.METHODS)
     with pytest.raises(InputError, match="integrator = 'rk4' is unknown; choose one of semi-implicit"):
         ModelSettings(model="3d-compliant", integrator="rk4")
 

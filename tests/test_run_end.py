@@ -14,18 +14,22 @@ import math
 import numpy as np
 import pytest
 
-from pipeline.compliant import overturning_barriers
+from pipeline.compliant import assemble
+from pipeline.compliant.barriers import frame_barrier
 from pipeline.dynamics.rigid.loop import stands_for_good
 from pipeline.dynamics.rigid.layout import PHASE_REST, PHASE_ROLLING
 from pipeline.groundmotion.record import GroundMotion
 from pipeline.models import REGISTRY
 from pipeline.settings import ModelSettings
 from pipeline.simulate import simulate
-from pipeline.structures import Column
+from pipeline.structures import Column, DrumColumn
+from pipeline.structures.kinds import example
 from pipeline.units import G
 
 COLUMN = Column(0.5, 0.4, 4.0)  # the paper's column
 MODELS = tuple(REGISTRY)
+# a model of colonnades runs the frame of two of the paper's columns with capitals (structures.kinds)
+FRAME = example("colonnade")
 # the compliant monolith: the issue's case, with few contact points to stay quick
 COMPLIANT = dict(contact_sectors=8, contact_rings=2)
 
@@ -37,9 +41,21 @@ def ramp(level, ramp_s=4.0, hold_s=6.0, dt=0.002):
     return GroundMotion.from_arrays(acc, np.zeros_like(acc), dt, record_id="ramp")
 
 
-def uplift_level(column):
-    """The uplift acceleration per g of a monolith, R / z_cm [1]."""
-    return column.R / column.z_cm
+def structure(model):
+    """What ``model`` runs here: the paper's column, or a frame of two of them."""
+    return COLUMN if REGISTRY[model].runs("column") else FRAME
+
+
+def uplift_level(structure):
+    """The uplift acceleration per g [1]: R / z_cm of a monolith, tan(alpha_e) of a rigid frame."""
+    if structure is FRAME:
+        return math.tan(FRAME.frame.alpha)
+    return structure.R / structure.z_cm
+
+
+def critical_tilt(structure):
+    """theta_crit [rad] of a monolith, alpha_e of a rigid frame."""
+    return FRAME.frame.alpha if structure is FRAME else structure.critical_tilt
 
 
 def settings(model, **kw):
@@ -49,9 +65,10 @@ def settings(model, **kw):
 
 @pytest.fixture(scope="module")
 def tipping():
-    """Each model on the issue's ramp (1.05 g R / z_cm, tail 0.5 s): with and without the settle limit."""
-    motion = ramp(1.05 * uplift_level(COLUMN))
-    return {(model, limit): simulate(COLUMN, motion, settings=settings(model, settle_limit=limit))
+    """Each model on the issue's ramp (to 1.05 times its uplift acceleration, tail 0.5 s): with and without
+    the settle limit."""
+    return {(model, limit): simulate(structure(model), ramp(1.05 * uplift_level(structure(model))),
+                                     settings=settings(model, settle_limit=limit))
             for model in MODELS for limit in (0.0, 60.0)}
 
 
@@ -64,7 +81,7 @@ def test_the_summary_holds_the_histories_peak(tipping, model):
         run = tipping[model, limit]
         theta = run.histories.theta.values
         assert run.summary["peak_theta"] >= np.nanmax(theta) * (1.0 - 1e-9)
-        assert run.summary["peak_theta"] > COLUMN.critical_tilt
+        assert run.summary["peak_theta"] > critical_tilt(structure(model))
 
 
 @pytest.mark.parametrize("model", MODELS)
@@ -83,8 +100,9 @@ def test_a_column_past_its_critical_tilt_is_never_said_to_stand(tipping, model):
 
 
 def test_uplift_time_is_the_ramps(tipping):
-    """The ramp reaches R / z_cm at 4 / 1.05 s (the issue: 3.8095 s), for the rigid models exactly."""
-    for model in ("2d", "3d"):
+    """The ramp reaches the uplift acceleration at 4 / 1.05 s (the issue: 3.8095 s), for the rigid models
+    exactly (the frame's tan(alpha_e) as the column's R / z_cm)."""
+    for model in ("2d", "3d", "2d-frame"):
         assert tipping[model, 60.0].summary["uplift_time"] == pytest.approx(4.0 / 1.05, abs=1e-6)
 
 
@@ -120,14 +138,24 @@ def test_stands_for_good_is_the_energy_barrier():
     assert not stands_for_good(PHASE_ROLLING, 0.9 * top, 1.01 * crit, -1.0, zc)  # beyond it, falls
 
 
-def test_overturning_barriers_of_a_monolith_and_a_stack():
-    """One body: the rigid barrier m (sqrt(R^2 + z^2) - z) and theta_crit. Two equal blocks
-    (half-width 1, height 2 each): the whole about the base (z = 2, barrier 2 (sqrt 5 - 2) =
-    0.472) and the top alone about the joint (z = 1, 1 (sqrt 2 - 1) = 0.414): the top's is lower."""
-    barrier, critical = overturning_barriers([1.0], [4.0], [COLUMN.z_cm / COLUMN.R * 0.5], [0.5])
-    z = COLUMN.z_cm / COLUMN.R * 0.5
-    assert barrier == pytest.approx(math.hypot(0.5, z) - z, rel=1e-12)
-    assert critical[0] == pytest.approx(math.atan2(0.5, z), rel=1e-12)
-    barrier, critical = overturning_barriers([1.0, 1.0], [2.0, 2.0], [1.0, 1.0], [1.0, 1.0])
-    assert barrier == pytest.approx(math.sqrt(2.0) - 1.0, rel=1e-12)
-    np.testing.assert_allclose(critical, [math.atan(0.5), math.atan(1.0)], rtol=1e-12)
+def test_overturning_barriers_of_a_monolith_a_stack_and_a_frame():
+    """The compliant model's barrier [M g L] and critical tilts. A monolith: the rigid barrier
+    sqrt(R^2 + z^2) - z per weight and theta_crit. A cylinder (R = 1, h = 4) in two equal drums:
+    the whole about the base (z = 2: 0.5 (sqrt 5 - 2) per... of M: sqrt(5) - 2 = 0.236) and the top
+    drum alone about the joint (half the mass, z = 1: 0.5 (sqrt 2 - 1) = 0.207) and sliding off it
+    (mu 0.7 x 0.5 x 1 = 0.35): the top drum's tipping is the lowest. A frame of rigid blocks
+    (:func:`frame_barrier`) is the peak of its summed cosines, found here by brute force."""
+    settings = ModelSettings(model="3d-compliant", contact_sectors=8)
+    asm = assemble(COLUMN, settings, 0.0)
+    z = COLUMN.z_cm / COLUMN.R
+    assert asm.barrier == pytest.approx(math.hypot(1.0, z) - z, rel=1e-12)
+    assert asm.critical[0] == pytest.approx(COLUMN.critical_tilt, rel=1e-12)
+    asm = assemble(DrumColumn.equal(Column(1.0, 1.0, 4.0), 2), settings, 0.0)
+    assert asm.barrier == pytest.approx(0.5 * (math.sqrt(2.0) - 1.0), rel=1e-12)
+    np.testing.assert_allclose(asm.critical, [math.atan(0.5), math.atan(1.0)], rtol=1e-12)
+    terms = [(3.0, 2.0, 0.3), (1.0, 4.0, 0.5)]
+    theta = np.linspace(0.0, 1.0, 200001)
+    potential = sum(w * l * np.cos(a - theta) for w, l, a in terms)
+    rise, tilt = frame_barrier(terms)
+    assert rise == pytest.approx(potential.max() - potential[0], rel=1e-9)
+    assert tilt == pytest.approx(theta[np.argmax(potential)], abs=1e-5)  # the grid's spacing

@@ -94,12 +94,12 @@ def test_joint_dislocations_of_a_known_state():
     """Two drums of the paper's column placed by hand: drum 0 shifted, turned and tilted on the
     ground, drum 1 slid, twisted, tilted and lifted on drum 0 (in drum 0's frame). Every measure
     is the closed form of that placement, to round-off (1e-12 m and rad)."""
-    from pipeline.compliant import assemble, dislocation_ratio, joint_dislocations
-    from pipeline.dynamics.compliant import stack as sk
+    from pipeline.compliant import assemble, dislocation_ratio, joint_dislocations, rest_state
+    from pipeline.dynamics.compliant import layout as sk
 
     asm = assemble(DrumColumn.equal(PAPER, 2), compliant(), damping=0.0)
     params = asm.params()
-    y = sk.rest_state(params)
+    y = rest_state(asm, params, "dopri5")
     L = asm.length
     delta = asm.joints[0, sk.J_DELTA] * L  # static penetration of the base [m]
     shift0, turn0, tilt0 = np.array([0.03, -0.02]), 0.4, 0.05  # drum 0 on the ground [m], [rad]
@@ -111,7 +111,7 @@ def test_joint_dislocations_of_a_known_state():
     y[sk.QW:sk.QZ + 1] = q0
     q1 = _product(q0, _product(_quaternion([1, 0, 0], tilt), _quaternion([0, 0, 1], twist)))
     R1 = _matrix(q1)
-    base1 = base0 + R0 @ [0.0, 0.0, asm.bodies[0, sk.B_TOP]] + R0 @ np.array([slip[0], slip[1], lift]) / L
+    base1 = base0 + R0 @ [0.0, 0.0, asm.bodies[0, sk.B_HEIGHT]] + R0 @ np.array([slip[0], slip[1], lift]) / L
     o = sk.NB
     y[o + sk.X:o + sk.Z + 1] = base1 + R1 @ [0.0, 0.0, asm.bodies[1, sk.B_ZC]]
     y[o + sk.QW:o + sk.QZ + 1] = q1
@@ -197,7 +197,7 @@ def test_drum_geometry_and_bad_input():
     assert drums[0].R == 0.5 and drums[-1].r == 0.4 and drums[1].R == drums[0].r == pytest.approx(0.475)
     # the bearing faces are the kernel's: its contact points reach the rim of each (capital included)
     from pipeline.compliant import assemble
-    from pipeline.dynamics.compliant import stack as sk
+    from pipeline.dynamics.compliant import layout as sk
 
     capped = DrumColumn(PAPER, stack.cuts, Capital(1.2, 0.5))
     asm = assemble(capped, compliant(), damping=0.0)

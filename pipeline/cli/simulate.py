@@ -211,7 +211,7 @@ def run_simulate(args):
             raise InputError("give the column as --column R,r,h in metres (e.g. 0.5,0.4,4), or a named --colonnade")
         column = _drum_column(args, Column.parse(args.column, density=args.density))
         colonnade = _row(args, column)
-    bodies = {m: colonnade if REGISTRY[m].runs("colonnade") else column for m in models}
+    bodies = {m: colonnade if (colonnade is not None and REGISTRY[m].runs("colonnade")) else column for m in models}
     if args.animate and colonnade is not None:
         raise InputError("--animate draws columns, not yet a colonnade: drop --animate (the histories file holds the "
                          "frame's tilt and the epistyle's translation; --plot draws them)")

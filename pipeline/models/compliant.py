@@ -1,6 +1,6 @@
-"""The compliant model (``"3d-compliant"``): rigid bodies, a monolith or a stack of drums and a
-capital, on joints of contact points (:mod:`pipeline.compliant`, kernels in
-:mod:`pipeline.dynamics.compliant.stack` and :mod:`pipeline.dynamics.compliant.semi_implicit`)."""
+"""The compliant model (``"3d-compliant"``): rigid bodies, a monolith, a column of drums and its
+capital, or a colonnade of such columns carrying epistyle blocks, on joints of contact points
+(:mod:`pipeline.compliant`, kernels in :mod:`pipeline.dynamics.compliant`)."""
 
 from types import MappingProxyType
 
@@ -23,11 +23,11 @@ NUMERICS = declared(
            read_with=(("step", (None,)), ("integrator", INTEGRATORS[:1]))),  # a given step is used as it is
 )
 
-# Each body's block of the stack's state vector (pipeline.dynamics.compliant.stack): centre of mass,
+# Each body's block of the assembly's state vector (pipeline.dynamics.compliant.layout): centre of mass,
 # orientation quaternion (body to ground), velocity of the centre (ground frame), angular velocity
 # (body axes); the vector goes on with the contact points' shear displacements, the energy
 # accumulators and the joints' slip paths
-STATE = StateLayout("pipeline.dynamics.compliant.stack", "NB", (
+STATE = StateLayout("pipeline.dynamics.compliant.layout", "NB", (
     ("x", "X"), ("y", "Y"), ("z", "Z"), ("q_w", "QW"), ("q_x", "QX"), ("q_y", "QY"), ("q_z", "QZ"),
     ("v_x", "VX"), ("v_y", "VY"), ("v_z", "VZ"), ("omega_x", "WX"), ("omega_y", "WY"), ("omega_z", "WZ")), per="body")
 
@@ -61,7 +61,7 @@ COMPLIANT_DRUMS = Model(
     ),
     in_short="rigid bodies (the drums and capital of a column, or the monolith) on joints of contact points "
     "(spring-dashpots, elastic-Coulomb friction), run at every angle",
-    bodies=("column", "drums"),  # a monolith, or a stack of drums and a capital
+    bodies=("column", "drums", "colonnade"),  # a monolith, a stack of drums and a capital, a colonnade
     angle_invariant=False,  # its contact points are not axisymmetric: it feels the direction
     planar=False,
     numeric_options=NUMERICS,
@@ -80,10 +80,10 @@ COMPLIANT_DRUMS = Model(
     # the base's friction and stiffness, the dashpots (or the restitution they are calibrated to), the
     # joints' points and law, the integrator and its step (rtol, atol: the adaptive ones)
     options=read("restitution", "friction", "normal_stiffness", "contact_damping", "tail", "settle_limit",
-                 "joint_stiffness", "stiffness_ratio", "contact_rings", "contact_sectors", "joint_friction", "anathyrosis",
-                 "base_anathyrosis", "monitor_step", "integrator", "step", "rtol", "atol"),
+                 "joint_stiffness", "stiffness_ratio", "contact_rings", "contact_sectors", "joint_friction",
+                 "anathyrosis", "base_anathyrosis", "monitor_step", "integrator", "step", "rtol", "atol"),
     calibration="pipeline.compliant:calibrated_damping",
-    # a given fixed step above a column's stability limit (pipeline.compliant.fixed_step, which its run
-    # calls too), refused before a study computes; in pipeline/study/ while pipeline/compliant.py is rewritten
-    checker="pipeline.study.stability:check_fixed_step",
+    # a given fixed step above a structure's stability limit (pipeline.compliant.fixed_step, which its
+    # run calls too), refused before a study computes
+    checker="pipeline.compliant.integrate:check_fixed_step",
 )

@@ -322,8 +322,10 @@ def _refuse_unread(ck, data, study):
                         f"{_when(numerics[key])}: give one of them")
     if not any(v.drums for v in variants):
         runners = ", ".join(m.name for m in REGISTRY.values() if m.drums)
+        rows = any(REGISTRY[v.model].runs("colonnade") for v in variants)
+        # a colonnade's capital is read by a model of colonnades (the rigid frame's column carries it)
         fields = [(f"columns[{i}].{k}", k) for i, entry in enumerate(data.get("columns", []))
-                  for k in sorted(_DRUMS) if k in entry]
+                  for k in sorted(_DRUMS) if k in entry and not (k == "capital" and rows and "colonnade" in entry)]
         if "drums" in data.get("column_grid", {}):
             fields.append(("column_grid.drums", "drums"))
         if fields:

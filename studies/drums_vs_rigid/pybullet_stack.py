@@ -338,7 +338,7 @@ def _quiet(world, seconds):
 def check_properties():
     """Masses and central inertias in PyBullet against ``pipeline.compliant.assemble``'s (4 drums)."""
     from pipeline.compliant import assemble
-    from pipeline.dynamics.compliant import stack as sk
+    from pipeline.dynamics.compliant import layout as ly
     from pipeline.settings import ModelSettings
 
     stack = paper_stack(4)
@@ -350,8 +350,8 @@ def check_properties():
     for k, b in enumerate(w.bodies):
         info = w.p.getDynamicsInfo(b, -1, physicsClientId=w.cid)
         mine = np.array([info[0], info[2][0], info[2][2]])
-        ref = np.array([asm.bodies[k, sk.B_MASS] * M, asm.bodies[k, sk.B_IT] * M * L * L,
-                        asm.bodies[k, sk.B_IA] * M * L * L])
+        ref = np.array([asm.bodies[k, ly.B_MASS] * M, asm.bodies[k, ly.B_IX] * M * L * L,
+                        asm.bodies[k, ly.B_IZ] * M * L * L])
         worst = max(worst, float(np.max(np.abs(mine / ref - 1.0))))
         lines.append(f"  drum {k}: mass {mine[0]:.3f} kg (project {ref[0]:.3f}), I_t {mine[1]:.3f} "
                      f"({ref[1]:.3f}), I_a {mine[2]:.3f} ({ref[2]:.3f}) kg m^2")

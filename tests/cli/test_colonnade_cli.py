@@ -45,7 +45,7 @@ def test_a_named_colonnade_brings_its_column(tmp_path, capsys):
 @pytest.mark.parametrize("argv, fragments", [
     (SIM + ["--model", "2d-frame"], ["--model 2d-frame runs a colonnade", "give --colonnade N --interaxial S "
                                      "--epistyle HEIGHT", "--colonnade parthenon-east"]),
-    (SIM + ROW + ["--model", "2d"], ["--colonnade is read by --model 2d-frame", "--model 2d does not run colonnades",
+    (SIM + ROW + ["--model", "2d"], ["--colonnade is read by --model 3d-compliant, 2d-frame", "--model 2d does not run colonnades",
                                      "drop --colonnade"]),
     (SIM + ["--model", "2d-frame", "--colonnade", "2", "--interaxial", "2"], ["--colonnade 2: give --epistyle too"]),
     (SIM + ["--model", "2d-frame", "--colonnade", "2.5", "--interaxial", "2", "--epistyle", "1"],

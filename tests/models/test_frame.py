@@ -412,5 +412,5 @@ def test_a_frame_model_refuses_a_column_and_the_others_refuse_a_colonnade():
                                          "3d, 2d, 3d-compliant"):
         simulate(PAPER, record, Excitation(), frame_settings())
     with pytest.raises(InputError, match="model = '2d' runs monolithic columns: a colonnade of 2 columns needs one "
-                                         "of 2d-frame"):
+                                         "of 3d-compliant, 2d-frame"):
         simulate(Colonnade(PAPER, 2, 1.5, 0.3), record, Excitation(), ModelSettings(model="2d"))

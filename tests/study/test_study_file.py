@@ -249,15 +249,14 @@ def test_the_stability_limit_is_checked_for_every_column_as_each_model_runs_it(w
     joints): a step between the two limits is refused for the drums of the model that runs them,
     and taken by a variant that runs the column's outline."""
     from pipeline.compliant import as_stack, assemble, fixed_step
-    from pipeline.dynamics.compliant import stack as sk
+    from pipeline.compliant.rest import laid_state
     from pipeline.settings import ModelSettings
     from pipeline.structures.column import Column
     from pipeline.structures.drums import DrumColumn
 
     def limit(column):
         probe = assemble(as_stack(column), ModelSettings(model="3d-compliant"), 0.0)
-        params = probe.params()
-        return fixed_step(probe, params, sk.rest_state(params), ModelSettings(model="3d-compliant"))[1]
+        return fixed_step(probe, probe.params(), laid_state(probe), ModelSettings(model="3d-compliant"))[1]
 
     mono = Column(0.5, 0.4, 4.0)
     low, high = limit(DrumColumn.equal(mono, 4)), limit(mono)

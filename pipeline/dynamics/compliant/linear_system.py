@@ -1,14 +1,18 @@
 """The joints' linear algebra of the fixed-step integrator (:mod:`pipeline.dynamics.compliant.semi_implicit`).
 
 A joint's dashpots (or springs) act on the relative velocity (displacement) of its points,
-which is linear in the two bodies' velocities; summed over the points, a joint's 6 x 6 matrix
+which is linear in its two bodies' velocities; summed over the points, a joint's 6 x 6 matrix
 needs only the sums and first and second moments of the points' lever arms
-(:func:`joint_matrix`, :func:`joint_matrix_z`). A joint couples two neighbouring bodies, so
-``M + h C`` of a stack is block-tridiagonal (:func:`assemble_system`) and is solved by a block
-Cholesky factorisation (:func:`block_tridiagonal_solve`). The same matrices with the springs
-give the stiffest mode of the stack, which bounds the fixed step (:func:`stiffest_frequency`).
+(:func:`joint_matrix`, :func:`joint_matrix_z`). A joint couples its two bodies, so ``M + h C``
+of an assembly is sparse in 6 x 6 blocks with the joints' pattern (:func:`assemble_system`);
+it is solved by a block Cholesky factorisation in a fixed elimination order
+(:func:`sparse_block_solve`, its pattern from :func:`elimination`): a column's chain of drums
+eliminated from the ground up into its capital, then the capitals and the epistyle blocks
+along the row, which fills in nothing, so the work is linear in the number of bodies (for a
+single column it is the block-tridiagonal solve). The same matrices with the springs give the
+stiffest mode of the assembly, which bounds the fixed step (:func:`stiffest_frequency`).
 
-Kernel layer: dimensionless floats and arrays as in :mod:`pipeline.dynamics.compliant.stack`.
+Kernel layer: dimensionless floats and arrays as in :mod:`pipeline.dynamics.compliant.layout`.
 """
 
 import math
@@ -16,90 +20,198 @@ import math
 import numpy as np
 from numba import njit
 
-from pipeline.dynamics.compliant import stack as sk
+from pipeline.dynamics.compliant import assembly as sk
+from pipeline.dynamics.compliant.layout import B_IX, B_IY, B_IZ, B_MASS, GROUND, J_KN, J_KS, J_LOWER, J_UPPER, NB, \
+    P_AREA
 
-__all__ = ["block_tridiagonal_solve", "joint_matrix", "joint_matrix_z", "turned_joint_matrix_z", "add_moments",
-           "assemble_system", "stiffest_frequency"]
+__all__ = ["sparse_block_solve", "elimination", "joint_matrix", "joint_matrix_z", "turned_joint_matrix_z",
+           "add_moments", "assemble_system", "stiffest_frequency", "stiffest_mode", "spring_matrices"]
 
 
 @njit(cache=True)
-def _cholesky6(a, b, out):
-    """Lower Cholesky factor ``out[b]`` of the symmetric positive definite 6 x 6 matrix ``a``."""
+def _cholesky6(a, out):
+    """Lower Cholesky factor ``out`` of the symmetric positive definite 6 x 6 matrix ``a`` (its lower
+    triangle is read; ``out`` may be ``a``)."""
     for i in range(6):
         for j in range(i + 1):
             s = a[i, j]
             for k in range(j):
-                s -= out[b, i, k] * out[b, j, k]
+                s -= out[i, k] * out[j, k]
             if i == j:
-                out[b, i, i] = math.sqrt(s)
+                out[i, i] = math.sqrt(s)
             else:
-                out[b, i, j] = s / out[b, j, j]
+                out[i, j] = s / out[j, j]
         for j in range(i + 1, 6):
-            out[b, i, j] = 0.0
+            out[i, j] = 0.0
 
 
-@njit(cache=True)
-def block_tridiagonal_solve(diag, off, rhs, fac, coup, tmp):
-    """Solve a symmetric positive definite block-tridiagonal system in place.
-
-    Block Cholesky: ``L_b L_b^T = D_b - C_b C_b^T`` with ``C_b = O_b L_{b-1}^{-T}``, then
-    forward and back substitution.
+def elimination(n_bodies, lowers, uppers, order):
+    """The static pattern of a block Cholesky factorisation of an assembly's joints.
 
     Parameters
     ----------
+    n_bodies : int
+    lowers, uppers : sequence of int
+        Each joint's lower body (-1: the ground, which couples nothing) and upper body.
+    order : sequence of int
+        The bodies in elimination order.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(order, position, edges, down_start, down, up_start, up, update_start, updates,
+        joint_edge)``: ``edges[e] = (row, col)`` positions with row > col (the joints' couplings
+        and any fill the order makes); ``down[down_start[k]:down_start[k + 1]]`` the edges below
+        position k (col k), ``up[...]`` those left of it (row k); ``updates[...]`` for the
+        elimination of k, rows ``(e1, e2, target)``: subtract ``C_e1 C_e2^T`` from edge
+        ``target``, or from the diagonal block of e1's row when ``target = -1`` (then e1 = e2);
+        ``joint_edge[j]`` the edge of joint j (-1 on the ground).
+    """
+    pairs = [(a, b) for a, b in zip(lowers, uppers) if a != GROUND]
+    order = np.asarray(order, dtype=np.int64)
+    if sorted(order.tolist()) != list(range(n_bodies)):
+        raise ValueError("the elimination order must name every body once")
+    position = np.empty(n_bodies, dtype=np.int64)
+    position[order] = np.arange(n_bodies)
+    adjacent = [set() for _ in range(n_bodies)]  # by position
+    for a, b in pairs:
+        pa, pb = position[a], position[b]
+        if pa == pb:
+            raise ValueError(f"a joint couples body {a} with itself")
+        adjacent[pa].add(pb)
+        adjacent[pb].add(pa)
+    edges, index = [], {}
+
+    def edge(r, c):
+        if (r, c) not in index:
+            index[(r, c)] = len(edges)
+            edges.append((r, c))
+        return index[(r, c)]
+
+    for k in range(n_bodies):  # the couplings, then the fill of each elimination in turn
+        for r in sorted(adjacent[k]):
+            if r > k:
+                edge(r, k)
+    updates_by = []
+    for k in range(n_bodies):
+        later = sorted(r for r in adjacent[k] if r > k)
+        rows = []
+        for i, r1 in enumerate(later):
+            for r2 in later[:i + 1]:
+                if r1 == r2:
+                    rows.append((edge(r1, k), edge(r1, k), -1))
+                else:  # fill: r1 and r2 become neighbours
+                    adjacent[r1].add(r2)
+                    adjacent[r2].add(r1)
+                    rows.append((edge(r1, k), edge(r2, k), edge(r1, r2)))
+        updates_by.append(rows)
+    edges = np.array(edges, dtype=np.int64).reshape(-1, 2)
+    down = [[e for e, (r, c) in enumerate(edges) if c == k] for k in range(n_bodies)]
+    up = [[e for e, (r, c) in enumerate(edges) if r == k] for k in range(n_bodies)]
+
+    def csr(lists, width=None):
+        start = np.zeros(len(lists) + 1, dtype=np.int64)
+        start[1:] = np.cumsum([len(x) for x in lists])
+        flat = [item for x in lists for item in x]
+        shape = (len(flat),) if width is None else (len(flat), width)
+        return start, np.array(flat, dtype=np.int64).reshape(shape)
+
+    down_start, down = csr(down)
+    up_start, up = csr(up)
+    update_start, updates = csr(updates_by, 3)
+    joint_edge = np.array([-1 if a == GROUND else index[(max(position[a], position[b]), min(position[a], position[b]))]
+                           for a, b in zip(lowers, uppers)], dtype=np.int64)
+    return order, position, edges, down_start, down, up_start, up, update_start, updates, joint_edge
+
+
+@njit(cache=True)
+def sparse_block_solve(pattern, diag, blocks, rhs, tmp):
+    """Solve a symmetric positive definite system of 6 x 6 blocks in place, by block Cholesky.
+
+    Parameters
+    ----------
+    pattern : tuple
+        :func:`elimination` of the system's graph.
     diag : float64[n, 6, 6]
-        Diagonal blocks (body b).
-    off : float64[n, 6, 6]
-        ``off[b]`` couples body b (rows) with body b - 1 (columns); ``off[0]`` unused.
+        Diagonal blocks by position (the factors on return).
+    blocks : float64[n_edges, 6, 6]
+        ``blocks[e]`` couples row position ``edges[e, 0]`` with column position ``edges[e, 1]``
+        (the coupling factors on return; fill edges must come in as zero).
     rhs : float64[n, 6]
-        Right-hand side, overwritten by the solution.
-    fac, coup : float64[n, 6, 6]
-        Scratch: Cholesky factors of the Schur complements and the coupling factors.
-    tmp : float64[6, 6]
+        Right-hand side by body (not position), overwritten by the solution.
+    tmp : float64[6]
         Scratch.
     """
+    order, position, edges, down_start, down, up_start, up, update_start, updates = pattern[:9]
     n = diag.shape[0]
-    for b in range(n):
-        if b == 0:
-            _cholesky6(diag[0], 0, fac)
-        else:
-            # C_b: row i solves L_{b-1} x = O_b[i, :]
+    for k in range(n):
+        L = diag[k]
+        _cholesky6(L, L)
+        for q in range(down_start[k], down_start[k + 1]):
+            C = blocks[down[q]]
+            # C = A L^-T: row i solves L x = A[i, :]
             for i in range(6):
-                for k in range(6):
-                    s = off[b, i, k]
-                    for m in range(k):
-                        s -= fac[b - 1, k, m] * coup[b, i, m]
-                    coup[b, i, k] = s / fac[b - 1, k, k]
-            for i in range(6):
-                for j in range(i + 1):
-                    s = diag[b, i, j]
-                    for k in range(6):
-                        s -= coup[b, i, k] * coup[b, j, k]
-                    tmp[i, j] = s
-                    tmp[j, i] = s
-            _cholesky6(tmp, b, fac)
+                for c in range(6):
+                    s = C[i, c]
+                    for m in range(c):
+                        s -= L[c, m] * C[i, m]
+                    C[i, c] = s / L[c, c]
+        for q in range(update_start[k], update_start[k + 1]):
+            e1, e2, target = updates[q, 0], updates[q, 1], updates[q, 2]
+            C1 = blocks[e1]
+            if target < 0:
+                D = diag[edges[e1, 0]]
+                for i in range(6):
+                    for j in range(i + 1):
+                        s = D[i, j]
+                        for m in range(6):
+                            s -= C1[i, m] * C1[j, m]
+                        D[i, j] = s
+                        D[j, i] = s
+            else:
+                C2 = blocks[e2]
+                A = blocks[target]
+                for i in range(6):
+                    for j in range(6):
+                        s = A[i, j]
+                        for m in range(6):
+                            s -= C1[i, m] * C2[j, m]
+                        A[i, j] = s
+    for k in range(n):  # forward: L w = rhs
+        b = order[k]
+        for q in range(up_start[k], up_start[k + 1]):
+            e = up[q]
+            C = blocks[e]
+            src = order[edges[e, 1]]
             for i in range(6):
                 s = rhs[b, i]
-                for k in range(6):
-                    s -= coup[b, i, k] * rhs[b - 1, k]
+                for m in range(6):
+                    s -= C[i, m] * rhs[src, m]
                 rhs[b, i] = s
-        for i in range(6):  # L_b w = rhs_b
+        L = diag[k]
+        for i in range(6):
             s = rhs[b, i]
-            for k in range(i):
-                s -= fac[b, i, k] * rhs[b, k]
-            rhs[b, i] = s / fac[b, i, i]
-    for b in range(n - 1, -1, -1):
-        if b < n - 1:
+            for m in range(i):
+                s -= L[i, m] * rhs[b, m]
+            rhs[b, i] = s / L[i, i]
+    for k in range(n - 1, -1, -1):  # backward: L^T x = w
+        b = order[k]
+        for q in range(down_start[k], down_start[k + 1]):
+            e = down[q]
+            C = blocks[e]
+            src = order[edges[e, 0]]
             for i in range(6):
                 s = rhs[b, i]
-                for k in range(6):
-                    s -= coup[b + 1, k, i] * rhs[b + 1, k]
+                for m in range(6):
+                    s -= C[m, i] * rhs[src, m]
                 rhs[b, i] = s
-        for i in range(5, -1, -1):  # L_b^T x = w
+        L = diag[k]
+        for i in range(5, -1, -1):
             s = rhs[b, i]
-            for k in range(i + 1, 6):
-                s -= fac[b, k, i] * rhs[b, k]
-            rhs[b, i] = s / fac[b, i, i]
+            for m in range(i + 1, 6):
+                s -= L[m, i] * rhs[b, m]
+            tmp[i] = s / L[i, i]
+            rhs[b, i] = tmp[i]
 
 
 @njit(cache=True)
@@ -268,43 +380,63 @@ def add_moments(mom, alpha, beta, rx, ry, rz):
 
 
 @njit(cache=True)
-def assemble_system(y, bodies, joint_matrices, h, work, diag, off):
-    """``M + h C`` as blocks (ground-frame velocities and angular velocities of each body).
+def body_inertia(bodies, b, R, out, r0):
+    """Body b's mass and inertia in the ground frame into ``out[r0:r0 + 6, r0:r0 + 6]``: m I, then
+    ``R diag(I_x, I_y, I_z) R^T`` (R its rotation, row-major)."""
+    m = bodies[b, B_MASS]
+    inertia = (bodies[b, B_IX], bodies[b, B_IY], bodies[b, B_IZ])
+    for i in range(3):
+        for k in range(3):
+            out[r0 + i, r0 + k] = 0.0
+        out[r0 + i, r0 + i] = m
+    for i in range(3):
+        for k in range(i + 1):
+            s = R[3 * i] * inertia[0] * R[3 * k] + R[3 * i + 1] * inertia[1] * R[3 * k + 1] + \
+                R[3 * i + 2] * inertia[2] * R[3 * k + 2]
+            out[r0 + 3 + i, r0 + 3 + k] = s
+            out[r0 + 3 + k, r0 + 3 + i] = s
+    for i in range(3):
+        for k in range(3):
+            out[r0 + i, r0 + 3 + k] = 0.0
+            out[r0 + 3 + i, r0 + k] = 0.0
 
-    ``joint_matrices[j]``: the dashpot matrix of joint j (:func:`joint_matrix`); ``work``
-    holds each body's rotation matrix (:func:`pipeline.dynamics.compliant.stack._kinematics`).
+
+@njit(cache=True)
+def assemble_system(y, bodies, joints, joint_matrices, h, work, pattern, diag, blocks, scratch):
+    """``M + h C`` as blocks (ground-frame velocities and angular velocities of each body), in the
+    elimination order of ``pattern`` (:func:`elimination`).
+
+    ``joint_matrices[j]``: the dashpot matrix of joint j (:func:`joint_matrix`) in the upper
+    body's velocities; ``work`` holds each body's rotation matrix
+    (:func:`pipeline.dynamics.compliant.assembly._kinematics`). A joint between two bodies adds
+    ``h K`` to its upper body's block, ``h E^T K E`` to its lower body's and ``h K E`` between
+    them, with ``E = [[-I, [e]x], [0, -I]]``, e from the lower centre to the upper one.
+    ``scratch``: a 6 x 6 array.
     """
-    n = bodies.shape[0]
-    for b in range(n):
-        R = work[b]
-        m, it, ia = bodies[b, sk.B_MASS], bodies[b, sk.B_IT], bodies[b, sk.B_IA]
+    order, position, joint_edge = pattern[0], pattern[1], pattern[9]
+    for k in range(diag.shape[0]):
+        body_inertia(bodies, order[k], work[order[k]], diag[k], 0)
+    for e in range(blocks.shape[0]):
         for i in range(6):
             for k in range(6):
-                diag[b, i, k] = 0.0
-                off[b, i, k] = 0.0
-        diag[b, 0, 0] = m
-        diag[b, 1, 1] = m
-        diag[b, 2, 2] = m
-        # inertia in the ground frame: it I + (ia - it) a a^T, a the body axis
-        a = (R[2], R[5], R[8])
-        for i in range(3):
-            for k in range(3):
-                diag[b, 3 + i, 3 + k] = (ia - it) * a[i] * a[k]
-            diag[b, 3 + i, 3 + i] += it
-    for j in range(n):
+                blocks[e, i, k] = 0.0
+    for j in range(joints.shape[0]):
         K = joint_matrices[j]
+        u = int(joints[j, J_UPPER])
+        lower = int(joints[j, J_LOWER])
+        D = diag[position[u]]
         for i in range(6):
             for k in range(6):
-                diag[j, i, k] += h * K[i, k]
-        if j == 0:
+                D[i, k] += h * K[i, k]
+        if lower == GROUND:
             continue
-        # off = h K E, lower diagonal += h E^T K E, with E = [[-I, [e]x], [0, -I]] written out
-        o, lo = sk.NB * j, sk.NB * (j - 1)
+        o, lo = NB * u, NB * lower
         ex = y[o + sk.X] - y[lo + sk.X]
         ey = y[o + sk.Y] - y[lo + sk.Y]
         ez = y[o + sk.Z] - y[lo + sk.Z]
-        KE = off[j]
-        for i in range(6):
+        pu, pl = position[u], position[lower]
+        KE = scratch
+        for i in range(6):  # h K E, rows the upper body's, columns the lower's
             k0, k1, k2 = K[i, 0], K[i, 1], K[i, 2]
             KE[i, 0] = -h * k0
             KE[i, 1] = -h * k1
@@ -313,7 +445,7 @@ def assemble_system(y, bodies, joint_matrices, h, work, diag, off):
             KE[i, 3] = h * (k1 * ez - k2 * ey - K[i, 3])
             KE[i, 4] = h * (k2 * ex - k0 * ez - K[i, 4])
             KE[i, 5] = h * (k0 * ey - k1 * ex - K[i, 5])
-        D = diag[j - 1]
+        D = diag[pl]
         for k in range(6):
             a0, a1, a2 = KE[0, k], KE[1, k], KE[2, k]
             D[0, k] -= a0
@@ -323,47 +455,90 @@ def assemble_system(y, bodies, joint_matrices, h, work, diag, off):
             D[3, k] -= (ey * a2 - ez * a1) + KE[3, k]
             D[4, k] -= (ez * a0 - ex * a2) + KE[4, k]
             D[5, k] -= (ex * a1 - ey * a0) + KE[5, k]
+        B = blocks[joint_edge[j]]  # stored with the later body's rows
+        if pu > pl:
+            for i in range(6):
+                for k in range(6):
+                    B[i, k] += KE[i, k]
+        else:
+            for i in range(6):
+                for k in range(6):
+                    B[i, k] += KE[k, i]
 
 
-def stiffest_frequency(params, y):
-    """Highest angular frequency of the joints' springs, every point pressed [1/tau].
+def spring_matrices(params, y, per_joint=False):
+    """The joints' springs of the assembly in the state y, every point pressed, as dense matrices.
 
-    The generalised eigenvalue problem ``K x = omega^2 M x`` of the stack in the state y (the
-    rest state), with every contact point carrying its normal spring ``k_n A`` and its shear
-    spring ``k_s A`` (whole faces in contact: the stiffest the joints get). Symplectic Euler
-    is stable on it for ``h < 2 / omega``.
+    Every contact point carries its normal spring ``k_n A`` and its shear spring ``k_s A``
+    (whole faces in contact: the stiffest the joints get). Returns ``(K, M, K_normal)``: the
+    stiffness (6 n x 6 n, ground-frame velocities and angular velocities of each body), the mass
+    matrix and the normal springs alone; with ``per_joint`` also each joint's share of K, as
+    ``(bodies, 12 x 12 or 6 x 6 block)`` per joint.
+    """
+    bodies, points, joint_start, joints = params[:4]
+    work, jwork = params[6], params[8]
+    n = bodies.shape[0]
+    sk._kinematics(y, params)
+    K = np.zeros((6 * n, 6 * n))
+    K_normal = np.zeros((6 * n, 6 * n))
+    M = np.zeros((6 * n, 6 * n))
+    for b in range(n):
+        body_inertia(bodies, b, work[b], M, 6 * b)
+    mat = np.zeros((6, 6))
+    mom = np.zeros(20)
+    shares = []
+    for total, shear in ((K, True), (K_normal, False)):
+        for j in range(joints.shape[0]):
+            mom[:] = 0.0
+            kn, ks = joints[j, J_KN], joints[j, J_KS]
+            if not shear:
+                ks = 0.0
+            for p in range(joint_start[j], joint_start[j + 1]):
+                geo = sk._point_geometry(y, p, j, params)
+                area = points[p, P_AREA]
+                add_moments(mom, ks * area, (kn - ks) * area, geo[0], geo[1], geo[2])
+            F = jwork[j]
+            joint_matrix(mom, F[2], F[5], F[8], mat)
+            u, lower = int(joints[j, J_UPPER]), int(joints[j, J_LOWER])
+            rows = [(u, np.eye(6))]
+            if lower != GROUND:
+                e = y[NB * u:NB * u + 3] - y[NB * lower:NB * lower + 3]
+                E = np.zeros((6, 6))
+                E[:3, :3] = -np.eye(3)
+                E[:3, 3:] = np.array([[0.0, -e[2], e[1]], [e[2], 0.0, -e[0]], [-e[1], e[0], 0.0]])
+                E[3:, 3:] = -np.eye(3)
+                rows.append((lower, E))
+            H = np.hstack([Ea for _, Ea in rows])
+            local = H.T @ mat @ H
+            for i, (a, _) in enumerate(rows):
+                for k, (c, _) in enumerate(rows):
+                    total[6 * a:6 * a + 6, 6 * c:6 * c + 6] += local[6 * i:6 * i + 6, 6 * k:6 * k + 6]
+            if shear:
+                shares.append(([a for a, _ in rows], local))
+    if per_joint:
+        return K, M, K_normal, shares
+    return K, M, K_normal
+
+
+def stiffest_mode(params, y):
+    """The stiffest mode of the joints' springs, every point pressed: its angular frequency [1/tau]
+    and each joint's share of its elastic energy [1].
+
+    The generalised eigenvalue problem ``K x = omega^2 M x`` of the assembly in the state y (the
+    rest state), :func:`spring_matrices`. Symplectic Euler is stable on it for ``h < 2 / omega``;
+    the joint with the largest share is the one that sets the limit.
     """
     from scipy.linalg import eigh
 
-    bodies, points, joint_start, joints = params[:4]
-    work = params[6]
-    n = bodies.shape[0]
-    sk._kinematics(y, bodies, work)
-    mats = np.zeros((n, 6, 6))
-    mom = np.zeros(20)
-    for j in range(n):
-        mom[:] = 0.0
-        kn, ks = joints[j, sk.J_KN], joints[j, sk.J_KS]
-        for p in range(joint_start[j], joint_start[j + 1]):
-            geo = sk._point_geometry(y, p, j, params)
-            area = points[p, sk.P_AREA]
-            add_moments(mom, ks * area, (kn - ks) * area, geo[0], geo[1], geo[2])
-        R = work[j - 1] if j > 0 else np.array([0, 0, 0, 0, 0, 0, 0, 0, 1.0])
-        joint_matrix(mom, R[2], R[5], R[8], mats[j])
-    diag = np.zeros((n, 6, 6))
-    off = np.zeros((n, 6, 6))
-    # with h = 1 the assembled blocks are M + K, without joints M alone: K is their difference
-    assemble_system(y, bodies, mats, 1.0, work, diag, off)
-    mass = np.zeros((n, 6, 6))
-    assemble_system(y, bodies, np.zeros((n, 6, 6)), 1.0, work, mass, np.zeros((n, 6, 6)))
-    K = np.zeros((6 * n, 6 * n))
-    M = np.zeros((6 * n, 6 * n))
-    for b in range(n):
-        M[6 * b:6 * b + 6, 6 * b:6 * b + 6] = mass[b]
-        K[6 * b:6 * b + 6, 6 * b:6 * b + 6] = diag[b] - mass[b]
-        if b > 0:
-            K[6 * b:6 * b + 6, 6 * (b - 1):6 * b] = off[b]
-            K[6 * (b - 1):6 * b, 6 * b:6 * b + 6] = off[b].T
-    values = eigh(0.5 * (K + K.T), M, eigvals_only=True)
-    return math.sqrt(max(values.max(), 0.0))
+    K, M, _, shares = spring_matrices(params, y, per_joint=True)
+    values, vectors = eigh(0.5 * (K + K.T), M)
+    x = vectors[:, -1]
+    energy = np.array([float(x[np.concatenate([np.arange(6 * b, 6 * b + 6) for b in bodies])] @ local
+                             @ x[np.concatenate([np.arange(6 * b, 6 * b + 6) for b in bodies])])
+                       for bodies, local in shares])
+    return math.sqrt(max(values[-1], 0.0)), energy / energy.sum()
 
+
+def stiffest_frequency(params, y):
+    """Highest angular frequency of the joints' springs, every point pressed [1/tau] (:func:`stiffest_mode`)."""
+    return stiffest_mode(params, y)[0]

@@ -1,8 +1,8 @@
-"""Fixed-step semi-implicit integrator of the compliant models (monolith and drum stacks).
+"""Fixed-step semi-implicit integrator of the compliant models (a monolith, a drum column, a colonnade).
 
 The integrator of DEM codes (3DEC, PFC) written for the joint law of
-:mod:`pipeline.dynamics.compliant.joint` and the bodies of :mod:`pipeline.dynamics.compliant.stack`, whose state
-layout, tables, monitor and statistics it shares. One step of size h:
+:mod:`pipeline.dynamics.compliant.joint` and the assemblies of :mod:`pipeline.dynamics.compliant.assembly`,
+whose state layout, tables, monitor and statistics it shares. One step of size h:
 
 1. **Forces at the configuration q_n** (one evaluation per step): the elastic normal force of
    every contact point, ``A s k_n d``; its shear spring, returned onto the Coulomb cone first
@@ -11,10 +11,12 @@ layout, tables, monitor and statistics it shares. One step of size h:
    edge; weights and the field ``-m a_g(t_n)``; the gyroscopic couple.
 2. **Velocities, dashpots implicit**: the normal and shear dashpots are linear in the bodies'
    velocities, so ``(M + h C) V_{n+1} = M V_n + h F`` with C the dashpots' matrix at q_n. C is
-   block-tridiagonal (a joint couples two neighbouring bodies) and is assembled per joint from
-   sums over its points (weights, first and second moments of the lever arms), not per point.
-   The system is solved by a block Cholesky factorisation (6 x 6 blocks; the joints' linear
-   algebra is :mod:`pipeline.dynamics.compliant.linear_system`). A point whose
+   sparse in 6 x 6 blocks (a joint couples its two bodies) and is assembled per joint from sums
+   over its points (weights, first and second moments of the lever arms), not per point. The
+   system is solved by a block Cholesky factorisation in a fixed order that fills in nothing
+   (each column's chain into its capital, then the capitals and blocks along the row: linear
+   in the number of bodies; the joints' linear algebra is
+   :mod:`pipeline.dynamics.compliant.linear_system`). A point whose
    normal force would pull (``f_el + c_n d' < 0``, the clipped joint) is taken out of the
    system (no elastic force, no dashpot) and the step solved again (an active set, at most
    :data:`MAX_PASSES` solves). The shear dashpot of a sticking point gets the share of the
@@ -37,7 +39,7 @@ work), friction as the spring energy lost in each return to the cone and in the 
 of unloaded springs. What remains of the budget is the scheme's error (first order in h; the
 summary states it).
 
-Kernel layer: dimensionless floats and arrays as in :mod:`pipeline.dynamics.compliant.stack`.
+Kernel layer: dimensionless floats and arrays as in :mod:`pipeline.dynamics.compliant.layout`.
 """
 
 import math
@@ -45,9 +47,17 @@ import math
 import numpy as np
 from numba import njit
 
+from pipeline.dynamics.compliant import assembly as sk
 from pipeline.dynamics.compliant import joint as jl
 from pipeline.dynamics.compliant import linear_system as ls
-from pipeline.dynamics.compliant import stack as sk
+from pipeline.dynamics.compliant import statistics as st
+from pipeline.dynamics.compliant.layout import (
+    A_DAMPING, A_FRICTION, A_WORK, B_HOLD, B_IX, B_IY, B_IZ, B_MASS, GROUND, JW_O, J_AREA, J_CN, J_DELTA,
+    J_FA, J_FB, J_KN, J_KS, J_LOWER, J_MU, J_SHAPE, J_TAU, J_UPPER, M_AREA, M_COP_BX, M_COP_BY, M_COP_X, M_COP_Y,
+    M_ELASTIC, M_NORMAL, M_NORMAL_EL, M_TX, M_TY, NB, N_ACC, P_AREA, P_U, P_V, P_X, P_Y, P_Z, QW, QX, QY, QZ,
+    SHAPE_DISC, STATUS_COLLAPSED, S_END_TIME, S_NFEV, S_OVERTURN_BODY, S_OVERTURN_TIME, S_STATUS, S_STEPS, VX, VY,
+    VZ, W_F, W_OM, W_T, WX, WY, WZ, X, Y, Z,
+)
 from pipeline.dynamics.excitation import ground_acceleration
 
 # Solves of one step's active set of clipped points at most (one when no point changes).
@@ -62,88 +72,85 @@ N_Q = 17
 
 @njit(cache=True)
 def _joint_frame(y, j, params, frame):
-    """The frame of joint j: the upper body seen from the face below.
+    """Joint j's upper body seen from its face.
 
-    ``frame``: ``P = R_l^T R_u`` (9, row-major) and ``q`` (3), the upper centre in the frame of
-    the face below (origin at its centre), so a point p of the upper body's base (body axes)
-    lies at ``xi = P p + q`` with lever arm ``r = P p`` from the upper centre (both in the
-    frame of the face below). The ground's frame is the reference frame.
+    ``frame``: ``P = F^T R_u`` (9, row-major) and ``q`` (3), the upper centre in the face's
+    frame (origin at its centre), so a point p of the upper body (body axes) lies at
+    ``xi = P p + q`` with lever arm ``r = P p`` from the upper centre (both in the face's
+    frame); F is the face's axes in the ground frame (:func:`pipeline.dynamics.compliant.assembly.face_frame`).
     """
-    bodies, points, joint_start, joints, record, dt, work, mon = params
-    Ru = work[j]
-    o = sk.NB * j
-    if j == 0:
-        for k in range(9):
-            frame[k] = Ru[k]
-        frame[9], frame[10], frame[11] = y[o + sk.X], y[o + sk.Y], y[o + sk.Z]
-        return
-    Rl = work[j - 1]
-    lo = sk.NB * (j - 1)
+    joints, work, jwork = params[3], params[6], params[8]
+    u = int(joints[j, J_UPPER])
+    Ru = work[u]
+    Fr = jwork[j]
+    o = NB * u
     for r in range(3):
         for c in range(3):
-            frame[3 * r + c] = Rl[r] * Ru[c] + Rl[3 + r] * Ru[3 + c] + Rl[6 + r] * Ru[6 + c]
-    h = bodies[j - 1, sk.B_TOP] - bodies[j - 1, sk.B_ZC]
-    dx = y[o + sk.X] - y[lo + sk.X] - Rl[2] * h
-    dy = y[o + sk.Y] - y[lo + sk.Y] - Rl[5] * h
-    dz = y[o + sk.Z] - y[lo + sk.Z] - Rl[8] * h
-    frame[9] = Rl[0] * dx + Rl[3] * dy + Rl[6] * dz
-    frame[10] = Rl[1] * dx + Rl[4] * dy + Rl[7] * dz
-    frame[11] = Rl[2] * dx + Rl[5] * dy + Rl[8] * dz
+            frame[3 * r + c] = Fr[r] * Ru[c] + Fr[3 + r] * Ru[3 + c] + Fr[6 + r] * Ru[6 + c]
+    dx = y[o + X] - Fr[JW_O]
+    dy = y[o + Y] - Fr[JW_O + 1]
+    dz = y[o + Z] - Fr[JW_O + 2]
+    frame[9] = Fr[0] * dx + Fr[3] * dy + Fr[6] * dz
+    frame[10] = Fr[1] * dx + Fr[4] * dy + Fr[7] * dz
+    frame[11] = Fr[2] * dx + Fr[5] * dy + Fr[8] * dz
 
 
 @njit(cache=True)
-def _relative_motion(Rl, vx, vy, vz, wx, wy, wz, lvx, lvy, lvz, lwx, lwy, lwz, out):
+def _relative_motion(Fr, vx, vy, vz, wx, wy, wz, lvx, lvy, lvz, lwx, lwy, lwz, out):
     """(a', b') of :func:`_joint_motion_of_state` from the two bodies' velocities (ground frame)
-    and the centres' offset ``out[6:9]``."""
+    and the centres' offset ``out[6:9]``, turned into the face's frame ``Fr``."""
     ex, ey, ez = out[6], out[7], out[8]
     ax = vx - lvx - (lwy * ez - lwz * ey)
     ay = vy - lvy - (lwz * ex - lwx * ez)
     az = vz - lvz - (lwx * ey - lwy * ex)
     bx, by, bz = wx - lwx, wy - lwy, wz - lwz
-    out[0] = Rl[0] * ax + Rl[3] * ay + Rl[6] * az
-    out[1] = Rl[1] * ax + Rl[4] * ay + Rl[7] * az
-    out[2] = Rl[2] * ax + Rl[5] * ay + Rl[8] * az
-    out[3] = Rl[0] * bx + Rl[3] * by + Rl[6] * bz
-    out[4] = Rl[1] * bx + Rl[4] * by + Rl[7] * bz
-    out[5] = Rl[2] * bx + Rl[5] * by + Rl[8] * bz
+    out[0] = Fr[0] * ax + Fr[3] * ay + Fr[6] * az
+    out[1] = Fr[1] * ax + Fr[4] * ay + Fr[7] * az
+    out[2] = Fr[2] * ax + Fr[5] * ay + Fr[8] * az
+    out[3] = Fr[0] * bx + Fr[3] * by + Fr[6] * bz
+    out[4] = Fr[1] * bx + Fr[4] * by + Fr[7] * bz
+    out[5] = Fr[2] * bx + Fr[5] * by + Fr[8] * bz
 
 
 @njit(cache=True)
 def _joint_motion_of_state(y, j, params, out):
-    """Relative motion (a', b') of joint j in the frame of the face below, ``g' = a' + b' x r``.
+    """Relative motion (a', b') of joint j in its face's frame, ``g' = a' + b' x r``.
 
     ``a'`` is the velocity of the upper centre relative to the lower body's material point
-    there, ``b'`` the relative angular velocity, both in the lower frame, at the velocities of
+    there, ``b'`` the relative angular velocity, both in the face's frame, at the velocities of
     the state y (and the angular velocities of the scratch). ``out[6:9]`` keeps the centres'
     offset for :func:`_joint_motion_of_bodies`.
     """
-    work = params[6]
-    Ru = work[j]
-    o = sk.NB * j
-    vx, vy, vz = y[o + sk.VX], y[o + sk.VY], y[o + sk.VZ]
-    wx, wy, wz = Ru[sk.W_OM], Ru[sk.W_OM + 1], Ru[sk.W_OM + 2]
-    if j == 0:
-        out[0], out[1], out[2], out[3], out[4], out[5] = vx, vy, vz, wx, wy, wz
+    joints, work, jwork = params[3], params[6], params[8]
+    u, lower = int(joints[j, J_UPPER]), int(joints[j, J_LOWER])
+    Ru = work[u]
+    o = NB * u
+    vx, vy, vz = y[o + VX], y[o + VY], y[o + VZ]
+    wx, wy, wz = Ru[W_OM], Ru[W_OM + 1], Ru[W_OM + 2]
+    if lower == GROUND:
+        out[6], out[7], out[8] = 0.0, 0.0, 0.0
+        _relative_motion(jwork[j], vx, vy, vz, wx, wy, wz, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, out)
         return
-    Rl = work[j - 1]
-    lo = sk.NB * (j - 1)
-    out[6] = y[o + sk.X] - y[lo + sk.X]
-    out[7] = y[o + sk.Y] - y[lo + sk.Y]
-    out[8] = y[o + sk.Z] - y[lo + sk.Z]
-    _relative_motion(Rl, vx, vy, vz, wx, wy, wz, y[lo + sk.VX], y[lo + sk.VY], y[lo + sk.VZ],
-                     Rl[sk.W_OM], Rl[sk.W_OM + 1], Rl[sk.W_OM + 2], out)
+    Rl = work[lower]
+    lo = NB * lower
+    out[6] = y[o + X] - y[lo + X]
+    out[7] = y[o + Y] - y[lo + Y]
+    out[8] = y[o + Z] - y[lo + Z]
+    _relative_motion(jwork[j], vx, vy, vz, wx, wy, wz, y[lo + VX], y[lo + VY], y[lo + VZ],
+                     Rl[W_OM], Rl[W_OM + 1], Rl[W_OM + 2], out)
 
 
 @njit(cache=True)
 def _joint_motion_of_bodies(vel, j, params, out):
     """(a', b') of joint j at the solved body velocities (rows of ``vel``, ground frame)."""
-    if j == 0:
-        for k in range(6):
-            out[k] = vel[0, k]
+    joints, jwork = params[3], params[8]
+    u, lower = int(joints[j, J_UPPER]), int(joints[j, J_LOWER])
+    v = vel[u]
+    if lower == GROUND:
+        _relative_motion(jwork[j], v[0], v[1], v[2], v[3], v[4], v[5], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, out)
         return
-    Rl = params[6][j - 1]
-    u, l = vel[j], vel[j - 1]
-    _relative_motion(Rl, u[0], u[1], u[2], u[3], u[4], u[5], l[0], l[1], l[2], l[3], l[4], l[5], out)
+    l = vel[lower]
+    _relative_motion(jwork[j], v[0], v[1], v[2], v[3], v[4], v[5], l[0], l[1], l[2], l[3], l[4], l[5], out)
 
 
 @njit(cache=True)
@@ -157,18 +164,19 @@ def _point_forces(y, h, params, pts, frames, motion, fric_slip, mats):
     are returned onto the cone in y. As it goes, the joints' loads and dashpot matrices with
     the active set at the step's start (what :func:`_joint_loads` gives, in one pass).
     """
-    bodies, points, joint_start, joints, record, dt, work, mon = params
+    bodies, points, joint_start, joints = params[:4]
     n_bodies = bodies.shape[0]
     _clear_loads(params)
-    sh = sk.NB * n_bodies
+    sh = NB * n_bodies
     friction = 0.0
-    for j in range(n_bodies):
-        kn, ks, mu, cn, tau = joints[j, sk.J_KN], joints[j, sk.J_KS], joints[j, sk.J_MU], joints[j, sk.J_CN], \
-            joints[j, sk.J_TAU]
-        delta = joints[j, sk.J_DELTA]
-        band = joints[j, sk.J_BAND]
-        face = bodies[j - 1, sk.B_TOP_R] if j > 0 else math.inf
-        edge2 = (face * (1.0 + jl.EDGE_TOL)) ** 2  # within it a point is over the face (s = 1)
+    for j in range(joints.shape[0]):
+        kn, ks, mu, cn, tau = joints[j, J_KN], joints[j, J_KS], joints[j, J_MU], joints[j, J_CN], joints[j, J_TAU]
+        delta = joints[j, J_DELTA]
+        disc = joints[j, J_SHAPE] == SHAPE_DISC
+        # within it a point is over the face (s = 1): the disc's radius squared, the rectangle's half sides
+        edge_a = joints[j, J_FA] * (1.0 + jl.EDGE_TOL)
+        edge_b = joints[j, J_FB] * (1.0 + jl.EDGE_TOL)
+        edge2 = edge_a * edge_a
         decay = math.exp(-h / tau)
         shear_dashpot = ks / kn * cn  # [per area] the normal dashpot's ratio to the stiffness
         F = frames[j]
@@ -184,22 +192,21 @@ def _point_forces(y, h, params, pts, frames, motion, fric_slip, mats):
         sums = NO_SUMS
         for p in range(joint_start[j], joint_start[j + 1]):
             iu = sh + 2 * p
-            px, py, pz = points[p, sk.P_X], points[p, sk.P_Y], points[p, sk.P_Z]
+            px, py, pz = points[p, P_X], points[p, P_Y], points[p, P_Z]
             rz = p20 * px + p21 * py + p22 * pz
             d = -(rz + qz)
-            s, ds = 1.0, 0.0
+            s, sx, sy = 1.0, 0.0, 0.0
             if d > 0.0:
                 rx = p00 * px + p01 * py + p02 * pz
                 ry = p10 * px + p11 * py + p12 * pz
                 xi_x, xi_y = rx + qx, ry + qy
-                rr = xi_x * xi_x + xi_y * xi_y
-                if rr > edge2:
-                    s, ds = jl.overlap(math.sqrt(rr), face, band)
+                if (xi_x * xi_x + xi_y * xi_y > edge2) if disc else (abs(xi_x) > edge_a or abs(xi_y) > edge_b):
+                    s, sx, sy = sk.face_overlap(xi_x, xi_y, joints[j])
             if d <= 0.0 or s <= 0.0:
                 ux, uy = y[iu], y[iu + 1]
                 uu = ux * ux + uy * uy
                 if uu > 0.0:  # an unloaded spring relaxes; its energy goes as friction
-                    friction += 0.5 * ks * points[p, sk.P_AREA] * uu * (1.0 - decay * decay)
+                    friction += 0.5 * ks * points[p, P_AREA] * uu * (1.0 - decay * decay)
                     y[iu] = ux * decay
                     y[iu + 1] = uy * decay
                 pts[p, Q_CONTACT] = 0.0
@@ -208,7 +215,7 @@ def _point_forces(y, h, params, pts, frames, motion, fric_slip, mats):
             vtx = vx_rel + wy_rel * rz - wz_rel * ry
             vty = vy_rel + wz_rel * rx - wx_rel * rz
             d_dot = -(vz_rel + wx_rel * ry - wy_rel * rx)
-            area = points[p, sk.P_AREA]
+            area = points[p, P_AREA]
             f_el = area * s * kn * d
             engage = min(1.0, d / delta)
             c_n = area * s * cn * engage
@@ -233,10 +240,9 @@ def _point_forces(y, h, params, pts, frames, motion, fric_slip, mats):
                 c_full = shear_dashpot * area * s * engage
                 c_t = c_full * jl._viscous_share(k_area * ux, k_area * uy, c_full * vtx, c_full * vty, cap)
             pull_x = pull_y = 0.0
-            if ds != 0.0:  # the pull of a patch running off the edge below
-                rho = math.sqrt(xi_x * xi_x + xi_y * xi_y)
-                push = -0.5 * kn * area * d * d * ds / rho
-                pull_x, pull_y = push * xi_x, push * xi_y
+            if sx != 0.0 or sy != 0.0:  # the pull of a patch running off the edge of the face
+                pull = -0.5 * kn * area * d * d
+                pull_x, pull_y = pull * sx, pull * sy
             fx = -k_area * ux + pull_x
             fy = -k_area * uy + pull_y
             pts[p, Q_PX], pts[p, Q_PY], pts[p, Q_S] = pull_x, pull_y, s
@@ -252,7 +258,7 @@ def _point_forces(y, h, params, pts, frames, motion, fric_slip, mats):
             pts[p, Q_ACTIVE] = 1.0 if f_el + c_n * d_dot >= 0.0 else 0.0
             sums = _load_point(sums, pts, p)
         _close_joint(y, j, params, sums, mats)
-        fric_slip[j] = slip / joints[j, sk.J_AREA]
+        fric_slip[j] = slip / joints[j, J_AREA]
     return friction
 
 
@@ -306,40 +312,39 @@ def _load_point(sums, pts, p):
 @njit(cache=True)
 def _close_joint(y, j, params, sums, mats):
     """Joint j's dashpot matrix (``mats[j]``, ground frame) and its force on both bodies (scratch
-    W_F, W_T) from its running ``sums`` (:func:`_load_point`, frame of the face below)."""
-    work = params[6]
+    W_F, W_T) from its running ``sums`` (:func:`_load_point`, frame of its face)."""
+    joints, work, jwork = params[3], params[6], params[8]
     (a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, b0, b1, b2, b3, b4, b5,
      sfx, sfy, sfz, stx, sty, stz) = sums
-    if j == 0:
-        ls.joint_matrix_z(a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, b0, b1, b2, b3, b4, b5, mats[0])
-        Fx, Fy, Fz, Tx, Ty, Tz = sfx, sfy, sfz, stx, sty, stz
-    else:
-        Rl = work[j - 1]
-        ls.turned_joint_matrix_z(a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, b0, b1, b2, b3, b4, b5, Rl, mats[j])
-        Fx = Rl[0] * sfx + Rl[1] * sfy + Rl[2] * sfz
-        Fy = Rl[3] * sfx + Rl[4] * sfy + Rl[5] * sfz
-        Fz = Rl[6] * sfx + Rl[7] * sfy + Rl[8] * sfz
-        Tx = Rl[0] * stx + Rl[1] * sty + Rl[2] * stz
-        Ty = Rl[3] * stx + Rl[4] * sty + Rl[5] * stz
-        Tz = Rl[6] * stx + Rl[7] * sty + Rl[8] * stz
-        up, lo = sk.NB * j, sk.NB * (j - 1)
-        ex = y[up + sk.X] - y[lo + sk.X]
-        ey = y[up + sk.Y] - y[lo + sk.Y]
-        ez = y[up + sk.Z] - y[lo + sk.Z]
+    Fr = jwork[j]
+    ls.turned_joint_matrix_z(a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, b0, b1, b2, b3, b4, b5, Fr, mats[j])
+    Fx = Fr[0] * sfx + Fr[1] * sfy + Fr[2] * sfz
+    Fy = Fr[3] * sfx + Fr[4] * sfy + Fr[5] * sfz
+    Fz = Fr[6] * sfx + Fr[7] * sfy + Fr[8] * sfz
+    Tx = Fr[0] * stx + Fr[1] * sty + Fr[2] * stz
+    Ty = Fr[3] * stx + Fr[4] * sty + Fr[5] * stz
+    Tz = Fr[6] * stx + Fr[7] * sty + Fr[8] * stz
+    u, lower = int(joints[j, J_UPPER]), int(joints[j, J_LOWER])
+    if lower != GROUND:
+        Rl = work[lower]
+        up, lo = NB * u, NB * lower
+        ex = y[up + X] - y[lo + X]
+        ey = y[up + Y] - y[lo + Y]
+        ez = y[up + Z] - y[lo + Z]
         # the reaction on the lower body, its moment about the lower centre
-        Rl[sk.W_F] -= Fx
-        Rl[sk.W_F + 1] -= Fy
-        Rl[sk.W_F + 2] -= Fz
-        Rl[sk.W_T] -= Tx + (ey * Fz - ez * Fy)
-        Rl[sk.W_T + 1] -= Ty + (ez * Fx - ex * Fz)
-        Rl[sk.W_T + 2] -= Tz + (ex * Fy - ey * Fx)
-    Ru = work[j]
-    Ru[sk.W_F] += Fx
-    Ru[sk.W_F + 1] += Fy
-    Ru[sk.W_F + 2] += Fz
-    Ru[sk.W_T] += Tx
-    Ru[sk.W_T + 1] += Ty
-    Ru[sk.W_T + 2] += Tz
+        Rl[W_F] -= Fx
+        Rl[W_F + 1] -= Fy
+        Rl[W_F + 2] -= Fz
+        Rl[W_T] -= Tx + (ey * Fz - ez * Fy)
+        Rl[W_T + 1] -= Ty + (ez * Fx - ex * Fz)
+        Rl[W_T + 2] -= Tz + (ex * Fy - ey * Fx)
+    Ru = work[u]
+    Ru[W_F] += Fx
+    Ru[W_F + 1] += Fy
+    Ru[W_F + 2] += Fz
+    Ru[W_T] += Tx
+    Ru[W_T + 1] += Ty
+    Ru[W_T + 2] += Tz
 
 
 @njit(cache=True)
@@ -348,7 +353,7 @@ def _clear_loads(params):
     work = params[6]
     for b in range(work.shape[0]):
         for k in range(6):
-            work[b, sk.W_F + k] = 0.0
+            work[b, W_F + k] = 0.0
 
 
 @njit(cache=True)
@@ -356,13 +361,12 @@ def _joint_loads(y, params, pts, mats):
     """Explicit joint forces on the bodies (scratch W_F, W_T) and each joint's dashpot matrix,
     from the points' scratch as it stands (:func:`_point_forces` does the same as it goes).
 
-    Summed per joint in the frame of the face below, point pairs next to each other, so that
-    at rest the moments cancel exactly and the forces equal the static weights bit for bit
-    (:func:`set_static_weights`).
+    Summed per joint in the frame of its face, point pairs next to each other, so that at rest
+    the moments of a symmetric joint cancel exactly.
     """
-    bodies, points, joint_start, joints, record, dt, work, mon = params
+    joint_start, joints = params[2], params[3]
     _clear_loads(params)
-    for j in range(bodies.shape[0]):
+    for j in range(joints.shape[0]):
         sums = NO_SUMS
         for p in range(joint_start[j], joint_start[j + 1]):
             if pts[p, Q_CONTACT] != 0.0:
@@ -371,42 +375,42 @@ def _joint_loads(y, params, pts, mats):
 
 
 @njit(cache=True)
-def set_static_weights(y, h, params, s):
-    """Each body's weight set to the net joint force on it in the rest state y, as this
-    integrator sums it: at rest its velocity update is then exactly zero."""
-    bodies, points, joint_start, joints, record, dt, work, mon = params
-    pts, mats, diag, off, fac, coup, tmp, vel, slip, impulse, frames, motion = s
-    sk._kinematics(y, bodies, work)
+def set_static_loads(y, h, params, s):
+    """Each body's holding load set to the joints' net force and torque on it in the rest state y,
+    as this integrator sums them: at rest its velocity update is then exactly zero."""
+    bodies, work = params[0], params[6]
+    pts, mats, frames, motion, slip = s[0], s[1], s[10], s[11], s[8]
+    sk._kinematics(y, params)
     _point_forces(y, h, params, pts, frames, motion, slip, mats)
     for b in range(bodies.shape[0]):
-        bodies[b, sk.B_WEIGHT] = work[b, sk.W_F + 2]
+        for k in range(6):
+            bodies[b, B_HOLD + k] = work[b, W_F + k]
 
 
 @njit(cache=True)
 def _momentum(y, bodies, work, h, ax, ay, az, rhs):
     """``M V_n + h (F - gyroscopic)`` per body, ground frame (after :func:`_joint_loads`)."""
     for b in range(bodies.shape[0]):
-        o = sk.NB * b
+        o = NB * b
         R = work[b]
-        m, it, ia = bodies[b, sk.B_MASS], bodies[b, sk.B_IT], bodies[b, sk.B_IA]
-        # the joints' sum first, then the weight: at rest this is exactly zero (as in stack.rhs)
-        fx = R[sk.W_F] - m * ax
-        fy = R[sk.W_F + 1] - m * ay
-        fz = (R[sk.W_F + 2] - bodies[b, sk.B_WEIGHT]) - m * az
-        rhs[b, 0] = m * y[o + sk.VX] + h * fx
-        rhs[b, 1] = m * y[o + sk.VY] + h * fy
-        rhs[b, 2] = m * y[o + sk.VZ] + h * fz
-        wx, wy, wz = R[sk.W_OM], R[sk.W_OM + 1], R[sk.W_OM + 2]
-        a0, a1, a2 = R[2], R[5], R[8]
-        aw = a0 * wx + a1 * wy + a2 * wz
-        # I_g w = it w + (ia - it)(a.w) a; gyroscopic w x I_g w = (ia - it)(a.w)(w x a)
-        lx = it * wx + (ia - it) * aw * a0
-        ly = it * wy + (ia - it) * aw * a1
-        lz = it * wz + (ia - it) * aw * a2
-        gyro = (ia - it) * aw
-        rhs[b, 3] = lx + h * (R[sk.W_T] - gyro * (wy * a2 - wz * a1))
-        rhs[b, 4] = ly + h * (R[sk.W_T + 1] - gyro * (wz * a0 - wx * a2))
-        rhs[b, 5] = lz + h * (R[sk.W_T + 2] - gyro * (wx * a1 - wy * a0))
+        m = bodies[b, B_MASS]
+        # the joints' sum first, then the holding load: at rest this is exactly zero (as in assembly.rhs)
+        fx = (R[W_F] - bodies[b, B_HOLD]) - m * ax
+        fy = (R[W_F + 1] - bodies[b, B_HOLD + 1]) - m * ay
+        fz = (R[W_F + 2] - bodies[b, B_HOLD + 2]) - m * az
+        rhs[b, 0] = m * y[o + VX] + h * fx
+        rhs[b, 1] = m * y[o + VY] + h * fy
+        rhs[b, 2] = m * y[o + VZ] + h * fz
+        # I_g w = R diag(I) R^T w, from the body-frame angular velocity; gyroscopic w x I_g w
+        wx, wy, wz = R[W_OM], R[W_OM + 1], R[W_OM + 2]
+        bx, by, bz = y[o + WX], y[o + WY], y[o + WZ]
+        cx, cy, cz = bodies[b, B_IX] * bx, bodies[b, B_IY] * by, bodies[b, B_IZ] * bz
+        lx = R[0] * cx + R[1] * cy + R[2] * cz
+        ly = R[3] * cx + R[4] * cy + R[5] * cz
+        lz = R[6] * cx + R[7] * cy + R[8] * cz
+        rhs[b, 3] = lx + h * ((R[W_T] - bodies[b, B_HOLD + 3]) - (wy * lz - wz * ly))
+        rhs[b, 4] = ly + h * ((R[W_T + 1] - bodies[b, B_HOLD + 4]) - (wz * lx - wx * lz))
+        rhs[b, 5] = lz + h * ((R[W_T + 2] - bodies[b, B_HOLD + 5]) - (wx * ly - wy * lx))
 
 
 @njit(cache=True)
@@ -415,9 +419,9 @@ def _update_active_set(params, pts, vel, motion):
     and the clipped joint: points whose normal force would pull are clipped, those that push
     are not. Returns the number of points that changed.
     """
-    bodies, points, joint_start, joints, record, dt, work, mon = params
+    joint_start, joints = params[2], params[3]
     changed = 0
-    for j in range(bodies.shape[0]):
+    for j in range(joints.shape[0]):
         mo = motion[j]
         _joint_motion_of_bodies(vel, j, params, mo)
         vx_rel, vy_rel, vz_rel, wx_rel, wy_rel, wz_rel = mo[0], mo[1], mo[2], mo[3], mo[4], mo[5]  # (see _point_forces)
@@ -449,20 +453,21 @@ def _implicit_excess(bodies, work, vel, impulse):
     excess = 0.0
     for b in range(bodies.shape[0]):
         R = work[b]
-        m, it, ia = bodies[b, sk.B_MASS], bodies[b, sk.B_IT], bodies[b, sk.B_IA]
-        a0, a1, a2 = R[2], R[5], R[8]
+        m = bodies[b, B_MASS]
         px = impulse[b, 0] - m * vel[b, 0]
         py = impulse[b, 1] - m * vel[b, 1]
         pz = impulse[b, 2] - m * vel[b, 2]
         excess += 0.5 * (px * px + py * py + pz * pz) / m
+        # the angular impulse in body axes, R^T (impulse - I_g w), with I_g w = R diag(I) R^T w
         wx, wy, wz = vel[b, 3], vel[b, 4], vel[b, 5]
-        aw = a0 * wx + a1 * wy + a2 * wz
-        qx = impulse[b, 3] - (it * wx + (ia - it) * aw * a0)
-        qy = impulse[b, 4] - (it * wy + (ia - it) * aw * a1)
-        qz = impulse[b, 5] - (it * wz + (ia - it) * aw * a2)
-        qa = a0 * qx + a1 * qy + a2 * qz
-        # I_g^-1 = (I - a a^T) / it + a a^T / ia
-        excess += 0.5 * ((qx * qx + qy * qy + qz * qz - qa * qa) / it + qa * qa / ia)
+        bx = R[0] * wx + R[3] * wy + R[6] * wz
+        by = R[1] * wx + R[4] * wy + R[7] * wz
+        bz = R[2] * wx + R[5] * wy + R[8] * wz
+        ix, iy, iz = bodies[b, B_IX], bodies[b, B_IY], bodies[b, B_IZ]
+        qx = (R[0] * impulse[b, 3] + R[3] * impulse[b, 4] + R[6] * impulse[b, 5]) - ix * bx
+        qy = (R[1] * impulse[b, 3] + R[4] * impulse[b, 4] + R[7] * impulse[b, 5]) - iy * by
+        qz = (R[2] * impulse[b, 3] + R[5] * impulse[b, 4] + R[8] * impulse[b, 5]) - iz * bz
+        excess += 0.5 * (qx * qx / ix + qy * qy / iy + qz * qz / iz)
     return excess
 
 
@@ -471,7 +476,7 @@ def step(t, y, h, params, s):
     """Advance the state y (in place) from t by one step h; returns the number of solves.
 
     ``s`` is the scratch tuple of :func:`make_scratch`. The per-joint monitor of ``params`` is
-    filled from the step's forces, as :func:`pipeline.dynamics.compliant.stack.update_statistics` reads
+    filled from the step's forces, as :func:`pipeline.dynamics.compliant.assembly.update_statistics` reads
     it: the normal force as the step applied it at the new velocities (elastic and dashpot of
     a pressed point, none of a clipped one) and its elastic part; the tangential resultant of
     each point's shear spring and, sticking, its dashpot at the new velocities, held within
@@ -483,29 +488,29 @@ def step(t, y, h, params, s):
     pressure and the area in contact. The elastic energy is left NaN: not a quantity of the
     step (history rows and the energy budget evaluate the joint law).
     """
-    bodies, points, joint_start, joints, record, dt, work, mon = params
-    pts, mats, diag, off, fac, coup, tmp, vel, slip, impulse, frames, motion = s
+    bodies, points, joint_start, joints, record, dt, work, mon = params[:8]
+    pts, mats, diag, blocks, tmp66, tmp6, pattern, vel, slip, impulse, frames, motion = s
     n_bodies = bodies.shape[0]
     ax, ay, az = ground_acceleration(t, record, dt)
-    sk._kinematics(y, bodies, work)
+    sk._kinematics(y, params)
     friction = _point_forces(y, h, params, pts, frames, motion, slip, mats)
     solves = 0
     while True:
         if solves > 0:  # the active set changed: the loads again
             _joint_loads(y, params, pts, mats)
-        ls.assemble_system(y, bodies, mats, h, work, diag, off)
+        ls.assemble_system(y, bodies, joints, mats, h, work, pattern, diag, blocks, tmp66)
         _momentum(y, bodies, work, h, ax, ay, az, vel)
         impulse[:, :] = vel
-        ls.block_tridiagonal_solve(diag, off, vel, fac, coup, tmp)
+        ls.sparse_block_solve(pattern, diag, blocks, vel, tmp6)
         solves += 1
         changed = _update_active_set(params, pts, vel, motion)
         if changed == 0 or solves >= MAX_PASSES:
             break
     # bookings at the new velocities, the monitor, then the shear states
-    sh = sk.NB * n_bodies
+    sh = NB * n_bodies
     damping = 0.0
-    for j in range(n_bodies):
-        mu = joints[j, sk.J_MU]
+    for j in range(joints.shape[0]):
+        mu = joints[j, J_MU]
         F = frames[j]
         normal = normal_el = tx = ty = bx = by = cx = cy = area = 0.0
         for p in range(joint_start[j], joint_start[j + 1]):
@@ -536,82 +541,72 @@ def step(t, y, h, params, s):
             normal += f_n
             normal_el += f_el
             if f_n > 0.0:
-                bx += f_n * points[p, sk.P_X]
-                by += f_n * points[p, sk.P_Y]
+                bx += f_n * points[p, P_U]
+                by += f_n * points[p, P_V]
                 cx += f_n * (pts[p, Q_RX] + F[9])
                 cy += f_n * (pts[p, Q_RY] + F[10])
-                area += points[p, sk.P_AREA] * pts[p, Q_S]
+                area += points[p, P_AREA] * pts[p, Q_S]
         if normal > 0.0:
             bx, by, cx, cy = bx / normal, by / normal, cx / normal, cy / normal
-        mon[j, sk.M_NORMAL] = normal
-        mon[j, sk.M_NORMAL_EL] = normal_el
-        mon[j, sk.M_TX] = tx
-        mon[j, sk.M_TY] = ty
-        mon[j, sk.M_COP_BX] = bx
-        mon[j, sk.M_COP_BY] = by
-        mon[j, sk.M_COP_X] = cx
-        mon[j, sk.M_COP_Y] = cy
-        mon[j, sk.M_AREA] = area / joints[j, sk.J_AREA]
-        mon[j, sk.M_ELASTIC] = math.nan
+        mon[j, M_NORMAL] = normal
+        mon[j, M_NORMAL_EL] = normal_el
+        mon[j, M_TX] = tx
+        mon[j, M_TY] = ty
+        mon[j, M_COP_BX] = bx
+        mon[j, M_COP_BY] = by
+        mon[j, M_COP_X] = cx
+        mon[j, M_COP_Y] = cy
+        mon[j, M_AREA] = area / joints[j, J_AREA]
+        mon[j, M_ELASTIC] = math.nan
     damping += _implicit_excess(bodies, work, vel, impulse)
     power = 0.0
     for b in range(n_bodies):
-        o = sk.NB * b
+        o = NB * b
         R = work[b]
-        m = bodies[b, sk.B_MASS]
+        m = bodies[b, B_MASS]
         vx, vy, vz = vel[b, 0], vel[b, 1], vel[b, 2]
         power -= m * (ax * vx + ay * vy + az * vz)
-        y[o + sk.VX], y[o + sk.VY], y[o + sk.VZ] = vx, vy, vz
-        y[o + sk.X] += h * vx
-        y[o + sk.Y] += h * vy
-        y[o + sk.Z] += h * vz
+        y[o + VX], y[o + VY], y[o + VZ] = vx, vy, vz
+        y[o + X] += h * vx
+        y[o + Y] += h * vy
+        y[o + Z] += h * vz
         # body-frame angular velocity, and the exact rotation by it over h
         wx = R[0] * vel[b, 3] + R[3] * vel[b, 4] + R[6] * vel[b, 5]
         wy = R[1] * vel[b, 3] + R[4] * vel[b, 4] + R[7] * vel[b, 5]
         wz = R[2] * vel[b, 3] + R[5] * vel[b, 4] + R[8] * vel[b, 5]
-        y[o + sk.WX], y[o + sk.WY], y[o + sk.WZ] = wx, wy, wz
+        y[o + WX], y[o + WY], y[o + WZ] = wx, wy, wz
         w = math.sqrt(wx * wx + wy * wy + wz * wz)
         if w > 0.0:
             half = 0.5 * w * h
             c = math.cos(half)
             sn = math.sin(half) / w
             px, py, pz = sn * wx, sn * wy, sn * wz
-            qw, qx, qy, qz = y[o + sk.QW], y[o + sk.QX], y[o + sk.QY], y[o + sk.QZ]
+            qw, qx, qy, qz = y[o + QW], y[o + QX], y[o + QY], y[o + QZ]
             nw = qw * c - qx * px - qy * py - qz * pz
             nx = qw * px + qx * c + qy * pz - qz * py
             ny = qw * py - qx * pz + qy * c + qz * px
             nz = qw * pz + qx * py - qy * px + qz * c
             norm = 1.0 / math.sqrt(nw * nw + nx * nx + ny * ny + nz * nz)
-            y[o + sk.QW], y[o + sk.QX], y[o + sk.QY], y[o + sk.QZ] = nw * norm, nx * norm, ny * norm, nz * norm
+            y[o + QW], y[o + QX], y[o + QY], y[o + QZ] = nw * norm, nx * norm, ny * norm, nz * norm
     acc = sh + 2 * points.shape[0]
-    y[acc + sk.A_WORK] += h * power
-    y[acc + sk.A_FRICTION] += friction
-    y[acc + sk.A_DAMPING] += damping
-    for j in range(n_bodies):
-        y[acc + sk.N_ACC + j] += slip[j]
+    y[acc + A_WORK] += h * power
+    y[acc + A_FRICTION] += friction
+    y[acc + A_DAMPING] += damping
+    for j in range(joints.shape[0]):
+        y[acc + N_ACC + j] += slip[j]
     return solves
 
 
-def make_scratch(n_bodies, n_points):
-    """Scratch arrays of :func:`step` (one set per simulation)."""
-    # points; joint matrices; diagonal, off-diagonal, factor and coupling blocks and a 6 x 6 of the
-    # solve; velocities; joints' plastic slips; momenta before the dashpots; joint frames and motions
-    return (np.zeros((n_points, N_Q)), np.zeros((n_bodies, 6, 6)),
-            np.zeros((n_bodies, 6, 6)), np.zeros((n_bodies, 6, 6)),
-            np.zeros((n_bodies, 6, 6)), np.zeros((n_bodies, 6, 6)), np.zeros((6, 6)), np.zeros((n_bodies, 6)),
-            np.zeros(n_bodies), np.zeros((n_bodies, 6)), np.zeros((n_bodies, 12)), np.zeros((n_bodies, 9)))
-
-
-@njit(cache=True)
-def _event_values(y, bodies, g):
-    """Per body: cos(lying tilt) - R33 (>= 0 lying down) and -z (>= 0 below the ground)."""
-    n = bodies.shape[0]
-    for b in range(n):
-        o = sk.NB * b
-        qw, qx, qy, qz = y[o + sk.QW], y[o + sk.QX], y[o + sk.QY], y[o + sk.QZ]
-        r33 = 1.0 - 2.0 * (qx * qx + qy * qy) / (qw * qw + qx * qx + qy * qy + qz * qz)
-        g[b] = bodies[b, sk.B_COS_LIE] - r33
-        g[n + b] = -y[o + sk.Z]
+def make_scratch(params, pattern):
+    """Scratch arrays of :func:`step` (one set per simulation), for an assembly's kernel parameters
+    and the pattern of its solve (:func:`pipeline.dynamics.compliant.linear_system.elimination`)."""
+    n_bodies, n_points, n_joints = params[0].shape[0], params[1].shape[0], params[3].shape[0]
+    n_edges = pattern[2].shape[0]
+    # points; joint matrices; diagonal and coupling blocks of the solve; scratch; the pattern;
+    # velocities; joints' plastic slips; momenta before the dashpots; joint frames and motions
+    return (np.zeros((n_points, N_Q)), np.zeros((n_joints, 6, 6)), np.zeros((n_bodies, 6, 6)),
+            np.zeros((n_edges, 6, 6)), np.zeros((6, 6)), np.zeros(6), pattern, np.zeros((n_bodies, 6)),
+            np.zeros(n_joints), np.zeros((n_bodies, 6)), np.zeros((n_joints, 12)), np.zeros((n_joints, 9)))
 
 
 @njit(cache=True)
@@ -632,15 +627,15 @@ def _sample_rows(t_mon, k, stop, t_limit, t, h, y_prev, y, y_int, stride, params
                 for i in range(y.shape[0]):
                     y_int[i] = y_prev[i] + f * (y[i] - y_prev[i])
                 for b in range(bodies.shape[0]):
-                    o = sk.NB * b
-                    norm = 1.0 / math.sqrt(y_int[o + sk.QW] ** 2 + y_int[o + sk.QX] ** 2 + y_int[o + sk.QY] ** 2
-                                           + y_int[o + sk.QZ] ** 2)
-                    for q in range(sk.QW, sk.QZ + 1):
+                    o = NB * b
+                    norm = 1.0 / math.sqrt(y_int[o + QW] ** 2 + y_int[o + QX] ** 2 + y_int[o + QY] ** 2
+                                           + y_int[o + QZ] ** 2)
+                    for q in range(QW, QZ + 1):
                         y_int[o + q] *= norm
-            sk._monitor(t_mon[k], y_int, params, theta_commit, summary, body_stats, joint_stats, joint_committed,
+            st._monitor(t_mon[k], y_int, params, theta_commit, summary, body_stats, joint_stats, joint_committed,
                         False)
-            sk._history_row(t_mon[k], y_int, params, k // stride, hist_y, hist_diag, hist_body, body_stats, y0)
-        summary[sk.S_END_TIME] = t_mon[k]
+            st._history_row(t_mon[k], y_int, params, k // stride, hist_y, hist_diag, hist_body, body_stats, y0)
+        summary[S_END_TIME] = t_mon[k]
         k += 1
     return k
 
@@ -656,13 +651,13 @@ def run(params, y, t_mon, start, stop, h, stride, theta_commit, hist_y, hist_dia
     ``stride`` samples, from the state interpolated between the two steps around the sample
     (``between``: scratch (2, len(y)), the state before the last step and the interpolated one),
     so that neither the output grid nor the pieces change the steps. The statistics, histories
-    and summary are those of :func:`pipeline.dynamics.compliant.stack.run` (same arrays, same meaning),
+    and summary are those of :func:`pipeline.dynamics.compliant.assembly.run` (same arrays, same meaning),
     so a long run can be done in pieces (progress, interruption) with the same result as in one.
 
     Returns
     -------
     int
-        The next sample to do: ``stop``, or ``len(t_mon)`` once the column is down.
+        The next sample to do: ``stop``, or ``len(t_mon)`` once the structure is down.
     """
     bodies = params[0]
     n_bodies = bodies.shape[0]
@@ -670,24 +665,24 @@ def run(params, y, t_mon, start, stop, h, stride, theta_commit, hist_y, hist_dia
     n_hist = hist_y.shape[0]
     y_prev, y_int = between[0], between[1]
     if start == 0:
-        sk.start_statistics(t_mon[0], y, params, theta_commit, hist_y, hist_diag, hist_body, summary, body_stats,
+        st.start_statistics(t_mon[0], y, params, theta_commit, hist_y, hist_diag, hist_body, summary, body_stats,
                             joint_stats, joint_committed)
         start = 1
     g_old = np.empty(2 * n_bodies)
     g_new = np.empty(2 * n_bodies)
-    _event_values(y, bodies, g_old)
+    sk.event_values(y, bodies, g_old)
     k = start
     while k < stop:
-        t = summary[sk.S_STEPS] * h  # the time of y (a count of steps: no drift)
+        t = summary[S_STEPS] * h  # the time of y (a count of steps: no drift)
         if t >= t_mon[k]:  # the last step passed sample k: its rows, interpolated
             k = _sample_rows(t_mon, k, stop, t, t, h, y_prev, y, y_int, stride, params, theta_commit, hist_y,
                              hist_diag, hist_body, summary, body_stats, joint_stats, joint_committed, y0)
             continue
         if t + h >= t_mon[k]:  # this step reaches sample k: keep the state before it
             y_prev[:] = y
-        summary[sk.S_NFEV] += step(t, y, h, params, scratch)
-        summary[sk.S_STEPS] += 1
-        _event_values(y, bodies, g_new)
+        summary[S_NFEV] += step(t, y, h, params, scratch)
+        summary[S_STEPS] += 1
+        sk.event_values(y, bodies, g_new)
         down = -1
         frac = 1.0
         for e in range(2 * n_bodies):
@@ -697,26 +692,26 @@ def run(params, y, t_mon, start, stop, h, stride, theta_commit, hist_y, hist_dia
                     down = e
                     frac = f
             g_old[e] = g_new[e]
-        if down >= 0:  # a body lies down or fell below the ground: the column is down
+        if down >= 0:  # a body lies down or fell off its support: the structure is down
             t_down = t + frac * h
             b = down % n_bodies
             # the samples before the crossing, interpolated; from it on, frozen
             k = _sample_rows(t_mon, k, m, t_down, t + h, h, y_prev, y, y_int, stride, params, theta_commit, hist_y,
                              hist_diag, hist_body, summary, body_stats, joint_stats, joint_committed, y0)
-            summary[sk.S_OVERTURN_TIME] = t_down
-            summary[sk.S_OVERTURN_BODY] = b
+            summary[S_OVERTURN_TIME] = t_down
+            summary[S_OVERTURN_BODY] = b
             if down >= n_bodies:
-                summary[sk.S_STATUS] = sk.STATUS_COLLAPSED
-            summary[sk.S_END_TIME] = t_down
-            sk._monitor(t_down, y, params, theta_commit, summary, body_stats, joint_stats, joint_committed, True)
+                summary[S_STATUS] = STATUS_COLLAPSED
+            summary[S_END_TIME] = t_down
+            st._monitor(t_down, y, params, theta_commit, summary, body_stats, joint_stats, joint_committed, True)
             for kk in range(k, m):
                 if kk % stride == 0 and kk // stride < n_hist:
-                    sk._monitor(t_mon[kk], y, params, theta_commit, summary, body_stats, joint_stats,
+                    st._monitor(t_mon[kk], y, params, theta_commit, summary, body_stats, joint_stats,
                                 joint_committed, False)
-                    sk._history_row(t_mon[kk], y, params, kk // stride, hist_y, hist_diag, hist_body,
+                    st._history_row(t_mon[kk], y, params, kk // stride, hist_y, hist_diag, hist_body,
                                     body_stats, y0)
             return m
         # the statistics of every step, from its own forces (no sampling between steps)
-        sk.update_statistics(t + h, y, params, theta_commit, summary, body_stats, joint_stats, joint_committed,
+        st.update_statistics(t + h, y, params, theta_commit, summary, body_stats, joint_stats, joint_committed,
                              True)
     return stop

@@ -12,7 +12,7 @@ restart window, the step monitor, the returned tuple
 ``@njit(cache=True)`` wrapper in the caller's module.
 
 Why a second integrator: on a right-hand side with many kinks, DOP853's 8th order is
-wasted. The compliant multi-drum model (:mod:`pipeline.dynamics.compliant.stack`) has dozens of
+wasted. The compliant multi-drum model (:mod:`pipeline.dynamics.compliant.assembly`) has dozens of
 contact points per joint entering and leaving compression and switching between stick
 and slip; across each such kink the local error behaves as a low power of the step
 (the shear state's rate jumps when a point touches), so DOP853's controller, which

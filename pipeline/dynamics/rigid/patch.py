@@ -3,7 +3,7 @@
 Kernel layer, dimensionless (lengths per R, forces per m g). The rigid models put
 the whole contact force at one rim point P. A real base of stone on stone is a
 flat face pressed into a compliant joint: the compliant model of
-:mod:`pipeline.dynamics.compliant.stack` takes it as a Winkler bed, a normal stiffness
+:mod:`pipeline.dynamics.compliant.assembly` takes it as a Winkler bed, a normal stiffness
 k_n per unit area with a dashpot c_n per unit area beside it. Tilted by theta
 about its rim, a disc pressed into such a bed touches over a circular segment
 of height w (from the rim inwards), with pressure ``k_n theta (w - s)`` at the

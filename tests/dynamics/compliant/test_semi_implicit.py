@@ -12,11 +12,13 @@ import numpy as np
 import pytest
 
 from pipeline import compliant as cp
-from pipeline.structures.drums import DrumColumn
+from pipeline.dynamics.compliant import assembly as sk
+from pipeline.dynamics.compliant import layout as ly
 from pipeline.dynamics.compliant import linear_system as ls
 from pipeline.dynamics.compliant import semi_implicit as si
-from pipeline.dynamics.compliant import stack as sk
 from pipeline.errors import InputError
+from pipeline.structures.colonnade import Colonnade
+from pipeline.structures.drums import Capital, DrumColumn
 from pipeline.structures.column import Column
 from pipeline.groundmotion import one_sine_pulse
 from pipeline.settings import Excitation, ModelSettings
@@ -81,69 +83,107 @@ def test_joint_matrix_in_the_face_frame_and_turned_is_the_sum_over_points():
     np.testing.assert_allclose(out, turned, rtol=0, atol=1e-13 * np.abs(turned).max())
 
 
-def test_block_tridiagonal_solve_matches_a_dense_solve():
-    rng = np.random.default_rng(3)
-    nb = 5
-    diag, off = np.zeros((nb, 6, 6)), np.zeros((nb, 6, 6))
-    dense = np.zeros((6 * nb, 6 * nb))
-    for b in range(nb):
+def _random_blocks(pattern, n, rng):
+    """A random symmetric positive definite system with a pattern's blocks, and its dense form."""
+    order, position, edges = pattern[:3]
+    diag = np.zeros((n, 6, 6))
+    blocks = np.zeros((len(edges), 6, 6))
+    dense = np.zeros((6 * n, 6 * n))
+    for e, (r, c) in enumerate(edges):
+        blocks[e] = rng.normal(size=(6, 6))
+        br, bc = order[r], order[c]
+        dense[6 * br:6 * br + 6, 6 * bc:6 * bc + 6] = blocks[e]
+        dense[6 * bc:6 * bc + 6, 6 * br:6 * br + 6] = blocks[e].T
+    for k in range(n):
         x = rng.normal(size=(6, 6))
-        diag[b] = x @ x.T + 6.0 * np.eye(6)
-        dense[6 * b:6 * b + 6, 6 * b:6 * b + 6] = diag[b]
-        if b:
-            off[b] = rng.normal(size=(6, 6))
-            dense[6 * b:6 * b + 6, 6 * b - 6:6 * b] = off[b]
-            dense[6 * b - 6:6 * b, 6 * b:6 * b + 6] = off[b].T
-    rhs = rng.normal(size=(nb, 6))
+        diag[k] = x @ x.T + 6.0 * (1 + len(edges)) * np.eye(6)  # diagonally dominant: positive definite
+        b = order[k]
+        dense[6 * b:6 * b + 6, 6 * b:6 * b + 6] = diag[k]
+    return diag, blocks, dense
+
+
+@pytest.mark.parametrize("shape", ["chain", "colonnade", "fill"])
+def test_sparse_block_solve_matches_a_dense_solve(shape):
+    """The block Cholesky of the joints' pattern equals a dense solve (1e-12): a chain (one column,
+    the block-tridiagonal case), a colonnade's pattern in its order (chains into capitals, then
+    capitals and blocks along the row: no fill), and an order that fills in (a row's blocks
+    first), whose fill edges the pattern adds."""
+    rng = np.random.default_rng(3)
+    if shape == "chain":
+        n, lowers, uppers, order = 5, [-1, 0, 1, 2, 3], [0, 1, 2, 3, 4], range(5)
+    else:
+        # 3 columns of a drum and a capital (bodies 0-5: d, c, d, c, d, c), blocks 6 and 7
+        n = 8
+        lowers = [-1, 0, -1, 2, -1, 4, 1, 3, 3, 5, 6]
+        uppers = [0, 1, 2, 3, 4, 5, 6, 6, 7, 7, 7]
+        order = [0, 2, 4, 1, 6, 3, 7, 5] if shape == "colonnade" else [6, 7, 0, 2, 4, 1, 3, 5]
+    pattern = ls.elimination(n, lowers, uppers, order)
+    coupled = sum(1 for lo in lowers if lo >= 0)
+    assert (len(pattern[2]) == coupled) == (shape != "fill")  # fill edges only where the order makes them
+    diag, blocks, dense = _random_blocks(pattern, n, rng)
+    rhs = rng.normal(size=(n, 6))
     x = rhs.copy()
-    ls.block_tridiagonal_solve(diag, off, x, np.zeros((nb, 6, 6)), np.zeros((nb, 6, 6)), np.zeros((6, 6)))
-    np.testing.assert_allclose(x.ravel(), np.linalg.solve(dense, rhs.ravel()), rtol=0, atol=1e-13)
+    ls.sparse_block_solve(pattern, diag, blocks, x, np.zeros(6))
+    np.testing.assert_allclose(x.ravel(), np.linalg.solve(dense, rhs.ravel()), rtol=0, atol=1e-12)
 
 
 def _stack_params(column, settings=ModelSettings(model="3d-compliant"), damping=0.0, record=None, dt=1.0):
     asm = cp.assemble(column, settings, damping)
     params = asm.params(record, dt)
-    return asm, params, cp.rest_state(params, settings)
+    return asm, params, cp.rest_state(asm, params, settings.integrator)
 
 
 def _dense_stiffness(asm, params, y):
     """Springs of every point (k_n A normal, k_s A shear) as a dense 6N x 6N matrix, point by
-    point from each point's Jacobian, and the bodies' mass matrix (upright rest state)."""
+    point from each point's Jacobian, and the bodies' mass matrix (in the state's poses; each
+    joint's springs in its face's frame, turned to the ground's by its lower body's rotation)."""
     bodies, points, starts, joints = params[:4]
     n = bodies.shape[0]
     K, M = np.zeros((6 * n, 6 * n)), np.zeros((6 * n, 6 * n))
+    rot = []
     for b in range(n):
-        m, it, ia = bodies[b, sk.B_MASS], bodies[b, sk.B_IT], bodies[b, sk.B_IA]
-        M[6 * b:6 * b + 6, 6 * b:6 * b + 6] = np.diag([m, m, m, it, it, ia])
-    centres = [y[sk.NB * b:sk.NB * b + 3] for b in range(n)]
-    for j in range(n):
-        D = np.diag([joints[j, sk.J_KS]] * 2 + [joints[j, sk.J_KN]])
+        R = np.empty(9)
+        sk.rotation_matrix(*y[ly.NB * b + ly.QW:ly.NB * b + ly.QZ + 1], R)
+        R = R.reshape(3, 3)
+        rot.append(R)
+        m = bodies[b, ly.B_MASS]
+        M[6 * b:6 * b + 3, 6 * b:6 * b + 3] = m * np.eye(3)
+        M[6 * b + 3:6 * b + 6, 6 * b + 3:6 * b + 6] = R @ np.diag(bodies[b, ly.B_IX:ly.B_IZ + 1]) @ R.T
+    centres = [y[ly.NB * b:ly.NB * b + 3] for b in range(n)]
+    for j in range(joints.shape[0]):
+        u, lower = int(joints[j, ly.J_UPPER]), int(joints[j, ly.J_LOWER])
+        F = (np.eye(3) if lower < 0 else rot[lower]) @ joints[j, ly.J_F:ly.J_F + 9].reshape(3, 3)
+        D = F @ np.diag([joints[j, ly.J_KS]] * 2 + [joints[j, ly.J_KN]]) @ F.T
         for p in range(starts[j], starts[j + 1]):
-            x = centres[j] + points[p, :3]
+            x = centres[u] + rot[u] @ points[p, :3]
             J = np.zeros((3, 6 * n))
-            J[:, 6 * j:6 * j + 3] = np.eye(3)
-            J[:, 6 * j + 3:6 * j + 6] = -_cross(x - centres[j])
-            if j > 0:
-                J[:, 6 * (j - 1):6 * j - 3] = -np.eye(3)
-                J[:, 6 * j - 3:6 * j] = _cross(x - centres[j - 1])
-            K += points[p, sk.P_AREA] * J.T @ D @ J
+            J[:, 6 * u:6 * u + 3] = np.eye(3)
+            J[:, 6 * u + 3:6 * u + 6] = -_cross(x - centres[u])
+            if lower >= 0:
+                J[:, 6 * lower:6 * lower + 3] = -np.eye(3)
+                J[:, 6 * lower + 3:6 * lower + 6] = _cross(x - centres[lower])
+            K += points[p, ly.P_AREA] * J.T @ D @ J
     return K, M
 
 
-@pytest.mark.parametrize("drums", [1, 3])
+COLONNADE = Colonnade(DrumColumn.equal(PAPER, 2, Capital(1.1, 0.3)), 3, 2.5, 0.8)
+
+
+@pytest.mark.parametrize("drums", [1, 3, "colonnade"])
 def test_stiffest_frequency_matches_a_dense_point_by_point_model(drums):
     """The generalised eigenvalue of the joints' springs, from the moments and block assembly,
-    equals that of an independent point-by-point dense stiffness (1e-9 relative); for the
-    monolith it is at least the vertical bounce sqrt(k_n A / m), a mode on its own."""
+    equals that of an independent point-by-point dense stiffness (1e-9 relative), for a column
+    and for a colonnade (bearing and head joints, the heads' faces vertical); for the monolith it
+    is at least the vertical bounce sqrt(k_n A / m), a mode on its own."""
     from scipy.linalg import eigh
 
-    column = PAPER if drums == 1 else DrumColumn.equal(PAPER, drums)
+    column = {1: PAPER, 3: DrumColumn.equal(PAPER, 3), "colonnade": COLONNADE}[drums]
     asm, params, y = _stack_params(column)
     K, M = _dense_stiffness(asm, params, y)
     dense = math.sqrt(eigh(K, M, eigvals_only=True).max())
     assert ls.stiffest_frequency(params, y) == pytest.approx(dense, rel=1e-9)
     if drums == 1:
-        bounce = math.sqrt(asm.joints[0, sk.J_KN] * asm.joints[0, sk.J_AREA] / asm.bodies[0, sk.B_MASS])
+        bounce = math.sqrt(asm.joints[0, ly.J_KN] * asm.joints[0, ly.J_AREA] / asm.bodies[0, ly.B_MASS])
         assert dense >= bounce
         assert np.any(np.isclose(np.sqrt(eigh(K, M, eigvals_only=True)), bounce, rtol=1e-9))
 
@@ -155,11 +195,11 @@ def _free_vibration_growth(column, factor, steps=3000):
     rng = np.random.default_rng(11)
     e0 = sk.energy(y, params)
     for b in range(asm.n_bodies):
-        o = sk.NB * b
-        y[o + sk.VX:o + sk.VZ + 1] = 1e-7 * rng.normal(size=3)
-        y[o + sk.WX:o + sk.WZ + 1] = 1e-7 * rng.normal(size=3)
+        o = ly.NB * b
+        y[o + ly.VX:o + ly.VZ + 1] = 1e-7 * rng.normal(size=3)
+        y[o + ly.WX:o + ly.WZ + 1] = 1e-7 * rng.normal(size=3)
     kick = sk.energy(y, params) - e0
-    scratch = si.make_scratch(asm.n_bodies, asm.points.shape[0])
+    scratch = si.make_scratch(params, asm.pattern)
     for k in range(steps):
         si.step(k * h, y, h, params, scratch)
     return (sk.energy(y, params) - e0) / kick

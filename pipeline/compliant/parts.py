@@ -1,0 +1,286 @@
+"""The rigid bodies and joints of a structure, as geometry in SI units: what the compliant model runs.
+
+A structure (:mod:`pipeline.structures`) becomes a list of :class:`Part` (drums, capitals,
+epistyle blocks: mass, principal inertia, pose at rest) and a list of :class:`Contact` (a face
+of a lower body or of the ground, of any orientation, and the contact points of the upper
+body on it), plus the bodies whose tilt is the run's peak theta (each column's top) and the
+order in which the fixed-step integrator's solve eliminates the bodies. No joint law here:
+:mod:`pipeline.compliant.tables` turns these into the kernel's dimensionless tables with the
+settings' stiffnesses, friction and damping.
+
+The bodies' axes are principal and a drum's or a capital's axis is z; a block's x runs along
+the row. At rest (before the joints are pressed) every body stands on the face below it with
+its bearing face on that face: the static solve (:mod:`pipeline.compliant.rest`) then presses
+the joints in.
+"""
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from pipeline.dynamics.compliant import joint as jl
+from pipeline.dynamics.compliant.layout import GROUND, SHAPE_DISC
+from pipeline.errors import InputError
+from pipeline.structures.column import Column
+from pipeline.structures.drums import DrumColumn
+
+__all__ = ["Part", "Contact", "Layout", "as_stack", "layout_of", "lying_tilt"]
+
+# Drawing codes of a body's shape (pipeline.dataset's drum_kind).
+KIND_DRUM, KIND_CAPITAL, KIND_BLOCK = 0, 1, 2
+IDENTITY = np.eye(3)
+# a vertical face whose normal is +x of its body: its x along the body's y, its y along z
+END_FACE = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+
+
+@dataclass(frozen=True)
+class Part:
+    """One rigid body of a structure [SI].
+
+    Attributes
+    ----------
+    label : str
+        What it is, for people: ``"drum 2"``, ``"capital"``, ``"column 3 drum 1"``, ``"block 2"``.
+    kind : int
+        ``KIND_DRUM``, ``KIND_CAPITAL`` or ``KIND_BLOCK``.
+    mass : float
+        [kg].
+    inertia : tuple of float
+        Principal moments about the centre of mass, (I_x, I_y, I_z) [kg m^2].
+    centre : tuple of float
+        Centre of mass at rest (x, y, z) [m].
+    zc : float
+        Height of the centre of mass above the body's base [m].
+    height : float
+        [m].
+    lie : float
+        Tilt at which it lies on its side [rad].
+    on_ground : bool
+        It stands on the ground (it cannot fall off a support).
+    shape : tuple of float
+        For drawing: (R, r, h) of a drum, (half side, half side, h) of a capital,
+        (half length, half width, h) of a block [m].
+    column : int
+        The column it belongs to (-1: an epistyle block).
+    """
+
+    label: str
+    kind: int
+    mass: float
+    inertia: tuple
+    centre: tuple
+    zc: float
+    height: float
+    lie: float
+    on_ground: bool
+    shape: tuple
+    column: int = 0
+
+
+@dataclass(frozen=True)
+class Contact:
+    """One joint of a structure [SI].
+
+    Attributes
+    ----------
+    kind : str
+        ``"base"`` (a column on the ground), ``"bed"`` (drum on drum), ``"capital"`` (capital on
+        the shaft), ``"bearing"`` (an epistyle block on a capital), ``"head"`` (block on block,
+        end to end).
+    lower, upper : int
+        The bodies (lower -1: the ground).
+    origin : tuple of float
+        The face's centre in the lower body's axes, from its centre of mass (the ground's:
+        absolute) [m].
+    axes : numpy.ndarray
+        (3, 3): the face's x, y and normal (towards the upper body) as columns, in the lower
+        body's axes.
+    upper_centre : tuple of float
+        The upper body's bearing face centre in its axes [m].
+    upper_axes : numpy.ndarray
+        (3, 3): that face's axes in the upper body's axes (equal to ``axes`` seen from the
+        ground when the joint is closed and undisturbed).
+    shape : int
+        ``SHAPE_DISC`` (radius ``half[0]``) or ``SHAPE_RECT`` (half sides ``half``).
+    half : tuple of float
+        [m].
+    points : numpy.ndarray
+        (n, 6): each contact point in the upper body's axes (x, y, z), on its bearing face
+        (u, v) [m], and its area [m^2].
+    load : float
+        The mass the joint carries at rest [kg] (the upper body's own for a head joint, which
+        carries nothing): the time and length scales of its law.
+    column : int
+        The column it belongs to (-1: the epistyle's).
+    rim : bool
+        A disc on which a column rocks: its uplift and landings are counted.
+    """
+
+    kind: str
+    lower: int
+    upper: int
+    origin: tuple
+    axes: np.ndarray
+    upper_centre: tuple
+    upper_axes: np.ndarray
+    shape: int
+    half: tuple
+    points: np.ndarray
+    load: float
+    column: int = 0
+    rim: bool = True
+
+
+@dataclass(frozen=True)
+class Layout:
+    """A structure's bodies and joints, the watched bodies and the elimination order."""
+
+    parts: tuple
+    contacts: tuple
+    watched: tuple
+    order: tuple
+    length: float  # the reference length L [m]: the first column's base radius
+
+    @property
+    def n_bodies(self):
+        return len(self.parts)
+
+
+def lying_tilt(R, r, h):
+    """Tilt at which the side of a frustum (R, r, h) touches the ground [rad].
+
+    Pivoting on its rim, the generator through the pivot leans inwards by atan((R - r)/h)
+    when upright, so it reaches the ground at ``pi/2 + atan((R - r)/h)`` (91.43 deg for
+    R = 0.5, r = 0.4, h = 4 m; 90 deg for a cylinder or a block).
+    """
+    return 0.5 * math.pi + math.atan((R - r) / h)
+
+
+def as_stack(column):
+    """A :class:`DrumColumn` from a Column (the monolith) or a DrumColumn."""
+    if isinstance(column, DrumColumn):
+        return column
+    if isinstance(column, Column):
+        return DrumColumn(column)
+    raise InputError(f"column must be a Column or a DrumColumn, got {type(column).__name__}")
+
+
+def disc_points(radius, inner_ratio, settings, height):
+    """Contact points of a disc (or annulus) at ``height`` below the body's centre: (n, 6) rows."""
+    pts = jl.contact_points(radius, inner_ratio * radius, settings.contact_rings, settings.contact_sectors)
+    rows = np.zeros((len(pts), 6))
+    rows[:, 0], rows[:, 1], rows[:, 2] = pts[:, 0], pts[:, 1], -height
+    rows[:, 3], rows[:, 4], rows[:, 5] = pts[:, 0], pts[:, 1], pts[:, 2]
+    return rows
+
+
+def rectangle_nodes(settings):
+    """Gauss-Lobatto nodes along each side of a rectangular face: a quarter of the disc's sectors
+    (its points' count within a few), at least 3 (the second moment exact)."""
+    return max(3, settings.contact_sectors // 4)
+
+
+def column_layout(stack, x0, first, column, settings, prefix="", carried=0.0):
+    """The bodies and joints of one column of drums (and its capital) whose axis stands at (x0, 0).
+
+    Parameters
+    ----------
+    stack : DrumColumn
+    x0 : float
+        Position of its axis along the row [m].
+    first : int
+        Index of its bottom drum among the structure's bodies.
+    column : int
+        Its index among the structure's columns.
+    settings : pipeline.settings.ModelSettings
+        Contact points and anathyrosis.
+    prefix : str
+        Put before each label ("column 2 ").
+    carried : float
+        Mass resting on its capital (its share of an epistyle) [kg]: every joint of the column
+        carries it too.
+
+    Returns
+    -------
+    tuple of list
+        ``(parts, contacts)``.
+    """
+    density = stack.density
+    drums = stack.drums()
+    n = stack.n_bodies
+    inner = [settings.base_anathyrosis] + _per_joint(settings.anathyrosis, n - 1, "anathyrosis", 0.0)
+    parts, contacts = [], []
+    base = 0.0
+    for k, d in enumerate(drums):
+        m = density * d.volume
+        a, c = d.central_inertia_hat
+        it, ia = a * m * d.R ** 2, c * m * d.R ** 2
+        label = prefix + (f"drum {k + 1}" if n > 1 else "shaft")
+        parts.append(Part(label, KIND_DRUM, m, (it, it, ia), (x0, 0.0, base + d.z_cm), d.z_cm, d.h,
+                          lying_tilt(d.R, d.r, d.h), k == 0, (d.R, d.r, d.h), column))
+        base += d.h
+    if stack.capital is not None:
+        cap = stack.capital
+        it, ia = cap.inertia(density)
+        half = 0.5 * cap.side
+        parts.append(Part(prefix + "capital", KIND_CAPITAL, cap.mass(density), (it, it, ia),
+                          (x0, 0.0, base + 0.5 * cap.height), 0.5 * cap.height, cap.height, 0.5 * math.pi,
+                          False, (half, half, cap.height), column))
+    above = np.cumsum([p.mass for p in parts][::-1])[::-1] + carried
+    for k, part in enumerate(parts):
+        radius = drums[0].R if k == 0 else drums[k - 1].r  # the face below: the ground's base, a drum's top
+        points = disc_points(radius, inner[k], settings, part.zc)
+        if k == 0:
+            lower, origin, kind = GROUND, (x0, 0.0, 0.0), "base"
+        else:
+            below = parts[k - 1]
+            lower, origin = first + k - 1, (0.0, 0.0, below.height - below.zc)
+            kind = "capital" if part.kind == KIND_CAPITAL else "bed"
+        contacts.append(Contact(kind, lower, first + k, origin, IDENTITY, (0.0, 0.0, -part.zc), IDENTITY,
+                                SHAPE_DISC, (math.inf if k == 0 else radius, 0.0), points, float(above[k]),
+                                column, True))
+    return parts, contacts
+
+
+def _per_joint(value, n, name, default):
+    """One value per bed joint (n of them) from None, a number or a sequence."""
+    if value is None:
+        return [default] * n
+    if isinstance(value, (int, float)):
+        return [float(value)] * n
+    values = [float(v) for v in value]
+    if len(values) != n:
+        raise InputError(f"{name} has {len(values)} values for {n} bed joint(s): give one number, or one per joint")
+    return values
+
+
+def stack_layout(column, settings):
+    """A monolith or a column of drums (and a capital) on the ground, its axis at the origin."""
+    stack = as_stack(column)
+    parts, contacts = column_layout(stack, 0.0, 0, 0, settings)
+    n = len(parts)
+    return Layout(tuple(parts), tuple(contacts), (n - 1,), tuple(range(n)), stack.column.R)
+
+
+def outline_of(structure, whole=False):
+    """The column of a structure (a colonnade's: each of its columns): its shaft's outline as one
+    :class:`Column` with its density, or with ``whole`` the :class:`DrumColumn` itself."""
+    from pipeline.compliant.colonnade import is_colonnade
+
+    stack = structure.column if is_colonnade(structure) else as_stack(structure)
+    if whole:
+        return stack
+    return Column(stack.column.R, stack.column.r, stack.column.h, density=stack.density)
+
+
+def layout_of(structure, settings):
+    """The :class:`Layout` of a structure: a Column, a DrumColumn or a Colonnade (a Layout is its own:
+    any bodies on any joints, as the tests build them)."""
+    from pipeline.compliant.colonnade import colonnade_layout, is_colonnade
+
+    if isinstance(structure, Layout):
+        return structure
+    if is_colonnade(structure):
+        return colonnade_layout(structure, settings)
+    return stack_layout(structure, settings)

@@ -1,0 +1,214 @@
+"""The compliant kernel's dimensionless tables of a structure, with the joint law's parameters.
+
+:func:`assemble` turns a structure's :class:`pipeline.compliant.parts.Layout` into the tables of
+:mod:`pipeline.dynamics.compliant.layout` (lengths per L, the first column's base radius; masses
+per the total M; forces per M g; time per sqrt(L/g)), each joint with the settings' stiffness,
+friction and damping:
+
+* the base of a column on the ground: ``normal_stiffness``, ``friction``;
+* every joint between stones (bed joints, a capital on its shaft, an epistyle block on a
+  capital, two blocks end to end): ``joint_stiffness`` (default the base's) and
+  ``joint_friction`` (one value, or one per bed joint of a single column; default the base's);
+* the dashpots keep the base's damping ratio: ``c_n sqrt(k_joint / k_n)`` per unit area.
+"""
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from pipeline.compliant.parts import layout_of
+from pipeline.dynamics.compliant import assembly as sk
+from pipeline.dynamics.compliant import linear_system as ls
+from pipeline.dynamics.compliant.layout import (
+    B_COS_LIE, B_HEIGHT, B_HOLD, B_IX, B_IY, B_IZ, B_MASS, B_ZC, B_Z_FALL, GROUND, J_AREA, J_BAND, J_CN, J_DELTA,
+    J_F, J_FA, J_FB, J_G, J_KN, J_KS, J_LAND, J_LOWER, J_MU, J_OX, J_RIM, J_SHAPE, J_TAU, J_UFLOOR, J_UPPER, J_UX,
+    N_BODY_COLS, N_JOINT_COLS, N_POINT_COLS, SHAPE_DISC,
+)
+from pipeline.errors import InputError
+from pipeline.units import G
+
+__all__ = ["Assembly", "assemble", "numerics"]
+
+
+@dataclass(frozen=True)
+class Assembly:
+    """Dimensionless tables of one structure for the kernel, and the reference scales.
+
+    Attributes
+    ----------
+    layout : pipeline.compliant.parts.Layout
+        The bodies and joints it was made from (SI).
+    bodies, points, joint_start, joints : numpy.ndarray
+        Tables of :mod:`pipeline.dynamics.compliant.layout` (holding loads not yet set).
+    length : float
+        Reference length L [m].
+    mass : float
+        Total mass M [kg].
+    time : float
+        sqrt(L/g) [s].
+    barrier : float
+        The lowest overturning barrier [M g L] (:mod:`pipeline.compliant.barriers`).
+    critical : numpy.ndarray
+        Critical tilt of the part that tips with each body [rad].
+    pattern : tuple
+        The fixed-step solve's elimination pattern
+        (:func:`pipeline.dynamics.compliant.linear_system.elimination`).
+    """
+
+    layout: object
+    bodies: np.ndarray
+    points: np.ndarray
+    joint_start: np.ndarray
+    joints: np.ndarray
+    length: float
+    mass: float
+    time: float
+    barrier: float
+    critical: np.ndarray
+    pattern: tuple
+
+    @property
+    def n_bodies(self):
+        return self.bodies.shape[0]
+
+    @property
+    def n_joints(self):
+        return self.joints.shape[0]
+
+    def params(self, record=None, dt=1.0):
+        """Kernel parameters with a record (n, 3) [g] sampled every dt [tau]."""
+        record = np.zeros((0, 3)) if record is None else record
+        return sk.make_params(self.bodies.copy(), self.points, self.joint_start, self.joints.copy(), record, dt,
+                              np.array(self.layout.watched))
+
+
+def numerics(settings):
+    """The compliant model's numerical choices: the defaults of its registry entry
+    (:data:`pipeline.models.compliant.COMPLIANT_DRUMS`), the settings' overrides."""
+    from pipeline.models.compliant import COMPLIANT_DRUMS
+
+    return {**COMPLIANT_DRUMS.numerics, **dict(settings.numerics)}
+
+
+def _joint_law(contacts, settings):
+    """Per joint: (stiffness [Pa/m], friction [1]) from the settings, by the joint's kind."""
+    beds = [c for c in contacts if c.kind in ("bed", "capital")]
+    columns = {c.column for c in contacts}
+    listed = settings.joint_friction is not None and not isinstance(settings.joint_friction, (int, float))
+    if listed and len(columns) > 1:
+        raise InputError("joint_friction: a list gives one value per bed joint of a single column; a colonnade "
+                         "takes one value for all its joints between stones")
+    if listed and len(settings.joint_friction) != len(beds):
+        raise InputError(f"joint_friction has {len(settings.joint_friction)} values for {len(beds)} bed joint(s): "
+                         "give one number, or one per joint")
+    per_bed = iter(settings.joint_friction) if listed else None
+    law = []
+    for c in contacts:
+        if c.kind == "base":
+            law.append((settings.normal_stiffness, settings.friction))
+            continue
+        stiffness = settings.joint_stiffness or settings.normal_stiffness
+        if per_bed is not None and c.kind in ("bed", "capital"):
+            mu = float(next(per_bed))
+        elif settings.joint_friction is not None and not listed:
+            mu = float(settings.joint_friction)
+        else:
+            mu = settings.friction
+        law.append((stiffness, mu))
+    return law
+
+
+def assemble(structure, settings, damping):
+    """Dimensionless tables of a structure for :mod:`pipeline.dynamics.compliant.assembly`.
+
+    Parameters
+    ----------
+    structure : Column, DrumColumn or Colonnade
+    settings : pipeline.settings.ModelSettings
+        Joint stiffness, ratio, friction, contact points, anathyrosis.
+    damping : float
+        Normal damping per unit area c_n [Pa s/m] of the base; a joint of another stiffness
+        gets the same damping ratio, c_n sqrt(k_joint / k_n).
+
+    Returns
+    -------
+    Assembly
+    """
+    from pipeline.compliant.barriers import overturning_barriers
+
+    layout = layout_of(structure, settings)
+    edge_band = numerics(settings)["edge_band"]
+    parts, contacts = layout.parts, layout.contacts
+    L = layout.length
+    M = sum(p.mass for p in parts)
+    T = math.sqrt(L / G)
+    force = M * G  # force unit
+    bodies = np.zeros((len(parts), N_BODY_COLS))
+    for b, p in enumerate(parts):
+        bodies[b, B_MASS] = p.mass / M
+        bodies[b, B_IX], bodies[b, B_IY], bodies[b, B_IZ] = (i / (M * L * L) for i in p.inertia)
+        bodies[b, B_ZC] = p.zc / L
+        bodies[b, B_HEIGHT] = p.height / L
+        bodies[b, B_COS_LIE] = math.cos(p.lie)
+        # fallen off its support: its centre a body's height below where it rested (a body on
+        # the ground: below the ground)
+        bodies[b, B_Z_FALL] = 0.0 if p.on_ground else (p.centre[2] - p.height) / L
+        bodies[b, B_HOLD + 2] = p.mass / M  # the weight until the rest state sets it
+    points, starts = [], [0]
+    joints = np.zeros((len(contacts), N_JOINT_COLS))
+    for j, (c, (stiffness, mu)) in enumerate(zip(contacts, _joint_law(contacts, settings))):
+        table = np.zeros((len(c.points), N_POINT_COLS))
+        table[:, :5] = c.points[:, :5] / L
+        table[:, 5] = c.points[:, 5] / L ** 2
+        points.append(table)
+        starts.append(starts[-1] + len(table))
+        kn = stiffness * L ** 3 / force
+        ks = settings.stiffness_ratio * kn
+        cn = damping * math.sqrt(stiffness / settings.normal_stiffness) * L ** 3 / (force * T)
+        area = sum(table[:, 5].tolist())  # summed in the kernel's order: a full face is exactly its area
+        load = c.load / M
+        row = joints[j]
+        row[J_LOWER], row[J_UPPER] = c.lower, c.upper
+        row[J_OX:J_OX + 3] = np.asarray(c.origin) / L
+        row[J_F:J_F + 9] = np.asarray(c.axes, dtype=float).ravel()
+        row[J_UX:J_UX + 3] = np.asarray(c.upper_centre) / L
+        row[J_G:J_G + 9] = np.asarray(c.upper_axes, dtype=float).ravel()
+        row[J_SHAPE] = c.shape
+        row[J_FA], row[J_FB] = c.half[0] / L, c.half[1] / L
+        row[J_KN], row[J_KS], row[J_MU], row[J_CN] = kn, ks, mu, cn
+        # returns to the friction cone on the time scale of the joint's own shear vibration
+        row[J_TAU] = math.sqrt(load / (ks * area))
+        # the rim patch runs off the face below over edge_band spacings of the outer rings (or rows)
+        row[J_BAND] = edge_band * _spacing(table, c.shape)
+        row[J_AREA] = area
+        row[J_DELTA] = load / (kn * area)  # the static penetration (a head joint's: its block's weight)
+        # the elastic shear displacement at the cap under the joint's mean pressure
+        row[J_UFLOOR] = mu * row[J_DELTA] / settings.stiffness_ratio
+        if c.rim:
+            radius = float(np.max(np.hypot(table[:, 3], table[:, 4])))
+            # rocking on the rim: the centre of pressure beyond the chord joining the neighbours
+            # of a rim point (any share of the load among a pivot point and its two neighbours,
+            # which a compliant pivot presses in too); landed again: back inside half the radius
+            row[J_RIM] = radius * math.cos(2.0 * math.pi / settings.contact_sectors)
+            row[J_LAND] = 0.5 * radius
+        else:
+            row[J_RIM] = row[J_LAND] = -1.0
+    barrier, critical = overturning_barriers(layout, contacts, _joint_law(contacts, settings), M, L)
+    pattern = ls.elimination(len(parts), [c.lower for c in contacts], [c.upper for c in contacts], layout.order)
+    return Assembly(layout, bodies, np.concatenate(points), np.array(starts, dtype=np.int64), joints, L, M, T,
+                    barrier, critical, pattern)
+
+
+def _spacing(table, shape):
+    """The spacing of the outermost points of a face: the outer rings' (a disc) or rows' (a rectangle)."""
+    if shape == SHAPE_DISC:
+        radii = np.unique(np.round(np.hypot(table[:, 3], table[:, 4]), 9))  # one radius per ring
+        return radii[-1] - radii[-2] if len(radii) > 1 else radii[-1]
+    u = np.unique(np.round(np.abs(table[:, 3]), 9))
+    return u[-1] - u[-2] if len(u) > 1 else u[-1]
+
+
+def ground_joints(asm):
+    """Indices of the joints on the ground (the columns' bases)."""
+    return [j for j in range(asm.n_joints) if asm.joints[j, J_LOWER] == GROUND]
