@@ -34,8 +34,8 @@ from pipeline.dynamics.rigid.run2d import run_rocking
 from pipeline.errors import InputError
 from pipeline.response import Response
 from pipeline.settings import check_column
-from pipeline.simulate import RIGID_CONTACT_TILT, _diagnostics, kernel_options, kernel_record, kernel_summary, \
-    run_kernel
+from pipeline.simulate import RIGID_CONTACT_TILT, kernel_diagnostics, kernel_options, kernel_record, \
+    kernel_summary, run_kernel
 from pipeline.structures.colonnade import Colonnade
 from pipeline.units import G, deg_to_rad, time_scale
 
@@ -152,7 +152,7 @@ def simulate_frame(colonnade, motion, excitation, settings, histories=True, prog
     params = (frame_constants(frame), record, motion.dt / t_scale, frame_options(colonnade, settings))
     raw = run_kernel(run_rocking, params, t_scale, frame_restitution(colonnade, settings), settings,
                      np.zeros(rk.N_STATE2), motion.duration + settings.tail)
-    diag = _diagnostics(raw, settings)
+    diag = kernel_diagnostics(raw, settings)
     summary = kernel_summary(raw, length, frame.alpha, settings, motion, excitation)
     # the kernel's base centre is the equivalent block's; a column's base is off it while tilted
     last = raw.states[raw.n_filled - 1] if raw.n_filled else np.zeros(rk.N_STATE2)
