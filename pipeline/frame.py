@@ -225,12 +225,15 @@ def _histories(colonnade, settings, raw, diag, excitation, motion):
     data["normal_force"] = data["normal_force_hat"] * weight
     data["tangential_force"] = data["tangential_force_hat"] * weight
     data["energy"] = diag[:, rd.D_ENERGY] * weight * b
-    # the output instants as the column's run (unit sqrt(R/g)) has them, to the bit: the models of one
-    # simulate file share one time axis (the kernel's rows are the same instants to round-off)
-    tau = np.arange(raw.tau.shape[0]) * (settings.output_step / time_scale(R))
+    # the output instants as the column's run (unit sqrt(R/g), pipeline.simulate.run_kernel) has them, to the
+    # bit: the models of one simulate file share one time axis (the kernel's rows are the same instants to
+    # round-off)
+    t_column = time_scale(R)
+    end = (motion.duration + settings.tail) / t_column
+    tau = np.minimum(np.arange(raw.tau.shape[0]) * (settings.output_step / t_column), end)
     variables = {k: ("time", np.asarray(v, dtype=np.float64)) for k, v in data.items()}
     variables["phase"] = ("time", phase.astype(np.int8))
-    ds = xr.Dataset(variables, coords={"time": tau * time_scale(R), "tau": ("time", tau)})
+    ds = xr.Dataset(variables, coords={"time": tau * t_column, "tau": ("time", tau)})
     theta_k, _damping, c_n = frame_patch(colonnade, settings)
     col = colonnade.column.column
     ds.attrs.update(

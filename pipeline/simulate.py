@@ -315,7 +315,9 @@ def run_kernel(runner, params, t_scale, restitution, settings, y0, duration):
     record, dt = params[1], params[2]
     tau_end = duration / t_scale
     n_out = int(math.floor(duration / settings.output_step + 1e-9)) + 1
-    tau = np.arange(n_out) * (settings.output_step / t_scale)
+    # the grid's last row is the run's end: n_out step / t_scale may round past tau_end, where the integration
+    # stops, and that row was left unfilled (at rest, no position)
+    tau = np.minimum(np.arange(n_out) * (settings.output_step / t_scale), tau_end)
     states = np.full((n_out, y0.shape[0]), np.nan)
     phase = np.zeros(n_out, dtype=np.int8)
     breaks = np.arange(record.shape[0]) * dt  # kinks of the linearly interpolated record

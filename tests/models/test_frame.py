@@ -421,6 +421,20 @@ def test_the_viscous_couple_is_the_2d_models_at_every_column_base():
     assert response.summary["energy_dissipated"] > 1e-3 * response.summary["work_ground"]
 
 
+@pytest.mark.parametrize("model, body", [("2d-frame", Colonnade(WITH_CAPITAL, 2, 2.0, 0.5)),
+                                         ("2d", Column(0.3, 0.24, 2.4)),
+                                         ("3d", Column(0.3, 0.24, 2.4))], ids=["frame", "2d", "3d"])
+def test_the_last_row_of_the_histories_is_the_runs_end(model, body):
+    """The output grid's last instant, 100 steps of 0.01 s, rounded past the run's end in the kernel's time
+    (by 9e-16 for R = 0.3 m, the column's unit, and for this frame's b_e = 0.601 m): the integration stopped before it
+    and the row stayed unfilled (at rest, positions NaN) while the column rocked on."""
+    record = one_sine_pulse(4.0, 0.5, dt=0.005, duration=0.6, direction=0.0, record_id="frame-pulse")
+    h = simulate(body, record, Excitation(), ModelSettings(model=model, tail=0.4)).histories
+    assert h.time.values[-1] == pytest.approx(1.0, abs=1e-12)
+    assert h.phase.values[-1] == h.phase.values[-2] != 0  # still rocking at the end
+    assert not np.isnan(h.x_b.values[-1]) and h.theta.values[-1] > 0
+
+
 def test_a_frame_model_refuses_a_column_and_the_others_refuse_a_colonnade():
     record = pulse(3.0, 0.5)
     with pytest.raises(InputError, match="model = '2d-frame' runs colonnades: a monolithic column needs one of "
