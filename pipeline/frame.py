@@ -34,8 +34,8 @@ from pipeline.dynamics.rigid.run2d import run_rocking
 from pipeline.errors import InputError
 from pipeline.response import Response
 from pipeline.settings import check_column
-from pipeline.simulate import RIGID_CONTACT_TILT, _diagnostics, kernel_options, kernel_record, kernel_summary, \
-    run_kernel
+from pipeline.simulate import RIGID_CONTACT_TILT, kernel_diagnostics, kernel_options, kernel_record, \
+    kernel_summary, run_kernel
 from pipeline.structures.colonnade import Colonnade
 from pipeline.units import G, deg_to_rad, time_scale
 
@@ -152,7 +152,7 @@ def simulate_frame(colonnade, motion, excitation, settings, histories=True, prog
     params = (frame_constants(frame), record, motion.dt / t_scale, frame_options(colonnade, settings))
     raw = run_kernel(run_rocking, params, t_scale, frame_restitution(colonnade, settings), settings,
                      np.zeros(rk.N_STATE2), motion.duration + settings.tail, settings.settle_limit)
-    diag = _diagnostics(raw, settings)
+    diag = kernel_diagnostics(raw, settings)
     summary = kernel_summary(raw, length, frame.alpha, settings, motion, excitation)
     # the kernel's base centre is the equivalent block's; a column's base is off it while tilted
     last = raw.states[raw.n_filled - 1] if raw.n_filled else np.zeros(rk.N_STATE2)
@@ -225,12 +225,15 @@ def _histories(colonnade, settings, raw, diag, excitation, motion):
     data["normal_force"] = data["normal_force_hat"] * weight
     data["tangential_force"] = data["tangential_force_hat"] * weight
     data["energy"] = diag[:, rd.D_ENERGY] * weight * b
-    # the output instants as the column's run (unit sqrt(R/g)) has them, to the bit: the models of one
-    # simulate file share one time axis (the kernel's rows are the same instants to round-off)
-    tau = np.arange(raw.tau.shape[0]) * (settings.output_step / time_scale(R))
+    # the output instants as the column's run (unit sqrt(R/g), pipeline.simulate.run_kernel) has them, to the
+    # bit: the models of one simulate file share one time axis (the kernel's rows are the same instants to
+    # round-off)
+    t_column = time_scale(R)
+    end = (motion.duration + settings.tail) / t_column
+    tau = np.minimum(np.arange(raw.tau.shape[0]) * (settings.output_step / t_column), end)
     variables = {k: ("time", np.asarray(v, dtype=np.float64)) for k, v in data.items()}
     variables["phase"] = ("time", phase.astype(np.int8))
-    ds = xr.Dataset(variables, coords={"time": tau * time_scale(R), "tau": ("time", tau)})
+    ds = xr.Dataset(variables, coords={"time": tau * t_column, "tau": ("time", tau)})
     theta_k, _damping, c_n = frame_patch(colonnade, settings)
     col = colonnade.column.column
     ds.attrs.update(

@@ -37,7 +37,7 @@ from pipeline.dynamics.rigid import rocking as rk
 from pipeline.dynamics.rigid.run2d import run_rocking
 from pipeline.dynamics.rigid.run3d import run_frustum
 from pipeline.errors import InputError
-from pipeline.structures.kinds import describe_kind, kind_of
+from pipeline.structures.kinds import RUNS, describe_kind, kind_of
 from pipeline.models.rigid import ROLLING_FRUSTUM
 from pipeline.response import Response
 from pipeline.settings import FREE_MOTION, Excitation, ModelSettings, check_column
@@ -179,13 +179,9 @@ pipeline.structures.colonnade.Colonnade
     kind = kind_of(column)  # refuses what is no structure
     if not model.runs(kind):
         runners = ", ".join(name for name, m in models.REGISTRY.items() if m.runs(kind))
-        raise InputError(f"model = {settings.model!r} runs {' or '.join(_KIND_WORDS[b] for b in model.bodies)}: "
+        raise InputError(f"model = {settings.model!r} runs {' or '.join(RUNS[b] for b in model.bodies)}: "
                          f"{describe_kind(column)} needs one of {runners}")
     return model.run(column, motion, excitation, settings, histories, progress)
-
-
-# what a model runs, in words, for the refusal above
-_KIND_WORDS = {"column": "monolithic columns", "drums": "columns of drums", "colonnade": "colonnades"}
 
 
 def simulate_rigid(column, motion, excitation, settings, histories=True, progress=None):
@@ -204,7 +200,7 @@ def simulate_rigid(column, motion, excitation, settings, histories=True, progres
     duration = motion.duration + settings.tail
     y0 = np.zeros(rk.N_STATE2 if planar else fk.N_STATE)
     raw = _run(column, settings, record, dt, y0, duration, settings.settle_limit)
-    diag = _diagnostics(raw, settings)
+    diag = kernel_diagnostics(raw, settings)
     summary = _summary(column, settings, raw, diag, motion, excitation)
     ds = _histories(column, settings, raw, diag, excitation, motion) if histories else None
     return Response(summary, ds, _impact_table(raw, column))
@@ -271,7 +267,7 @@ def simulate_free(column, initial, duration, settings=FREE_MOTION,
     y0[fk.DTHETA] = initial.theta_dot * rate
     y0[fk.OMEGA] = (initial.phi_dot * math.cos(theta) + initial.psi_dot) * rate
     raw = _run(column, settings, np.zeros((0, 3)), 1.0, y0, duration)
-    ds = _histories(column, settings, raw, _diagnostics(raw, settings), Excitation(), None)
+    ds = _histories(column, settings, raw, kernel_diagnostics(raw, settings), Excitation(), None)
     ds.attrs["title"] = "Free motion of a conical frustum rolling on its rim"
     return ds
 
@@ -324,7 +320,11 @@ def run_kernel(runner, params, t_scale, restitution, settings, y0, duration, set
     tau_end = duration / t_scale
     tau_settle = (duration + settle_limit) / t_scale
     n_out = int(math.floor((duration + settle_limit) / settings.output_step + 1e-9)) + 1
-    tau = np.arange(n_out) * (settings.output_step / t_scale)
+    # the rows at the record's end and the grid's last are where the integration may stop: k step /
+    # t_scale may round past tau_end or tau_settle, and such a row was left unfilled (at rest, no position)
+    tau = np.minimum(np.arange(n_out) * (settings.output_step / t_scale), tau_settle)
+    k_end = int(math.floor(duration / settings.output_step + 1e-9))
+    tau[k_end] = min(tau[k_end], tau_end)
     states = np.full((n_out, y0.shape[0]), np.nan)
     phase = np.zeros(n_out, dtype=np.int8)
     breaks = np.arange(record.shape[0]) * dt  # kinks of the linearly interpolated record
@@ -353,8 +353,8 @@ def _impact_table(raw, column):
     return table
 
 
-def _diagnostics(raw, settings):
-    """Per-row derived quantities (``hybrid.D_*`` columns, dimensionless)."""
+def kernel_diagnostics(raw, settings):
+    """Per-row derived quantities of a rigid kernel's run (``rd.D_*`` columns, in its dimensionless units)."""
     out = np.full((raw.tau.shape[0], rd.N_DIAGNOSTICS), np.nan)
     rd.diagnostics_rows(raw.tau, raw.states, raw.phase, raw.params, not models.get(settings.model).planar, out)
     return out

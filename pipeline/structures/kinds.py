@@ -14,13 +14,13 @@ from pipeline.structures.colonnade import Colonnade
 from pipeline.structures.column import Column
 from pipeline.structures.drums import Capital, DrumColumn
 
-__all__ = ["KINDS", "kind_of", "describe_kind", "example"]
+__all__ = ["KINDS", "RUNS", "kind_of", "describe_kind", "example"]
 
 #: Every kind of structure, in the order help lists them.
 KINDS = ("column", "drums", "colonnade")
 
-_WORDS = {"column": "a monolithic column", "drums": "a column of drums (or with a capital)",
-          "colonnade": "a colonnade (columns carrying an epistyle)"}
+#: What a model runs, in words: ``"a model of KINDS[k] runs ..."``.
+RUNS = {"column": "monolithic columns", "drums": "columns of drums", "colonnade": "colonnades"}
 
 
 def kind_of(structure):
@@ -41,7 +41,7 @@ def describe_kind(structure):
         return f"a column of {structure.n_drums} drum(s)" + (" and a capital" if structure.capital else "")
     if kind == "colonnade":
         return f"a colonnade of {structure.n_columns} columns"
-    return _WORDS[kind]
+    return "a monolithic column"
 
 
 def example(kind):
