@@ -64,13 +64,16 @@ class Shape:
     """A frustum body: base radius, top radius and height [m].
 
     ``sides`` 0 is a round frustum; ``sides`` 4 a square block (a capital) whose base and
-    top are squares of half-side ``R`` and ``r`` [m], their sides along the body's x and y.
+    top are squares of half-side ``R`` and ``r`` [m], their sides along the body's x and y,
+    or with ``half_y`` a rectangular block (an epistyle block: half length ``R`` along x,
+    half width ``half_y``).
     """
 
     R: float
     r: float
     h: float
     sides: int = 0
+    half_y: float = 0.0
 
     @property
     def z_cm(self):
@@ -142,8 +145,9 @@ def frustum_faces(shape, pose):
     else:
         cos, sin = _COS, _SIN
     n = cos.size
-    bottom = np.stack([shape.R * cos, shape.R * sin, np.zeros(n)], axis=1)
-    top = np.stack([shape.r * cos, shape.r * sin, np.full(n, shape.h)], axis=1)
+    across = shape.half_y / shape.R if shape.half_y else 1.0  # a rectangle's sides along y
+    bottom = np.stack([shape.R * cos, across * shape.R * sin, np.zeros(n)], axis=1)
+    top = np.stack([shape.r * cos, across * shape.r * sin, np.full(n, shape.h)], axis=1)
     bottom = bottom @ pose.rotation.T + pose.centre
     top = top @ pose.rotation.T + pose.centre
     nxt = np.roll(np.arange(n), -1)
@@ -217,6 +221,9 @@ class Motion:
         self.theta_crit = float(run["theta_crit"])
         self.height = self.shape.h
         self.drums = ()
+        self.labels = ()
+        self.row = False
+        self.span = (-self.shape.R, self.shape.R)
         if "drum_dx" in run and np.isfinite(run["drum_dx"].values).any():
             self._drums(run)
         self.overturn_time = math.nan
@@ -233,13 +240,24 @@ class Motion:
         self.fell_from = first if first >= 0 else 0
 
     def _drums(self, run):
-        """Each drum's shape and, over time, its centre of mass [m] and Euler angles [rad]."""
+        """Each body's shape and, over time, its centre of mass [m] and Euler angles [rad].
+
+        Drums (kind 0), square capitals (1) and a colonnade's epistyle blocks (2: half length
+        ``drum_R``, half width ``drum_r``), each where it stood (``drum_x``, ``drum_y``, 0 for a
+        single column) displaced by ``drum_dx``, ``drum_dy``, ``drum_dz``."""
         kind = run["drum_kind"].values
-        self.drums = tuple(Shape(float(R), float(r), float(h), 4 if k == 1 else 0) for R, r, h, k in
-                           zip(run["drum_R"].values, run["drum_r"].values, run["drum_h"].values, kind))
+        self.drums = tuple(Shape(float(R), float(r), float(h), 0) if k == 0 else
+                           Shape(float(R), float(R), float(h), 4, float(r) if k == 2 else 0.0)
+                           for R, r, h, k in zip(run["drum_R"].values, run["drum_r"].values, run["drum_h"].values,
+                                                 kind))
         rest = np.array([z + shape.z_cm for z, shape in zip(run["drum_z"].values, self.drums)])
-        self.drum_centre = np.stack([run["drum_dx"].values, run["drum_dy"].values,
+        x0 = run["drum_x"].values if "drum_x" in run else np.zeros(len(self.drums))
+        y0 = run["drum_y"].values if "drum_y" in run else np.zeros(len(self.drums))
+        self.drum_centre = np.stack([x0[None, :] + run["drum_dx"].values, y0[None, :] + run["drum_dy"].values,
                                      rest[None, :] + run["drum_dz"].values], axis=2)
+        self.labels = tuple(str(x) for x in run["body_label"].values) if "body_label" in run else ()
+        self.row = bool(np.any(kind == 2))  # a colonnade: its bodies fall each on its own
+        self.span = (float(np.min(x0 - run["drum_R"].values)), float(np.max(x0 + run["drum_R"].values)))
         self.drum_theta = np.nan_to_num(run["drum_theta"].values)
         # the direction of the tilt is undefined upright: any there, with the spin taking up the rest
         self.drum_phi = np.stack([_filled(column) for column in run["drum_phi"].values.T], axis=1)
@@ -256,7 +274,10 @@ class Motion:
         return self.overturn_row is not None
 
     def body_name(self, b):
-        """How a caption names body ``b``: ``"the column"``, ``"drum 2"`` (from the bottom, from 1) or ``"the capital"``."""
+        """How a caption names body ``b``: ``"the column"``, ``"drum 2"`` (from the bottom, from 1), ``"the
+        capital"``, or its label in a colonnade (``"column 2 drum 1"``, ``"block 3"``)."""
+        if self.labels:
+            return self.labels[b]
         if len(self.drums) <= 1:
             return "the column"
         return "the capital" if self.drums[b].sides else f"drum {b + 1}"
@@ -344,10 +365,13 @@ def frame(motion, t, bodies=None):
     drawn = [(b, shape, pose) for b, (shape, pose) in enumerate(bodies(motion, row))]
     if not ended:
         return Frame(row, tuple(drawn), False, "")
-    fell = [item for item in drawn if item[0] >= motion.fell_from]
+    if motion.row:  # a colonnade's bodies fall each on its own: those tilted past 60 deg or dropped
+        fell = [item for item in drawn if _fallen(motion, row, item)]
+    else:  # a column: the body that fell first and everything on it
+        fell = [item for item in drawn if item[0] >= motion.fell_from]
     lying = [item for item in fell if abs(lowest_point(item[1], item[2])) <= ON_THE_GROUND * item[1].R]
     in_air = [b for b, _, _ in fell if b not in {b for b, _, _ in lying}]
-    drawn = [item for item in drawn if item[0] < motion.fell_from or item in lying]
+    drawn = [item for item in drawn if item not in fell or item in lying]
     words = [f"Overturned at {motion.overturn_time:.2f} s: the run ends here; greyed: its last computed state"]
     if lying:
         verb = "lies" if len(lying) == 1 else "lie"
@@ -356,6 +380,19 @@ def frame(motion, t, bodies=None):
         they = "it" if len(in_air) == 1 else "they"
         words.append(f"{_names(motion, in_air)} fell: not drawn, where {they} came to rest is not computed")
     return Frame(row, tuple(drawn), True, "\n".join(textwrap.fill(w, 80) for w in words))  # within a view
+
+
+#: A colonnade's body has fallen when tilted past this [rad] or dropped by this part of its height.
+FALLEN_TILT = math.radians(60.0)
+FALLEN_DROP = 0.5
+
+
+def _fallen(motion, row, item):
+    """Whether a colonnade's body has fallen at ``row``: tilted past :data:`FALLEN_TILT` or dropped by
+    :data:`FALLEN_DROP` of its height from where it stood (the last computed state of a run that ended)."""
+    b, shape, _pose = item
+    drop = -float(motion.run["drum_dz"].values[row, b]) if "drum_dz" in motion.run else 0.0
+    return motion.drum_theta[row, b] > FALLEN_TILT or drop > FALLEN_DROP * shape.h
 
 
 def _names(motion, indices):
@@ -393,11 +430,15 @@ class ModelView:
         ground = motion.ground[:, :2]
         centre = 0.5 * (ground.min(axis=0) + ground.max(axis=0))
         half = 0.5 * float(np.max(ground.max(axis=0) - ground.min(axis=0))) + 0.55 * reach
+        row = 0.5 * (motion.span[1] - motion.span[0])  # a colonnade's half length along x
+        centre[0] += 0.5 * (motion.span[0] + motion.span[1])
+        half_x = max(half, row + 0.25 * reach)
         self.plate_half = 0.5 * reach
-        ax.set_xlim(centre[0] - half, centre[0] + half)
+        self.plate_half_x = max(self.plate_half, row + 0.1 * reach)
+        ax.set_xlim(centre[0] - half_x, centre[0] + half_x)
         ax.set_ylim(centre[1] - half, centre[1] + half)
         ax.set_zlim(0.0, 1.05 * reach)
-        ax.set_box_aspect((2.0 * half, 2.0 * half, 1.05 * reach))  # one scale on every axis
+        ax.set_box_aspect((2.0 * half_x, 2.0 * half, 1.05 * reach))  # one scale on every axis
         ax.set_axis_off()
         ax.view_init(elev=16, azim=-62)
         # draw in a fixed order (ground, path, arrow, bodies): mplot3d's sorting of whole collections by
@@ -425,8 +466,8 @@ class ModelView:
         now = frame(m, t, self.bodies)
         i = now.row  # from the overturn on, everything stays with the last computed state
         g = m.ground[i]
-        h = self.plate_half
-        corners = np.array([[-h, -h, 0.0], [h, -h, 0.0], [h, h, 0.0], [-h, h, 0.0]]) + [g[0], g[1], 0.0]
+        h, hx = self.plate_half, self.plate_half_x
+        corners = np.array([[-hx, -h, 0.0], [hx, -h, 0.0], [hx, h, 0.0], [-hx, h, 0.0]]) + [g[0], g[1], 0.0]
         self.plate.set_verts([corners])
         shown = {b: (shape, pose) for b, shape, pose in now.bodies}
         for b, solid in enumerate(self.solids):
@@ -441,7 +482,7 @@ class ModelView:
             drawn &= m.time[: i + 1] < m.overturn_time
         path = m.contact[: i + 1][drawn] + g[:2]
         self.path.set_data_3d(path[:, 0], path[:, 1], np.zeros(len(path)))
-        base = g[:2] + np.array([-0.55 * h, -0.55 * h])  # from a corner of the plate, clear of the column
+        base = g[:2] + np.array([-0.55 * hx, -0.55 * h])  # from a corner of the plate, clear of the column
         tip = base + m.acc[i, :2] * self.arrow_scale
         self.arrow.set_data_3d([base[0], tip[0]], [base[1], tip[1]], [0.0, 0.0])
         self.head.set_data_3d([tip[0]], [tip[1]], [0.0])
