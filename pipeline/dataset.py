@@ -139,6 +139,9 @@ VARIABLES = {
     "joint_diameter": Var("m", "diameter of the joint's bearing face"),
     "dislocation_ratio": Var("1", "largest residual slip of a bed joint over its diameter (0: no bed joint)"),
     "overturn_drum": Var("1", "body that lay down or fell first, 0 at the bottom (-1: none fell)"),
+    "epistyle_slip": Var("m", "largest residual slip of an epistyle block on a capital (a colonnade; NaN for a column)"),
+    "epistyle_opening": Var("m", "widest head joint between epistyle blocks at the end (a colonnade; NaN for a "
+                            "column)"),
     "n_drums": Var("1", "number of drums of the column (1: a monolith)"),
     # the summary of one compliant run (pipeline.compliant) in a simulate file, beside the names above
     "drum_peak_theta": Var("rad", "peak inclination of the drum's axis from the vertical", degrees=True),

@@ -107,11 +107,12 @@ def summary(structure_column, asm, params, settings, raw, damping, restitution):
         "joint_uplift_time": raw.joint_stats[:, JS_UPLIFT_TIME] * T,
         "joint_peak_mu_mob": stats[:, JS_PEAK_MU].copy(),
     }
+    # a colonnade: how far its epistyle moved on its capitals and opened between its blocks (NaN: a column)
     bearings = [j for j, c in enumerate(layout.contacts) if c.kind == "bearing"]
-    if bearings:  # a colonnade: how far its epistyle moved on its capitals and opened between its blocks
-        heads = [j for j, c in enumerate(layout.contacts) if c.kind == "head"]
-        out["epistyle_slip"] = float(np.max(joints["joint_slip"][bearings]))
-        out["epistyle_opening"] = float(np.max(joints["joint_opening"][heads])) if heads else 0.0
+    heads = [j for j, c in enumerate(layout.contacts) if c.kind == "head"]
+    out["epistyle_slip"] = float(np.max(joints["joint_slip"][bearings])) if bearings else math.nan
+    out["epistyle_opening"] = float(np.max(joints["joint_opening"][heads])) if heads else \
+        (0.0 if bearings else math.nan)
     return out
 
 

@@ -69,8 +69,8 @@ COMPLIANT_DRUMS = Model(
     histories=HISTORIES,
     # and of a column of drums: the largest residual slip of a bed joint over its diameter, the body
     # that fell first, the residual dislocation of every joint
-    results=RESULTS + ("dislocation_ratio", "overturn_drum", "joint_slip", "joint_twist", "joint_tilt",
-                       "joint_opening"),
+    results=RESULTS + ("dislocation_ratio", "overturn_drum", "epistyle_slip", "epistyle_opening", "joint_slip",
+                       "joint_twist", "joint_tilt", "joint_opening"),
     entry_points=(("pipeline.dynamics.compliant.semi_implicit", "run"),),  # its default integrator's run
     runner="pipeline.compliant:simulate_compliant",
     # fixed steps of the semi-implicit scheme (the default), or the adaptive ones it is checked

@@ -440,6 +440,12 @@ class Colonnade:
         return tuple(HeadJoint(k - 1, k, k, self.axes()[k], -half_w, half_w, z0, z0 + self.epistyle_height)
                      for k in range(1, self.n_columns - 1))
 
+    @property
+    def n_joints(self):
+        """Joints of the row as an assembly of bodies: each column's (a base, a bed joint per drum above the
+        first and the capital's), two bearings per block and a head joint over each inner column."""
+        return self.n_columns * self.column.n_bodies + 2 * self.n_blocks + len(self.head_joints())
+
     # Masses ------------------------------------------------------------------------
     @property
     def rigid_column(self):

@@ -30,9 +30,11 @@ DIMS = ("column", "record", "angle", "scale", "model")
 # slip of a bed joint over its diameter, the body that fell first (-1: none), and per joint
 # (dimension ``joint``; joint k is the base of body k) the residual dislocation. NaN for the
 # rigid models and for the joints a column does not have.
-COMPLIANT_VARIABLES = ("dislocation_ratio", "overturn_drum")
+# A colonnade's (NaN for a column): how far its epistyle slid on the capitals and opened between blocks.
+COMPLIANT_VARIABLES = ("dislocation_ratio", "overturn_drum", "epistyle_slip", "epistyle_opening")
 JOINT_VARIABLES = ("joint_slip", "joint_twist", "joint_tilt", "joint_opening")
-DTYPES.update({"dislocation_ratio": np.float64, "overturn_drum": np.int32,
+DTYPES.update({"dislocation_ratio": np.float64, "overturn_drum": np.int32, "epistyle_slip": np.float64,
+               "epistyle_opening": np.float64,
                 **{n: np.float64 for n in JOINT_VARIABLES}})
 
 

@@ -13,6 +13,7 @@ A simulation that fails is flagged in its cells (status 1), never raised: one fa
 end a study.
 """
 
+import math
 import time
 from dataclasses import replace
 
@@ -79,7 +80,8 @@ def run_task(task, motion):
                         # a rigid column is one body: if anything fell, it did
                         arrays["overturn_drum"][index] = summary.get("overturn_drum", 0 if summary["overturned"] else -1)
                         if "joint_slip" in summary:
-                            arrays["dislocation_ratio"][index] = summary["dislocation_ratio"]
+                            for name in ("dislocation_ratio", "epistyle_slip", "epistyle_opening"):
+                                arrays[name][index] = summary.get(name, math.nan)
                             joints = index + (slice(0, len(summary["joint_slip"])),)
                             for name in JOINT_VARIABLES:
                                 arrays[name][joints] = summary[name]

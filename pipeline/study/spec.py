@@ -121,6 +121,14 @@ class ColumnInfo:
         """Rigid bodies of the compliant model: drums and capital (1 for a monolith)."""
         return 1 if self.stack is None else self.stack.n_bodies
 
+    @property
+    def n_joints(self):
+        """Joints of the compliant model: one per body of a column; a colonnade's columns', its blocks'
+        bearings on the capitals and the head joints between blocks."""
+        if self.colonnade is not None:
+            return self.colonnade.n_joints
+        return self.n_bodies
+
     def body(self, variant):
         """What a :class:`ModelVariant` runs: the colonnade for a model of colonnades, the drums for a model of
         drums, else the shaft as a monolith."""
@@ -281,11 +289,13 @@ class Study:
 
     @property
     def n_joints(self):
-        """Length of the results' ``joint`` dimension: the most bodies of a column when the
-        compliant model is run (joint k is the base of body k), else 0 (no such dimension)."""
+        """Length of the results' ``joint`` dimension: the most joints of a column (a colonnade's, where it
+        carries one) when the compliant model is run, else 0 (no such dimension)."""
         if not any(self.variant(m).drums for m in self.models):
             return 0
-        return max(c.n_bodies for c in self.columns)
+        return max(c.n_joints if c.colonnade is not None and any(self.variant(m).colonnade and self.variant(m).drums
+                                                                  for m in self.models) else c.n_bodies
+                   for c in self.columns)
 
     @property
     def registry_models(self):
