@@ -276,8 +276,9 @@ class Motion:
     def body_name(self, b):
         """How a caption names body ``b``: ``"the column"``, ``"drum 2"`` (from the bottom, from 1), ``"the
         capital"``, or its label in a colonnade (``"column 2 drum 1"``, ``"block 3"``)."""
-        if self.labels:
-            return self.labels[b]
+        if self.labels:  # a numbered body by its label; one of its kind with an article ("the capital")
+            label = self.labels[b]
+            return label if any(ch.isdigit() for ch in label) else f"the {label}"
         if len(self.drums) <= 1:
             return "the column"
         return "the capital" if self.drums[b].sides else f"drum {b + 1}"

@@ -34,8 +34,9 @@ from pipeline.dynamics.rigid.run2d import run_rocking
 from pipeline.errors import InputError
 from pipeline.response import Response
 from pipeline.settings import check_column
-from pipeline.simulate import RIGID_CONTACT_TILT, kernel_diagnostics, kernel_options, kernel_record, \
-    kernel_summary, run_kernel
+from pipeline.simulate import (
+    RIGID_CONTACT_TILT, kernel_diagnostics, kernel_options, kernel_record, kernel_summary, output_instants, run_kernel,
+)
 from pipeline.structures.colonnade import Colonnade
 from pipeline.units import G, deg_to_rad, time_scale
 
@@ -229,8 +230,8 @@ def _histories(colonnade, settings, raw, diag, excitation, motion):
     # bit: the models of one simulate file share one time axis (the kernel's rows are the same instants to
     # round-off)
     t_column = time_scale(R)
-    end = (motion.duration + settings.tail) / t_column
-    tau = np.minimum(np.arange(raw.tau.shape[0]) * (settings.output_step / t_column), end)
+    tau = output_instants(raw.tau.shape[0], motion.duration + settings.tail, settings.settle_limit,
+                          settings.output_step, t_column)
     variables = {k: ("time", np.asarray(v, dtype=np.float64)) for k, v in data.items()}
     variables["phase"] = ("time", phase.astype(np.int8))
     ds = xr.Dataset(variables, coords={"time": tau * t_column, "tau": ("time", tau)})

@@ -294,6 +294,21 @@ def _run(column, settings, record, dt, y0, duration, settle_limit=0.0):
     return run_kernel(runner, params, time_scale(column.R), restitution, settings, y0, duration, settle_limit)
 
 
+def output_instants(n_rows, duration, settle_limit, output_step, t_scale):
+    """The output rows' instants [tau]: every ``output_step`` [s] in units of ``t_scale`` [s].
+
+    The rows at the record's end (``duration``, the tail included) and the grid's last are where the
+    integration may stop: k step / t_scale may round past them, and such a row was left unfilled (at
+    rest, no position), so they are clamped there. A model that reports in another time unit than
+    its kernel's (the frame) builds its rows with this too, to the bit.
+    """
+    tau = np.minimum(np.arange(n_rows) * (output_step / t_scale), (duration + settle_limit) / t_scale)
+    k_end = int(math.floor(duration / output_step + 1e-9))
+    if k_end < n_rows:
+        tau[k_end] = min(tau[k_end], duration / t_scale)
+    return tau
+
+
 def run_kernel(runner, params, t_scale, restitution, settings, y0, duration, settle_limit=0.0):
     """One run of a rigid event-driven kernel (``run_rocking`` or ``run_frustum``): the dimensionless arrays.
 
@@ -320,11 +335,7 @@ def run_kernel(runner, params, t_scale, restitution, settings, y0, duration, set
     tau_end = duration / t_scale
     tau_settle = (duration + settle_limit) / t_scale
     n_out = int(math.floor((duration + settle_limit) / settings.output_step + 1e-9)) + 1
-    # the rows at the record's end and the grid's last are where the integration may stop: k step /
-    # t_scale may round past tau_end or tau_settle, and such a row was left unfilled (at rest, no position)
-    tau = np.minimum(np.arange(n_out) * (settings.output_step / t_scale), tau_settle)
-    k_end = int(math.floor(duration / settings.output_step + 1e-9))
-    tau[k_end] = min(tau[k_end], tau_end)
+    tau = output_instants(n_out, duration, settle_limit, settings.output_step, t_scale)
     states = np.full((n_out, y0.shape[0]), np.nan)
     phase = np.zeros(n_out, dtype=np.int8)
     breaks = np.arange(record.shape[0]) * dt  # kinks of the linearly interpolated record

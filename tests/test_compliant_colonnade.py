@@ -127,10 +127,12 @@ def test_on_low_ground_friction_the_whole_row_slides_as_the_coulomb_block():
     """Ground friction 0.1, the joints between stones 10, all of them stiff (1e11 Pa/m): a 1-Hz sine of
     0.3 g along the row (above mu g, below the frame's uplift at about 0.24 g, which the sliding
     bases never let it reach) slides the row as one block. Every body's displacement at the end
-    equals the independent Coulomb block's to 3 mm, 2.5 % of the 0.12-m slide. A compliant base
-    under a slender column rocks a little as it slides, and that changes the slide: the paper's
-    column alone slides 9 % less on the default 1e10 Pa/m bed and 1 % more at 1e11 (measured, with
-    tilts of 1e-4 and 2e-5 rad), as tests/test_compliant.py finds for two-way sliding."""
+    equals the independent Coulomb block's to 4 % of its 0.12-m slide. A compliant base under a
+    slender column rocks a little as it slides (tilts of 2e-5 to 5e-5 rad), and that changes the
+    slide at each of the six stick-slip reversals: measured on this bed, the paper's column alone
+    (with its capital) slides 2.9 % more, a frame of 2 monoliths 1.1 % more, this row of 3 columns of
+    2 drums 2.5 % less. The bound still tells the friction: the block's slide moves 15 % when mu moves
+    5 % (0.139 m at mu = 0.095, 0.104 m at 0.105)."""
     colonnade = frame(3, drums=2)
     dt, duration = 0.005, 3.0
     t = np.arange(0.0, duration + 0.5 * dt, dt)
@@ -141,7 +143,8 @@ def test_on_low_ground_friction_the_whole_row_slides_as_the_coulomb_block():
     expected = np.interp(duration, block_t, block_u)
     assert abs(expected) > 0.1  # it really slides, decimetres
     dx = run.histories.drum_dx.isel(time=-1).values
-    np.testing.assert_allclose(dx, expected, atol=3e-3)
+    np.testing.assert_allclose(dx, expected, rtol=0.04)
+    assert np.ptp(dx) < 5e-4  # one block: the bodies together to the sway of 5e-5 rad at 4.6 m, 0.23 mm
     assert not run.summary["overturned"] and run.summary["peak_theta"] < 1e-3  # it slides, it does not rock
 
 
@@ -241,3 +244,48 @@ def test_glued_frame_converges_to_the_rigid_frame():
         errors.append(soft["peak_theta"] / peak - 1.0)
     assert abs(errors[1]) < 0.02, errors
     assert 6 < errors[0] / errors[1] < 16, errors
+
+
+def _turned(y, asm, b, angle, pivot):
+    """State y with body b turned rigidly by angle [rad] about the y axis through pivot [L] (ground frame)."""
+    o = ly.NB * b
+    c, s = math.cos(angle), math.sin(angle)
+    dx, dz = y[o + ly.X] - pivot[0], y[o + ly.Z] - pivot[2]
+    y[o + ly.X], y[o + ly.Z] = pivot[0] + c * dx + s * dz, pivot[2] - s * dx + c * dz
+    qw, qx, qy, qz = y[o + ly.QW:o + ly.QZ + 1]
+    hw, hy = math.cos(0.5 * angle), math.sin(0.5 * angle)  # about y, composed on the left
+    y[o + ly.QW:o + ly.QZ + 1] = (hw * qw - hy * qy, hw * qx - hy * qz, hw * qy + hy * qw, hw * qz + hy * qx)
+
+
+def test_a_body_has_fallen_off_its_support_only_measured_on_that_support():
+    """The fall event of a body resting on another is its centre's distance from the supporting face,
+    measured on the supporting body: a capital carried down by its drum tilted 40 deg about the
+    drum's rim has not fallen (measured on the ground it had: its centre 0.65 m lower than at rest,
+    more than its 0.3-m height, and a run named the capital as the body that fell while the top drum
+    was still falling, 0.41 s before the drum lay down); the same capital slid 1.2 m sideways off the
+    drum's top and dropped 0.31 m has (0.01 m past its height)."""
+    column = DrumColumn.equal(PAPER, 1, CAPITAL)
+    settings = compliant(contact_sectors=16)
+    asm = assemble(column, settings, 1e7)
+    params = asm.params(np.zeros((11, 3)), 0.01 / asm.time)
+    y0 = rest_state(asm, params, settings.integrator)
+    n = asm.n_bodies
+    g = np.empty(2 * n)
+    from pipeline.dynamics.compliant.assembly import event_values
+
+    event_values(y0, asm.bodies, asm.joints, g)
+    assert np.all(g < 0.0)  # the premise: at rest nothing has fallen
+    tilted = y0.copy()
+    rim = (0.5 / asm.length, 0.0, 0.0)  # the drum's base rim, on the ground
+    for b in range(n):  # drum and capital together, as one
+        _turned(tilted, asm, b, math.radians(40.0), rim)
+    event_values(tilted, asm.bodies, asm.joints, g)
+    capital_z = tilted[ly.NB + ly.Z] * asm.length
+    assert capital_z < y0[ly.NB + ly.Z] * asm.length - 0.3  # the premise: lower than at rest by its height
+    assert g[n + 1] < 0.0 and g[1] < 0.0  # not fallen, not lying
+    off = y0.copy()
+    off[ly.NB + ly.X] += 1.2 / asm.length
+    off[ly.NB + ly.Z] -= 0.31 / asm.length
+    event_values(off, asm.bodies, asm.joints, g)
+    # to the joint's static penetration at rest (the rest state sinks it by 2e-6 m)
+    assert g[n + 1] == pytest.approx(0.01 / asm.length, abs=1e-5)

@@ -4,8 +4,8 @@ Every ``frustum`` command of the README's ``sh`` blocks parses with the real com
 every file it reads is in the repository or written by a command before it (run from the
 checkout root, as the README says). Before, the README read ``RSN6_ELC180.AT2``,
 ``elcentro.g3`` and ``hazard_curve-mean-PGA_1.csv``, which no clone holds, and
-``out/quickstart_fragility.nc``, which ``frustum fragility`` in its own help names
-``out/quickstart-fragility.nc``. The example files load as the commands read them, and every
+``out/quickstart-fragility.nc``, which ``frustum fragility`` in its own help names
+``out/quickstart_fragility.nc``. The example files load as the commands read them, and every
 repository path the README's text names exists.
 """
 
@@ -94,7 +94,7 @@ def test_every_file_a_readme_command_reads_is_in_the_repository_or_written_befor
         missing += [f"frustum {args.command}: {path}" for path in reads
                     if os.path.normpath(path) not in written and not _held(path, held)]
         written.update(os.path.normpath(path) for path in writes)
-    assert missing == []
+    assert missing == [], "\n".join(missing)
     assert {"out/quickstart.nc", "out/drums_vs_rigid/paper.nc"} <= written  # the premise: studies' outputs found
 
 
@@ -109,8 +109,8 @@ def _help_examples(parser):
 
 def test_the_readme_names_each_output_as_the_help_or_its_study_file_does(commands):
     """A file under ``out/`` has one name: the one a study file writes or a command's --help uses (before,
-    the README wrote out/quickstart_fragility.nc, the help of frustum fragility and risk
-    out/quickstart-fragility.nc)."""
+    the README wrote out/quickstart-fragility.nc, the help of frustum fragility and risk
+    out/quickstart_fragility.nc)."""
     examples = _help_examples(build_parser())
     studies = set()
     named = []
@@ -180,3 +180,28 @@ def test_the_licence_is_an_spdx_expression_and_the_build_asks_for_a_setuptools_t
     (setuptools,) = [r for r in data["build-system"]["requires"] if r.startswith("setuptools")]
     minimum = re.fullmatch(r"setuptools>=(\d+)(?:\.\d+)*", setuptools.replace(" ", ""))
     assert minimum and int(minimum.group(1)) >= 77, setuptools
+
+
+def test_every_file_a_help_example_reads_is_in_the_repository_or_a_placeholder():
+    """A ``--help`` example reads files a clone holds (``examples/``, ``studies/``), files an earlier example
+    writes (``out/``), or a placeholder in capitals (``YOUR_STATION.mseed``) a reader sees is theirs to supply.
+    Before, they read RSN6_ELC180.AT2, elcentro.g3, quake.mseed and hazard_curve-mean-PGA_12.csv (issue 38,
+    item 5)."""
+    held = _in_repository()
+    examples = _help_examples(build_parser()).replace("\\\n", " ")
+    parser = build_parser()
+    parsed = [parser.parse_args(shlex.split(line.strip(), comments=True)[1:]) for line in examples.splitlines()
+              if line.strip().startswith("frustum ") and "--help" not in line]  # not a caption
+    written = {os.path.normpath(p) for args in parsed for p in _reads_and_writes(args)[1]}
+    missing, checked = [], 0
+    for args in parsed:
+        for path in _reads_and_writes(args)[0]:
+            if path.startswith("tcp://") or path in ("m/s2", "m/s", "cm/s2"):
+                continue  # a scheduler's address, a unit: not files
+            checked += 1
+            if not (os.path.normpath(path) in written or path.startswith("out/")  # a study's (test above)
+                    or os.path.basename(path).startswith("YOUR_")
+                    or _held(path, held)):
+                missing.append(f"frustum {args.command}: {path}")
+    assert checked >= 10  # the premise: the examples' files were found
+    assert missing == [], "\n".join(missing)

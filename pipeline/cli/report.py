@@ -25,7 +25,7 @@ examples:
   a peer engine's cells (written in the layout of a study's results) beside a study's models:
     frustum report out/drums.nc out/pybullet.nc --out report --reference stack
   with the chance of overturning in 50 years at the sites of an OpenQuake PGA hazard curve:
-    frustum report out/quickstart.nc --out report --hazard hazard_curve-mean-PGA_12.csv
+    frustum report out/quickstart.nc --out report --hazard examples/synthetic-hazard_curve-mean-PGA.csv
 """
 
 

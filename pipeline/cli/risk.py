@@ -8,9 +8,10 @@ from pipeline.errors import InputError
 _EXAMPLES = """\
 examples:
   the risk of every column, model and damage state at the sites of an OpenQuake hazard curve (PGA):
-    frustum risk out/quickstart_fragility.nc --hazard hazard_curve-mean-PGA_12.csv --out risk.nc
+    frustum risk out/quickstart_fragility.nc --hazard examples/synthetic-hazard_curve-mean-PGA.csv \\
+        --out risk.nc
   in 100 years, with a spreadsheet and a figure:
-    frustum risk frag.nc --hazard curve.csv --years 100 --out risk.nc --csv risk.csv --plot risk.png
+    frustum risk out/quickstart_fragility.nc --hazard YOUR_SITE.csv --years 100 --out risk.nc --csv risk.csv --plot risk.png
   a plain two-column curve: first line 'PGA [g],annual_rate [1/yr]' (or 'SA(1.0) [g],poe in 50 years')
 """
 

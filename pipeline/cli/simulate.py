@@ -25,13 +25,15 @@ examples:
   the paper's column under FEMA P695 far-field record 1, at 30 deg, twice its amplitude:
     frustum simulate --column 0.5,0.4,4 --record FEMA-FF-01 --angle 30 --scale 2 \\
         --out response.nc --plot response.png
-  a record file (MiniSEED here) whose header does not carry units:
-    frustum simulate --column 0.5,0.4,4 --record quake.mseed --units m/s2 --out r.nc
-  a PEER pair, and a single component (y = 0):
-    frustum simulate --column 0.5,0.4,4 --record RSN6_ELC180.AT2,RSN6_ELC270.AT2 --out r.nc
-    frustum simulate --column 0.5,0.4,4 --record RSN6_ELC180.AT2 --missing-y zero --out r.nc
-  an OpenSees input: one column in g, 0.01 s apart:
-    frustum simulate --column 0.5,0.4,4 --record elcentro.g3 --units g --dt 0.01 --missing-y zero --out r.nc
+  a PEER pair, and a single component (y = 0), from the repository's synthetic examples:
+    frustum simulate --column 0.5,0.4,4 \\
+        --record examples/synthetic-pair_X.AT2,examples/synthetic-pair_Y.AT2 --out r.nc
+    frustum simulate --column 0.5,0.4,4 --record examples/synthetic-pair_X.AT2 --missing-y zero --out r.nc
+  a bare column of numbers (OpenSees-style) in g, 0.01 s apart:
+    frustum simulate --column 0.5,0.4,4 --record examples/synthetic-record-g.txt --units g --dt 0.01 \\
+        --missing-y zero --out r.nc
+  a recording of your own whose header does not carry units (MiniSEED, SAC, ... as ObsPy reads them):
+    frustum simulate --column 0.5,0.4,4 --record YOUR_STATION.mseed --units m/s2 --out r.nc
   the compliant-contact model: the same column as 6 drums on joints of contact points:
     frustum simulate --column 0.5,0.4,4 --model 3d-compliant --drums 6 --joint-friction 0.6 \\
         --record FEMA-FF-01 --out drums.nc

@@ -21,8 +21,8 @@ from pipeline.compliant.parts import layout_of
 from pipeline.dynamics.compliant import assembly as sk
 from pipeline.dynamics.compliant import linear_system as ls
 from pipeline.dynamics.compliant.layout import (
-    B_COS_LIE, B_HEIGHT, B_HOLD, B_IX, B_IY, B_IZ, B_MASS, B_ZC, B_Z_FALL, GROUND, J_AREA, J_BAND, J_CN, J_DELTA,
-    J_F, J_FA, J_FB, J_G, J_KN, J_KS, J_LAND, J_LOWER, J_MU, J_OX, J_RIM, J_SHAPE, J_TAU, J_UFLOOR, J_UPPER, J_UX,
+    B_COS_LIE, B_HEIGHT, B_HOLD, B_IX, B_IY, B_IZ, B_MASS, B_SUPPORT, B_ZC, B_Z_FALL, GROUND, J_AREA, J_BAND, J_CN,
+    J_DELTA, J_F, J_FA, J_FB, J_G, J_KN, J_KS, J_LAND, J_LOWER, J_MU, J_OX, J_RIM, J_SHAPE, J_TAU, J_UFLOOR, J_UPPER, J_UX,
     N_BODY_COLS, N_JOINT_COLS, N_POINT_COLS, SHAPE_DISC,
 )
 from pipeline.errors import InputError
@@ -151,9 +151,7 @@ def assemble(structure, settings, damping):
         bodies[b, B_ZC] = p.zc / L
         bodies[b, B_HEIGHT] = p.height / L
         bodies[b, B_COS_LIE] = math.cos(p.lie)
-        # fallen off its support: its centre a body's height below where it rested (a body on
-        # the ground: below the ground)
-        bodies[b, B_Z_FALL] = 0.0 if p.on_ground else (p.centre[2] - p.height) / L
+        bodies[b, B_SUPPORT], bodies[b, B_Z_FALL] = _support(b, parts, contacts, L)
         bodies[b, B_HOLD + 2] = p.mass / M  # the weight until the rest state sets it
     points, starts = [], [0]
     joints = np.zeros((len(contacts), N_JOINT_COLS))
@@ -198,6 +196,28 @@ def assemble(structure, settings, damping):
     pattern = ls.elimination(len(parts), [c.lower for c in contacts], [c.upper for c in contacts], layout.order)
     return Assembly(layout, bodies, np.concatenate(points), np.array(starts, dtype=np.int64), joints, L, M, T,
                     barrier, critical, pattern)
+
+
+def _support(b, parts, contacts, L):
+    """(joint, fall distance [L]) of body b: the first joint with a level face it rests on, and the
+    distance of its centre from that face below which it has fallen off (its rest distance less its
+    own height). A body on the ground: (-1, 0), fallen when its centre is below the ground.
+
+    Measured on the supporting body, so that a capital or an epistyle carried down by a tilting
+    column has not fallen off it (measured on the ground, the capital of a top drum rocking on the
+    drum below counted as fallen before the drum passed twice its critical tilt).
+    """
+    part = parts[b]
+    if part.on_ground:
+        return -1.0, 0.0
+    for j, c in enumerate(contacts):
+        normal = np.asarray(c.axes, dtype=float)[:, 2]  # in the lower body's axes, upright at rest
+        if c.upper != b or abs(normal[2]) < 0.5:
+            continue  # another body's joint, or a head joint (its face stands upright)
+        below = np.zeros(3) if c.lower == GROUND else np.asarray(parts[c.lower].centre, dtype=float)
+        rest = float(normal @ (np.asarray(part.centre, dtype=float) - below - np.asarray(c.origin, dtype=float)))
+        return float(j), (rest - part.height) / L
+    raise ValueError(f"{part.label} rests on no level face")  # a layout's bug, not the user's
 
 
 def _spacing(table, shape):

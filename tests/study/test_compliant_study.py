@@ -166,11 +166,12 @@ def test_a_column_grid_with_drum_counts(write_study):
 
 
 def test_memory_estimate_counts_the_joint_arrays(write_study):
-    """A study of drums holds per cell 4 joint variables x n_joints float64 and 2 scalars, copied once."""
+    """A study of drums holds per cell 4 joint variables x n_joints float64 and 4 scalars (dislocation_ratio,
+    epistyle_slip, epistyle_opening float64; overturn_drum int32), copied once."""
     from pipeline.limits import results_bytes
     from pipeline.study.grid import memory_estimate, n_tasks
 
     study = load_study(write_study(DRUM_STUDY), load_records=False)
     plain = results_bytes(study.n_simulations, n_tasks(study))
     assert study.n_joints == 2
-    assert memory_estimate(study) - plain == study.n_simulations * 2 * (8 + 4 + 4 * 8 * 2)
+    assert memory_estimate(study) - plain == study.n_simulations * 2 * (3 * 8 + 4 + 4 * 8 * 2)

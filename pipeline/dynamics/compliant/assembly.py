@@ -31,8 +31,8 @@ from numba import njit
 
 from pipeline.dynamics.compliant import joint as jl
 from pipeline.dynamics.compliant.layout import (
-    A_DAMPING, A_FRICTION, A_WORK, B_COS_LIE, B_HOLD, B_IX, B_IY, B_IZ, B_MASS, B_Z_FALL, GROUND, JW_O, J_AREA,
-    J_BAND, J_CN, J_DELTA, J_F, J_FA, J_FB, J_G, J_KN, J_KS, J_LOWER, J_MU, J_OX, J_OY, J_OZ, J_SHAPE, J_TAU,
+    A_DAMPING, A_FRICTION, A_WORK, B_COS_LIE, B_HOLD, B_IX, B_IY, B_IZ, B_MASS, B_SUPPORT, B_Z_FALL, GROUND, JW_O,
+    J_AREA, J_BAND, J_CN, J_DELTA, J_F, J_FA, J_FB, J_G, J_KN, J_KS, J_LOWER, J_MU, J_OX, J_OY, J_OZ, J_SHAPE, J_TAU,
     J_UFLOOR, J_UPPER, J_UX, J_UY, J_UZ, M_AREA, M_COP_BX, M_COP_BY, M_COP_X, M_COP_Y, M_ELASTIC, M_NORMAL,
     M_NORMAL_EL, M_TX, M_TY, NB, N_ACC, N_JWORK, N_MON, N_WORK, P_AREA, P_U, P_V, P_X, P_Y, P_Z, QW, QX, QY, QZ, VX,
     VY, VZ, W_F, W_OM, W_T, WX, WY, WZ, X, Y, Z,
@@ -354,21 +354,42 @@ def rhs(t, y, params, dydt):
 
 
 @njit(cache=True)
-def event_values(y, bodies, g):
-    """Per body: its tilt reaches the lying tilt (``cos(lie) - R33 >= 0``); its centre falls below
-    the height at which it has fallen off its support (``z_fall - z >= 0``)."""
+def event_values(y, bodies, joints, g):
+    """Per body: its tilt reaches the lying tilt (``cos(lie) - R33 >= 0``); it has fallen off its
+    support (``z_fall - d >= 0``, d its centre's distance from the supporting face along the face's
+    normal, in the frame of the body below; a body on the ground: its height above the ground)."""
     n_bodies = bodies.shape[0]
+    rot = np.empty(9)
     for b in range(n_bodies):
         o = NB * b
         qw, qx, qy, qz = y[o + QW], y[o + QX], y[o + QY], y[o + QZ]
         r33 = 1.0 - 2.0 * (qx * qx + qy * qy) / (qw * qw + qx * qx + qy * qy + qz * qz)
         g[b] = bodies[b, B_COS_LIE] - r33
-        g[n_bodies + b] = bodies[b, B_Z_FALL] - y[o + Z]
+        s = int(bodies[b, B_SUPPORT])
+        if s < 0:
+            g[n_bodies + b] = bodies[b, B_Z_FALL] - y[o + Z]
+            continue
+        lower = int(joints[s, J_LOWER])
+        dx, dy, dz = y[o + X], y[o + Y], y[o + Z]
+        if lower == GROUND:
+            px, py, pz = dx, dy, dz
+        else:
+            ol = NB * lower
+            rotation_matrix(y[ol + QW], y[ol + QX], y[ol + QY], y[ol + QZ], rot)
+            dx, dy, dz = dx - y[ol + X], dy - y[ol + Y], dz - y[ol + Z]
+            # in the lower body's axes: R^T (x_b - x_lower)
+            px = rot[0] * dx + rot[3] * dy + rot[6] * dz
+            py = rot[1] * dx + rot[4] * dy + rot[7] * dz
+            pz = rot[2] * dx + rot[5] * dy + rot[8] * dz
+        # the face's normal: the third column of its axes (row-major)
+        d = ((px - joints[s, J_OX]) * joints[s, J_F + 2] + (py - joints[s, J_OY]) * joints[s, J_F + 5]
+             + (pz - joints[s, J_OZ]) * joints[s, J_F + 8])
+        g[n_bodies + b] = bodies[b, B_Z_FALL] - d
 
 
 @njit(cache=True)
 def _events(t, y, params, g):
-    event_values(y, params[0], g)
+    event_values(y, params[0], params[3], g)
 
 
 @njit(cache=True)

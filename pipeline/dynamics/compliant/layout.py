@@ -28,9 +28,12 @@ Body axes are principal (inertia I_x, I_y, I_z); a drum's or a capital's axis is
 # B_HOLD..B_HOLD + 5: the joints' net force and torque on the body in the rest state (ground
 # frame): what holds it there. Its weight and any round-off of the rest state are taken to be
 # these (B_HOLD + 2 is the weight, m g to round-off), so that at rest every derivative is exactly
-# zero. B_Z_FALL: the height of the centre below which the body has fallen off its support
-# (its rest height less its own height; 0 for a body on the ground: below the ground).
-B_MASS, B_IX, B_IY, B_IZ, B_ZC, B_HEIGHT, B_COS_LIE, B_Z_FALL, B_HOLD = range(9)
+# zero. B_SUPPORT: the joint on whose face the body rests (-1: a body on the ground). B_Z_FALL:
+# the body has fallen off its support when its centre's distance from that face, along the
+# face's normal and in the frame of the body below, is less than this: its rest distance less
+# its own height (measured on the supporting body, so that a capital carried down by a tilting
+# drum has not fallen off it); for a body on the ground, the height 0 (below the ground).
+B_MASS, B_IX, B_IY, B_IZ, B_ZC, B_HEIGHT, B_COS_LIE, B_Z_FALL, B_SUPPORT, B_HOLD = range(10)
 N_BODY_COLS = B_HOLD + 6
 
 # Columns of the point table (one row per contact point, joint by joint): the point in the upper

@@ -154,21 +154,50 @@ def _joint_motion_of_bodies(vel, j, params, out):
 
 
 @njit(cache=True)
-def _point_forces(y, h, params, pts, frames, motion, fric_slip, mats):
+def _point_geometry(F, mo, start, stop, pcols, pts):
+    """Every point's lever arm r, penetration d and relative velocity (v_t, d') in its joint's face
+    frame, from the joint's frame ``F`` and motion ``mo``: the same arithmetic for every point and no
+    branch, a loop the compiler runs in SIMD lanes (``pcols``, ``pts``: one row per quantity)."""
+    p00, p01, p02, p10, p11, p12, p20, p21, p22 = F[0], F[1], F[2], F[3], F[4], F[5], F[6], F[7], F[8]
+    qz = F[11]
+    vx_rel, vy_rel, vz_rel, wx_rel, wy_rel, wz_rel = mo[0], mo[1], mo[2], mo[3], mo[4], mo[5]
+    PX, PY, PZ = pcols[P_X], pcols[P_Y], pcols[P_Z]
+    RX, RY, RZ, D = pts[Q_RX], pts[Q_RY], pts[Q_RZ], pts[Q_D]
+    VTX, VTY, DDOT = pts[Q_VTX], pts[Q_VTY], pts[Q_DDOT]
+    for p in range(start, stop):
+        px, py, pz = PX[p], PY[p], PZ[p]
+        rz = p20 * px + p21 * py + p22 * pz
+        rx = p00 * px + p01 * py + p02 * pz
+        ry = p10 * px + p11 * py + p12 * pz
+        RX[p], RY[p], RZ[p] = rx, ry, rz
+        D[p] = -(rz + qz)
+        VTX[p] = vx_rel + wy_rel * rz - wz_rel * ry
+        VTY[p] = vy_rel + wz_rel * rx - wx_rel * rz
+        DDOT[p] = -(vz_rel + wx_rel * ry - wy_rel * rx)
+
+
+@njit(cache=True)
+def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats):
     """Geometry and explicit forces of every point at the step's start (step 1 of the module).
 
-    Fills the point scratch ``pts`` (lever arm r and forces in the frame of the face below,
-    elastic normal force, dashpot coefficients, penetration, contact and active flags), the
-    joint frames and motions, and returns the friction the returns to the cone dissipate;
-    ``fric_slip[j]`` gets the joint's area-weighted plastic slip of this step. Shear states
-    are returned onto the cone in y. As it goes, the joints' loads and dashpot matrices with
-    the active set at the step's start (what :func:`_joint_loads` gives, in one pass).
+    Fills the point scratch ``pts`` (one row per quantity: lever arm r and forces in the frame of
+    the joint's face, elastic normal force, dashpot coefficients, penetration, relative velocity,
+    contact and active flags), the joint frames and motions, and returns the friction the returns
+    to the cone dissipate; ``fric_slip[j]`` gets the joint's area-weighted plastic slip of this
+    step. Shear states are returned onto the cone in y. Then the joints' loads and dashpot
+    matrices with the active set at the step's start (:func:`_joint_loads`). Per joint, three
+    passes: the geometry, the same for every point (:func:`_point_geometry`); the law, point by
+    point; the joint's sums, in the points' order (:func:`_joint_sums`).
     """
     bodies, points, joint_start, joints = params[:4]
     n_bodies = bodies.shape[0]
     _clear_loads(params)
     sh = NB * n_bodies
     friction = 0.0
+    AREA = pcols[P_AREA]
+    RX, RY, D, VTX, VTY, DDOT = pts[Q_RX], pts[Q_RY], pts[Q_D], pts[Q_VTX], pts[Q_VTY], pts[Q_DDOT]
+    FEL, CN, CT, FX, FY = pts[Q_FEL], pts[Q_CN], pts[Q_CT], pts[Q_FX], pts[Q_FY]
+    PULLX, PULLY, S, ACTIVE, CONTACT = pts[Q_PX], pts[Q_PY], pts[Q_S], pts[Q_ACTIVE], pts[Q_CONTACT]
     for j in range(joints.shape[0]):
         kn, ks, mu, cn, tau = joints[j, J_KN], joints[j, J_KS], joints[j, J_MU], joints[j, J_CN], joints[j, J_TAU]
         delta = joints[j, J_DELTA]
@@ -183,39 +212,31 @@ def _point_forces(y, h, params, pts, frames, motion, fric_slip, mats):
         _joint_frame(y, j, params, F)
         mo = motion[j]
         _joint_motion_of_state(y, j, params, mo)
-        # the frame and motion in locals: the stores into pts below would make the compiler
-        # read them again from memory at every point
-        p00, p01, p02, p10, p11, p12, p20, p21, p22 = F[0], F[1], F[2], F[3], F[4], F[5], F[6], F[7], F[8]
-        qx, qy, qz = F[9], F[10], F[11]
-        vx_rel, vy_rel, vz_rel, wx_rel, wy_rel, wz_rel = mo[0], mo[1], mo[2], mo[3], mo[4], mo[5]
+        start, stop = joint_start[j], joint_start[j + 1]
+        _point_geometry(F, mo, start, stop, pcols, pts)
+        qx, qy = F[9], F[10]
         slip = 0.0
-        sums = NO_SUMS
-        for p in range(joint_start[j], joint_start[j + 1]):
+        for p in range(start, stop):
             iu = sh + 2 * p
-            px, py, pz = points[p, P_X], points[p, P_Y], points[p, P_Z]
-            rz = p20 * px + p21 * py + p22 * pz
-            d = -(rz + qz)
+            d = D[p]
             s, sx, sy = 1.0, 0.0, 0.0
             if d > 0.0:
-                rx = p00 * px + p01 * py + p02 * pz
-                ry = p10 * px + p11 * py + p12 * pz
-                xi_x, xi_y = rx + qx, ry + qy
+                xi_x, xi_y = RX[p] + qx, RY[p] + qy
                 if (xi_x * xi_x + xi_y * xi_y > edge2) if disc else (abs(xi_x) > edge_a or abs(xi_y) > edge_b):
                     s, sx, sy = sk.face_overlap(xi_x, xi_y, joints[j])
             if d <= 0.0 or s <= 0.0:
                 ux, uy = y[iu], y[iu + 1]
                 uu = ux * ux + uy * uy
                 if uu > 0.0:  # an unloaded spring relaxes; its energy goes as friction
-                    friction += 0.5 * ks * points[p, P_AREA] * uu * (1.0 - decay * decay)
+                    friction += 0.5 * ks * AREA[p] * uu * (1.0 - decay * decay)
                     y[iu] = ux * decay
                     y[iu + 1] = uy * decay
-                pts[p, Q_CONTACT] = 0.0
-                pts[p, Q_ACTIVE] = 0.0
+                CONTACT[p] = 0.0
+                ACTIVE[p] = 0.0
+                FEL[p] = CN[p] = 0.0  # what the active set's pass reads of a point out of contact
                 continue
-            vtx = vx_rel + wy_rel * rz - wz_rel * ry
-            vty = vy_rel + wz_rel * rx - wx_rel * rz
-            d_dot = -(vz_rel + wx_rel * ry - wy_rel * rx)
-            area = points[p, P_AREA]
+            vtx, vty, d_dot = VTX[p], VTY[p], DDOT[p]
+            area = AREA[p]
             f_el = area * s * kn * d
             engage = min(1.0, d / delta)
             c_n = area * s * cn * engage
@@ -243,76 +264,75 @@ def _point_forces(y, h, params, pts, frames, motion, fric_slip, mats):
             if sx != 0.0 or sy != 0.0:  # the pull of a patch running off the edge of the face
                 pull = -0.5 * kn * area * d * d
                 pull_x, pull_y = pull * sx, pull * sy
-            fx = -k_area * ux + pull_x
-            fy = -k_area * uy + pull_y
-            pts[p, Q_PX], pts[p, Q_PY], pts[p, Q_S] = pull_x, pull_y, s
-            pts[p, Q_RX], pts[p, Q_RY], pts[p, Q_RZ] = rx, ry, rz
-            pts[p, Q_FEL] = f_el
-            pts[p, Q_CN] = c_n
-            pts[p, Q_CT] = c_t
-            pts[p, Q_FX] = fx
-            pts[p, Q_FY] = fy
-            pts[p, Q_D] = d
-            pts[p, Q_CONTACT] = 1.0
+            PULLX[p], PULLY[p], S[p] = pull_x, pull_y, s
+            FEL[p] = f_el
+            CN[p] = c_n
+            CT[p] = c_t
+            FX[p] = -k_area * ux + pull_x
+            FY[p] = -k_area * uy + pull_y
+            CONTACT[p] = 1.0
             # the clipped joint: active if the normal force at the current velocities pushes
-            pts[p, Q_ACTIVE] = 1.0 if f_el + c_n * d_dot >= 0.0 else 0.0
-            sums = _load_point(sums, pts, p)
-        _close_joint(y, j, params, sums, mats)
+            ACTIVE[p] = 1.0 if f_el + c_n * d_dot >= 0.0 else 0.0
+        _close_joint(y, j, params, _joint_sums(pts, start, stop), mats)
         fric_slip[j] = slip / joints[j, J_AREA]
     return friction
 
 
-# A joint's running sums as one tuple, kept in registers through the loop over its points (sums
-# in an array would go through memory at every point): the ten alpha moments of
-# :func:`_weighted_moments`, the six beta moments :func:`joint_matrix_z` reads (beta, beta rx,
-# beta ry, beta rx^2, beta ry^2, beta rx ry), then the force and torque in the frame of the face below.
+# A joint's sums as one tuple: the ten alpha moments of :func:`ls._weighted_moments`, the six beta
+# moments :func:`ls.joint_matrix_z` reads (beta, beta rx, beta ry, beta rx^2, beta ry^2, beta rx ry),
+# then the force and torque in the frame of its face.
 N_SUMS = 22
-NO_SUMS = (0.0,) * N_SUMS
 
 
 @njit(cache=True)
-def _load_point(sums, pts, p):
-    """The joint's running ``sums`` (:data:`N_SUMS`) with point p's dashpot moments and explicit
-    force and torque added, in the order of :func:`_weighted_moments`."""
-    (a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, b0, b1, b2, b3, b4, b5,
-     sfx, sfy, sfz, stx, sty, stz) = sums
-    active = pts[p, Q_ACTIVE] > 0.0
-    f_n = pts[p, Q_FEL] if active else 0.0
-    fx, fy = pts[p, Q_FX], pts[p, Q_FY]
-    rx, ry, rz = pts[p, Q_RX], pts[p, Q_RY], pts[p, Q_RZ]
-    alpha = pts[p, Q_CT]
-    beta = (pts[p, Q_CN] if active else 0.0) - alpha
-    if alpha != 0.0:
-        a0 += alpha
-        a1 += alpha * rx
-        a2 += alpha * ry
-        a3 += alpha * rz
-        a4 += alpha * rx * rx
-        a5 += alpha * ry * ry
-        a6 += alpha * rz * rz
-        a7 += alpha * rx * ry
-        a8 += alpha * rx * rz
-        a9 += alpha * ry * rz
-    b0 += beta
-    b1 += beta * rx
-    b2 += beta * ry
-    b3 += beta * rx * rx
-    b4 += beta * ry * ry
-    b5 += beta * rx * ry
-    sfx += fx
-    sfy += fy
-    sfz += f_n
-    stx += ry * f_n - rz * fy
-    sty += rz * fx - rx * f_n
-    stz += rx * fy - ry * fx
-    return (a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, b0, b1, b2, b3, b4, b5,
-            sfx, sfy, sfz, stx, sty, stz)
+def _joint_sums(pts, start, stop):
+    """The sums (:data:`N_SUMS`) of the points ``start`` to ``stop`` of a joint in contact: their dashpot
+    moments and explicit forces and torques, in the points' order (point pairs next to each other, so
+    that at rest a symmetric joint's moments cancel exactly)."""
+    a0 = a1 = a2 = a3 = a4 = a5 = a6 = a7 = a8 = a9 = 0.0
+    b0 = b1 = b2 = b3 = b4 = b5 = 0.0
+    sfx = sfy = sfz = stx = sty = stz = 0.0
+    RX, RY, RZ, FEL, CN, CT = pts[Q_RX], pts[Q_RY], pts[Q_RZ], pts[Q_FEL], pts[Q_CN], pts[Q_CT]
+    FX, FY, ACTIVE, CONTACT = pts[Q_FX], pts[Q_FY], pts[Q_ACTIVE], pts[Q_CONTACT]
+    for p in range(start, stop):
+        if CONTACT[p] == 0.0:
+            continue
+        active = ACTIVE[p] > 0.0
+        f_n = FEL[p] if active else 0.0
+        fx, fy = FX[p], FY[p]
+        rx, ry, rz = RX[p], RY[p], RZ[p]
+        alpha = CT[p]
+        beta = (CN[p] if active else 0.0) - alpha
+        if alpha != 0.0:
+            a0 += alpha
+            a1 += alpha * rx
+            a2 += alpha * ry
+            a3 += alpha * rz
+            a4 += alpha * rx * rx
+            a5 += alpha * ry * ry
+            a6 += alpha * rz * rz
+            a7 += alpha * rx * ry
+            a8 += alpha * rx * rz
+            a9 += alpha * ry * rz
+        b0 += beta
+        b1 += beta * rx
+        b2 += beta * ry
+        b3 += beta * rx * rx
+        b4 += beta * ry * ry
+        b5 += beta * rx * ry
+        sfx += fx
+        sfy += fy
+        sfz += f_n
+        stx += ry * f_n - rz * fy
+        sty += rz * fx - rx * f_n
+        stz += rx * fy - ry * fx
+    return (a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, b0, b1, b2, b3, b4, b5, sfx, sfy, sfz, stx, sty, stz)
 
 
 @njit(cache=True)
 def _close_joint(y, j, params, sums, mats):
     """Joint j's dashpot matrix (``mats[j]``, ground frame) and its force on both bodies (scratch
-    W_F, W_T) from its running ``sums`` (:func:`_load_point`, frame of its face)."""
+    W_F, W_T) from its running ``sums`` (:func:`_joint_sums`, frame of its face)."""
     joints, work, jwork = params[3], params[6], params[8]
     (a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, b0, b1, b2, b3, b4, b5,
      sfx, sfy, sfz, stx, sty, stz) = sums
@@ -359,7 +379,7 @@ def _clear_loads(params):
 @njit(cache=True)
 def _joint_loads(y, params, pts, mats):
     """Explicit joint forces on the bodies (scratch W_F, W_T) and each joint's dashpot matrix,
-    from the points' scratch as it stands (:func:`_point_forces` does the same as it goes).
+    from the points' scratch as it stands (:func:`_point_forces` does the same after its passes).
 
     Summed per joint in the frame of its face, point pairs next to each other, so that at rest
     the moments of a symmetric joint cancel exactly.
@@ -367,11 +387,7 @@ def _joint_loads(y, params, pts, mats):
     joint_start, joints = params[2], params[3]
     _clear_loads(params)
     for j in range(joints.shape[0]):
-        sums = NO_SUMS
-        for p in range(joint_start[j], joint_start[j + 1]):
-            if pts[p, Q_CONTACT] != 0.0:
-                sums = _load_point(sums, pts, p)
-        _close_joint(y, j, params, sums, mats)
+        _close_joint(y, j, params, _joint_sums(pts, joint_start[j], joint_start[j + 1]), mats)
 
 
 @njit(cache=True)
@@ -379,9 +395,9 @@ def set_static_loads(y, h, params, s):
     """Each body's holding load set to the joints' net force and torque on it in the rest state y,
     as this integrator sums them: at rest its velocity update is then exactly zero."""
     bodies, work = params[0], params[6]
-    pts, mats, frames, motion, slip = s[0], s[1], s[10], s[11], s[8]
+    pts, mats, frames, motion, slip, pcols = s[0], s[1], s[10], s[11], s[8], s[12]
     sk._kinematics(y, params)
-    _point_forces(y, h, params, pts, frames, motion, slip, mats)
+    _point_forces(y, h, params, pts, pcols, frames, motion, slip, mats)
     for b in range(bodies.shape[0]):
         for k in range(6):
             bodies[b, B_HOLD + k] = work[b, W_F + k]
@@ -414,28 +430,31 @@ def _momentum(y, bodies, work, h, ax, ay, az, rhs):
 
 
 @njit(cache=True)
-def _update_active_set(params, pts, vel, motion):
+def _update_active_set(params, pts, pcols, vel, motion):
     """Relative velocities of the contact points at the new body velocities (stored in ``pts``),
     and the clipped joint: points whose normal force would pull are clipped, those that push
-    are not. Returns the number of points that changed.
+    are not. Returns the number of points that changed. The velocities of every point (out of
+    contact too: no branch, SIMD lanes), then the flags (a point out of contact stays clipped:
+    its elastic force and dashpot are zero).
     """
     joint_start, joints = params[2], params[3]
+    RX, RY, RZ = pts[Q_RX], pts[Q_RY], pts[Q_RZ]
+    VTX, VTY, DDOT = pts[Q_VTX], pts[Q_VTY], pts[Q_DDOT]
+    FEL, CN, ACTIVE, CONTACT = pts[Q_FEL], pts[Q_CN], pts[Q_ACTIVE], pts[Q_CONTACT]
     changed = 0
     for j in range(joints.shape[0]):
         mo = motion[j]
         _joint_motion_of_bodies(vel, j, params, mo)
-        vx_rel, vy_rel, vz_rel, wx_rel, wy_rel, wz_rel = mo[0], mo[1], mo[2], mo[3], mo[4], mo[5]  # (see _point_forces)
+        vx_rel, vy_rel, vz_rel, wx_rel, wy_rel, wz_rel = mo[0], mo[1], mo[2], mo[3], mo[4], mo[5]
         for p in range(joint_start[j], joint_start[j + 1]):
-            if pts[p, Q_CONTACT] == 0.0:
-                continue
-            rx, ry, rz = pts[p, Q_RX], pts[p, Q_RY], pts[p, Q_RZ]
-            d_dot = -(vz_rel + wx_rel * ry - wy_rel * rx)
-            pts[p, Q_VTX] = vx_rel + wy_rel * rz - wz_rel * ry
-            pts[p, Q_VTY] = vy_rel + wz_rel * rx - wx_rel * rz
-            pts[p, Q_DDOT] = d_dot
-            push = pts[p, Q_FEL] + pts[p, Q_CN] * d_dot >= 0.0
-            if push != (pts[p, Q_ACTIVE] > 0.0):
-                pts[p, Q_ACTIVE] = 1.0 if push else 0.0
+            rx, ry, rz = RX[p], RY[p], RZ[p]
+            VTX[p] = vx_rel + wy_rel * rz - wz_rel * ry
+            VTY[p] = vy_rel + wz_rel * rx - wx_rel * rz
+            DDOT[p] = -(vz_rel + wx_rel * ry - wy_rel * rx)
+        for p in range(joint_start[j], joint_start[j + 1]):
+            push = 1.0 if CONTACT[p] > 0.0 and FEL[p] + CN[p] * DDOT[p] >= 0.0 else 0.0
+            if push != ACTIVE[p]:
+                ACTIVE[p] = push
                 changed += 1
     return changed
 
@@ -489,11 +508,11 @@ def step(t, y, h, params, s):
     step (history rows and the energy budget evaluate the joint law).
     """
     bodies, points, joint_start, joints, record, dt, work, mon = params[:8]
-    pts, mats, diag, blocks, tmp66, tmp6, pattern, vel, slip, impulse, frames, motion = s
+    pts, mats, diag, blocks, tmp66, tmp6, pattern, vel, slip, impulse, frames, motion, pcols = s
     n_bodies = bodies.shape[0]
     ax, ay, az = ground_acceleration(t, record, dt)
     sk._kinematics(y, params)
-    friction = _point_forces(y, h, params, pts, frames, motion, slip, mats)
+    friction = _point_forces(y, h, params, pts, pcols, frames, motion, slip, mats)
     solves = 0
     while True:
         if solves > 0:  # the active set changed: the loads again
@@ -503,33 +522,37 @@ def step(t, y, h, params, s):
         impulse[:, :] = vel
         ls.sparse_block_solve(pattern, diag, blocks, vel, tmp6)
         solves += 1
-        changed = _update_active_set(params, pts, vel, motion)
+        changed = _update_active_set(params, pts, pcols, vel, motion)
         if changed == 0 or solves >= MAX_PASSES:
             break
     # bookings at the new velocities, the monitor, then the shear states
     sh = NB * n_bodies
     damping = 0.0
+    U, V, AREA = pcols[P_U], pcols[P_V], pcols[P_AREA]
+    RX, RY, VTX, VTY, DDOT = pts[Q_RX], pts[Q_RY], pts[Q_VTX], pts[Q_VTY], pts[Q_DDOT]
+    FEL, CN, CT, FX, FY = pts[Q_FEL], pts[Q_CN], pts[Q_CT], pts[Q_FX], pts[Q_FY]
+    PULLX, PULLY, S, ACTIVE, CONTACT = pts[Q_PX], pts[Q_PY], pts[Q_S], pts[Q_ACTIVE], pts[Q_CONTACT]
     for j in range(joints.shape[0]):
         mu = joints[j, J_MU]
         F = frames[j]
         normal = normal_el = tx = ty = bx = by = cx = cy = area = 0.0
         for p in range(joint_start[j], joint_start[j + 1]):
-            if pts[p, Q_CONTACT] == 0.0:
+            if CONTACT[p] == 0.0:
                 continue
-            vtx, vty, d_dot = pts[p, Q_VTX], pts[p, Q_VTY], pts[p, Q_DDOT]
-            f_el, ct = pts[p, Q_FEL], pts[p, Q_CT]
+            vtx, vty, d_dot = VTX[p], VTY[p], DDOT[p]
+            f_el, ct = FEL[p], CT[p]
             f_n = 0.0
-            if pts[p, Q_ACTIVE] > 0.0:
-                damping += h * pts[p, Q_CN] * d_dot * d_dot
-                f_n = f_el + pts[p, Q_CN] * d_dot
+            if ACTIVE[p] > 0.0:
+                damping += h * CN[p] * d_dot * d_dot
+                f_n = f_el + CN[p] * d_dot
             else:  # clipped: the spring's energy goes without work as the point separates
                 damping -= h * f_el * d_dot
             damping += h * ct * (vtx * vtx + vty * vty)
             y[sh + 2 * p] += h * vtx
             y[sh + 2 * p + 1] += h * vty
             # the monitor: shear spring and dashpot held within the point's cone (see above)
-            sx = pts[p, Q_FX] - pts[p, Q_PX] - ct * vtx
-            sy = pts[p, Q_FY] - pts[p, Q_PY] - ct * vty
+            sx = FX[p] - PULLX[p] - ct * vtx
+            sy = FY[p] - PULLY[p] - ct * vty
             cap = mu * f_el
             st2 = sx * sx + sy * sy
             if st2 > cap * cap:
@@ -541,11 +564,11 @@ def step(t, y, h, params, s):
             normal += f_n
             normal_el += f_el
             if f_n > 0.0:
-                bx += f_n * points[p, P_U]
-                by += f_n * points[p, P_V]
-                cx += f_n * (pts[p, Q_RX] + F[9])
-                cy += f_n * (pts[p, Q_RY] + F[10])
-                area += points[p, P_AREA] * pts[p, Q_S]
+                bx += f_n * U[p]
+                by += f_n * V[p]
+                cx += f_n * (RX[p] + F[9])
+                cy += f_n * (RY[p] + F[10])
+                area += AREA[p] * S[p]
         if normal > 0.0:
             bx, by, cx, cy = bx / normal, by / normal, cx / normal, cy / normal
         mon[j, M_NORMAL] = normal
@@ -602,11 +625,13 @@ def make_scratch(params, pattern):
     and the pattern of its solve (:func:`pipeline.dynamics.compliant.linear_system.elimination`)."""
     n_bodies, n_points, n_joints = params[0].shape[0], params[1].shape[0], params[3].shape[0]
     n_edges = pattern[2].shape[0]
-    # points; joint matrices; diagonal and coupling blocks of the solve; scratch; the pattern;
-    # velocities; joints' plastic slips; momenta before the dashpots; joint frames and motions
-    return (np.zeros((n_points, N_Q)), np.zeros((n_joints, 6, 6)), np.zeros((n_bodies, 6, 6)),
+    # points (one row per quantity); joint matrices; diagonal and coupling blocks of the solve;
+    # scratch; the pattern; velocities; joints' plastic slips; momenta before the dashpots; joint
+    # frames and motions; the point table, one row per column (the passes over points read it so)
+    return (np.zeros((N_Q, n_points)), np.zeros((n_joints, 6, 6)), np.zeros((n_bodies, 6, 6)),
             np.zeros((n_edges, 6, 6)), np.zeros((6, 6)), np.zeros(6), pattern, np.zeros((n_bodies, 6)),
-            np.zeros(n_joints), np.zeros((n_bodies, 6)), np.zeros((n_joints, 12)), np.zeros((n_joints, 9)))
+            np.zeros(n_joints), np.zeros((n_bodies, 6)), np.zeros((n_joints, 12)), np.zeros((n_joints, 9)),
+            np.ascontiguousarray(params[1].T))
 
 
 @njit(cache=True)
@@ -670,7 +695,7 @@ def run(params, y, t_mon, start, stop, h, stride, theta_commit, hist_y, hist_dia
         start = 1
     g_old = np.empty(2 * n_bodies)
     g_new = np.empty(2 * n_bodies)
-    sk.event_values(y, bodies, g_old)
+    sk.event_values(y, bodies, params[3], g_old)
     k = start
     while k < stop:
         t = summary[S_STEPS] * h  # the time of y (a count of steps: no drift)
@@ -682,7 +707,7 @@ def run(params, y, t_mon, start, stop, h, stride, theta_commit, hist_y, hist_dia
             y_prev[:] = y
         summary[S_NFEV] += step(t, y, h, params, scratch)
         summary[S_STEPS] += 1
-        sk.event_values(y, bodies, g_new)
+        sk.event_values(y, bodies, params[3], g_new)
         down = -1
         frac = 1.0
         for e in range(2 * n_bodies):
