@@ -43,8 +43,8 @@ def register(subparsers):
     # together), written here: importing it would import every study module to build the parser
     run.add_argument("--worker-wait", type=float, default=None, metavar="SECONDS",
                      help="how long to wait when the cluster has no worker (all died, or none started yet) before "
-                     "stopping with the finished tasks kept in the checkpoint, exit status 75 (default 600 s; the "
-                     "run says that it waits after 60 s)")
+                     "stopping with the finished tasks kept in the checkpoint, exit status 75 (default 600 s, inf: "
+                     "for ever; the run says that it waits after 60 s)")
     run.add_argument("--plot", metavar="FILE.png",
                      help="also draw a summary plot of the results (.png, .pdf, .svg, ...)")
     run.add_argument("--keep-checkpoint", action="store_true",
