@@ -1,6 +1,7 @@
 """``frustum study run|check``: a study file -> Dask -> one CF netCDF file (and a plot)."""
 
 import argparse
+import signal
 import sys
 import time
 
@@ -10,8 +11,8 @@ _EXAMPLES = """\
 examples:
   the default study on a local cluster of processes (one per core):
     frustum study run studies/quickstart.toml --plot out/quickstart.png
-  on an existing dask.distributed cluster:
-    frustum study run studies/quickstart.toml --scheduler tcp://10.0.0.5:8786
+  on an existing dask.distributed cluster, giving up after 30 minutes without workers:
+    frustum study run studies/quickstart.toml --scheduler tcp://10.0.0.5:8786 --worker-wait 1800
   check a study file without computing (records are loaded once):
     frustum study check studies/quickstart.toml
 A study killed midway resumes where it stopped: run the same command again.
@@ -39,6 +40,12 @@ def register(subparsers):
     run.add_argument("--workers", type=int, default=None, metavar="N",
                      help="worker processes of the local cluster (default: number of cores; not with --scheduler "
                      "or --serial)")
+    # the numbers are pipeline.study.cluster's (EXIT_NO_WORKERS, WORKER_WAIT, NOTICE_AFTER; a test holds them
+    # together), written here: importing it would import every study module to build the parser
+    run.add_argument("--worker-wait", type=float, default=None, metavar="SECONDS",
+                     help="how long to wait when the cluster has no worker (all died, or none started yet) before "
+                     "stopping with the finished tasks kept in the checkpoint, exit status 75 (default 600 s, inf: "
+                     "for ever; the run says that it waits after 60 s)")
     run.add_argument("--plot", metavar="FILE.png",
                      help="also draw a summary plot of the results (.png, .pdf, .svg, ...)")
     run.add_argument("--keep-checkpoint", action="store_true",
@@ -51,8 +58,9 @@ def register(subparsers):
     p.set_defaults(handler=lambda args: (p.print_help(), 2)[1])
 
 
-def _load(path, out=None, plot=None):
-    """The study and its records; everything that can be refused is refused before the records load."""
+def _load(path, out=None, plot=None, records=True):
+    """The study and its records (None if not ``records``); everything that can be refused is refused before the
+    records load."""
     from pipeline.paths import check_plot_file
     from pipeline.study import check_memory, check_study_output, load_motions, load_study, study_inputs
 
@@ -61,7 +69,7 @@ def _load(path, out=None, plot=None):
     if plot:
         check_plot_file(plot, "--plot", inputs=study_inputs(study) + [("results file", out)])
     check_memory(study)
-    motions = load_motions(study)
+    motions = load_motions(study) if records else None
     return study, motions
 
 
@@ -100,9 +108,43 @@ def check_study_command(args):
     return 0
 
 
+def worker_wait(value, label="--worker-wait"):
+    """``value`` [s] checked: a number of seconds, 0 or more, ``inf`` for ever (None: the default)."""
+    import math
+
+    from pipeline.study.cluster import WORKER_WAIT
+
+    if value is not None and (math.isnan(value) or value < 0):  # inf: wait for ever, saying so
+        raise InputError(f"{label} {value:g}: give the seconds to wait for workers, 0 or more (default "
+                         f"{WORKER_WAIT:g})")
+    return value
+
+
+def _start_and_load(study, cluster, progress):
+    """The study's records, loaded while its cluster starts (in a thread) and its workers load the kernels.
+
+    The kernels are compiled here first if numba's cache is cold, so that the workers load
+    them rather than compile them each.
+    """
+    import threading
+    from functools import partial
+
+    from pipeline.study import load_motions
+    from pipeline.study.kernels import prepare_kernels, warm_up
+
+    if cluster is None:
+        return load_motions(study)
+    kernels_ready = threading.Event()
+    cluster.start(prepare=partial(warm_up, study.registry_models), when=kernels_ready)
+    prepare_kernels(study.registry_models, sys.stderr if progress else None)
+    kernels_ready.set()
+    return load_motions(study)
+
+
 def run_study_command(args):
     """Handler of ``frustum study run``."""
     from pipeline.study import run_study
+    from pipeline.study.cluster import EXIT_NO_WORKERS, Cluster, WorkersGone
 
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers {args.workers}: give a positive number of worker processes")
@@ -115,11 +157,41 @@ def run_study_command(args):
         from pipeline.study import scheduler_address
 
         scheduler_address(args.scheduler)  # a malformed address is refused before the records load
+    wait = worker_wait(args.worker_wait)
+    if wait is not None and args.serial:
+        raise InputError("--worker-wait: a --serial run has no workers to wait for; drop one of the two")
     t0 = time.monotonic()
-    study, motions = _load(args.file, args.out, args.plot)
+    study, _ = _load(args.file, args.out, args.plot, records=False)
     print(describe(study), file=sys.stderr)
-    report = run_study(study, out=args.out, motions=motions, scheduler=args.scheduler, workers=args.workers,
-                       serial=args.serial, progress=not args.quiet, keep_checkpoint=args.keep_checkpoint)
+    # the local cluster starts (and its workers load the kernels) while the records load
+    cluster = None if args.serial else Cluster(args.scheduler, args.workers, wait)
+    report, drawn = None, []
+    try:
+        try:
+            motions = _start_and_load(study, cluster, not args.quiet)
+            report = run_study(study, out=args.out, motions=motions, serial=args.serial, progress=not args.quiet,
+                               keep_checkpoint=args.keep_checkpoint, cluster=cluster)
+        finally:
+            if cluster is not None:
+                cluster.close()  # holds Ctrl-C and SIGTERM until closed: they arrive here, after it
+        return _summary(args, report, t0, drawn)
+    except WorkersGone as exc:  # the checkpoint keeps the finished tasks: try again later
+        print(f"frustum: {exc}", file=sys.stderr)
+        return EXIT_NO_WORKERS
+    except KeyboardInterrupt as exc:
+        written = getattr(exc, "results_written", None) or (report.path if report is not None else None)
+        if written is None:  # the checkpoint keeps the finished tasks: the command line says "run again"
+            raise
+        from pipeline.cli import Terminated
+
+        plot = f"; the plot {args.plot} was not drawn" if args.plot and not drawn else ""
+        print(f"frustum: {'terminated' if isinstance(exc, Terminated) else 'interrupted'} after the results were "
+              f"written: {written} is complete, nothing to run again{plot}", file=sys.stderr)
+        return 128 + (signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT)
+
+
+def _summary(args, report, t0, drawn):
+    """The lines that close a run, and its plot (``drawn`` gets its path); the exit status."""
     print(f"{len(report.computed)} task(s) computed, {len(report.skipped)} from the checkpoint; "
           f"{report.simulations} simulations in {report.seconds:.1f} s"
           + (f" ({report.simulations / report.seconds:.0f}/s)" if report.simulations and report.seconds else "")
@@ -132,6 +204,7 @@ def run_study_command(args):
         from pipeline.plotting import plot_study
 
         plot_study(report.dataset, args.plot)
+        drawn.append(args.plot)
         print(f"wrote {args.plot}")
     if report.failed:
         print(f"frustum: warning: {report.failed} simulation(s) failed: status = 1 in the results", file=sys.stderr)

@@ -8,6 +8,7 @@ A workflow file (TOML) names studies and where their outputs and plots go::
     [execution]                         # optional: how the studies run
     workers = 2                         # local cluster size (default: cores)
     # scheduler = "tcp://10.0.0.5:8786" # or an existing cluster
+    # worker_wait = 1800                # seconds without workers before stopping (default 600)
 
     [[steps]]
     study = "../studies/quickstart.toml"
@@ -17,7 +18,8 @@ A workflow file (TOML) names studies and where their outputs and plots go::
 A step is up to date when its output exists and records the same study file
 digest, record digests and software version as now; then nothing is
 recomputed (a missing or older plot is redrawn from the file). Steps run in
-order; the first failing step stops the workflow and the command exits 1.
+order; the first failing step stops the workflow and the command exits 1 (75 if the
+cluster had no worker for ``worker_wait`` seconds: the step's checkpoint is kept).
 Two runs of the same workflow never overlap (a lock next to the log): the
 second exits 75 (EX_TEMPFAIL, "try again later"). With ``--quiet`` a
 successful run, and a run that exits 75, print nothing (cron mails only
@@ -48,7 +50,7 @@ from pipeline.paths import check_plot_file
 EXIT_LOCKED = 75
 
 _TOP = {"title", "log", "execution", "steps"}
-_EXECUTION = {"workers", "scheduler"}
+_EXECUTION = {"workers", "scheduler", "worker_wait"}
 _STEP = {"study", "output", "plot"}
 
 
@@ -64,6 +66,9 @@ def register(subparsers):
     run.add_argument("file", metavar="FILE.toml", help="workflow file")
     run.add_argument("--workers", type=int, default=None, metavar="N", help="override execution.workers")
     run.add_argument("--scheduler", metavar="ADDRESS", help="override execution.scheduler")
+    run.add_argument("--worker-wait", type=float, default=None, metavar="SECONDS",
+                     help="override execution.worker_wait: how long a step waits when the cluster has no worker "
+                     "before the workflow stops, its checkpoint kept (exit 75; default 600 s)")
     run.add_argument("--force", action="store_true", help="rerun every step even if up to date")
     run.add_argument("--quiet", action="store_true",
                      help="print nothing unless a step fails (the log file gets every line); for cron")
@@ -127,6 +132,16 @@ def load_workflow(path):
             scheduler_address(scheduler)
         except InputError as exc:
             fail("execution.scheduler", str(exc))
+    wait = execution.get("worker_wait")
+    if wait is not None:
+        from pipeline.cli.study import worker_wait
+
+        if isinstance(wait, bool) or not isinstance(wait, (int, float)):
+            fail("execution.worker_wait", f"must be a number of seconds, got {wait!r}")
+        try:
+            worker_wait(float(wait), "")
+        except InputError as exc:
+            fail("execution.worker_wait", str(exc).strip())
     steps = data.get("steps")
     if not isinstance(steps, list) or not steps:
         fail("steps", "give one or more [[steps]] with study = FILE")
@@ -160,7 +175,7 @@ def load_workflow(path):
     log = resolve(data.get("log", f"{path.stem}.log"), "log")
     _check_outputs(path, out, log)
     return {"title": data.get("title", path.stem), "log": log, "workers": workers, "scheduler": scheduler,
-            "steps": out, "path": str(path)}
+            "worker_wait": wait, "steps": out, "path": str(path)}
 
 
 def _check_outputs(path, steps, log):
@@ -253,14 +268,15 @@ class _Log:
         self.held = []
 
 
-def run_workflow(path, workers=None, scheduler=None, force=False, quiet=False):
-    """Run a workflow; returns the exit status (0 done, 1 a step failed, 75 another run holds the lock).
+def run_workflow(path, workers=None, scheduler=None, force=False, quiet=False, worker_wait=None):
+    """Run a workflow; returns the exit status (0 done, 1 a step failed, 75 another run holds the lock or the
+    cluster had no worker for ``worker_wait`` seconds).
 
     Parameters
     ----------
     path : str
         Workflow file.
-    workers, scheduler
+    workers, scheduler, worker_wait
         Override the file's ``execution`` table.
     force : bool
         Rerun steps that are up to date.
@@ -272,6 +288,7 @@ def run_workflow(path, workers=None, scheduler=None, force=False, quiet=False):
     wf = load_workflow(path)
     workers = workers or wf["workers"]
     scheduler = scheduler or wf["scheduler"]
+    worker_wait = wf["worker_wait"] if worker_wait is None else worker_wait
     log = _Log(wf["log"], quiet=quiet)
     lock = try_lock(wf["log"] + ".lock")
     status = 1
@@ -283,7 +300,7 @@ def run_workflow(path, workers=None, scheduler=None, force=False, quiet=False):
             return status
         log(f"workflow {wf['path']} ({wf['title']}): start, frustum {__version__}, {len(wf['steps'])} step(s)")
         # one cluster for all steps, started by the first step that computes
-        with Cluster(scheduler, workers) as cluster:
+        with Cluster(scheduler, workers, worker_wait) as cluster:
             status = _run_steps(wf, log, cluster, force)
         return status
     finally:
@@ -297,6 +314,7 @@ def run_workflow(path, workers=None, scheduler=None, force=False, quiet=False):
 def _run_steps(wf, log, cluster, force):
     """Run the workflow's steps in order on ``cluster``; returns the exit status."""
     from pipeline.study import load_motions, load_study, run_study
+    from pipeline.study.cluster import EXIT_NO_WORKERS, WorkersGone
 
     for i, step in enumerate(wf["steps"]):
         t0 = time.monotonic()
@@ -325,6 +343,11 @@ def _run_steps(wf, log, cluster, force):
 
                 plot_study(open_results(output), plot)
                 log(f"step {i + 1}: plot -> {plot}")
+        except WorkersGone as exc:  # its checkpoint keeps the finished tasks: try again later
+            log(f"step {i + 1}: {step['study']}: stopped: {exc}")
+            log(f"workflow {wf['path']}: stopped at step {i + 1} (exit {EXIT_NO_WORKERS}: try again later)")
+            log.flush_to_stderr()  # unlike an overlap, worth a word even when quiet
+            return EXIT_NO_WORKERS
         except Exception as exc:  # noqa: BLE001 - log every failure, exit non-zero
             log(f"step {i + 1}: {step['study']}: FAILED: {type(exc).__name__}: {exc}")
             if not isinstance(exc, InputError):
@@ -337,10 +360,12 @@ def _run_steps(wf, log, cluster, force):
 
 def run_workflow_command(args):
     """Handler of ``frustum workflow run``."""
+    from pipeline.cli.study import worker_wait
+
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers {args.workers}: give a positive number of worker processes")
     return run_workflow(args.file, workers=args.workers, scheduler=args.scheduler, force=args.force,
-                        quiet=args.quiet)
+                        quiet=args.quiet, worker_wait=worker_wait(args.worker_wait))
 
 
 UNIT_TEMPLATES = ("frustum-workflow.service.in", "frustum-workflow.timer.in")

@@ -116,10 +116,35 @@ class Checkpoint:
         """Let another run use the folder."""
         self._lock.release()
 
-    def remove(self):
-        """Delete the folder (after the results file is written) and release it."""
+    def remove(self, results=None):
+        """Delete the folder and release it (once the results file is written).
+
+        Parameters
+        ----------
+        results : str, optional
+            The results file: flushed to disk first, its folder's entry (the
+            rename that put it in place) too, so that a power cut never finds
+            the checkpoint gone and the file not yet on the disk.
+        """
+        if results is not None:
+            _sync(results)
+            _sync(os.path.dirname(os.path.abspath(results)))
         self.release()
         shutil.rmtree(self.folder, ignore_errors=True)
+
+
+def _sync(path):
+    """Flush a file (or a folder's entries) to the disk; a file system that cannot is left as it is."""
+    try:
+        fd = os.open(path, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:  # e.g. a folder on a file system that does not sync folders
+        pass
+    finally:
+        os.close(fd)
 
 
 def checkpoint_key(study, motions, tasks):

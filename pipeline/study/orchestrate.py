@@ -4,7 +4,11 @@
 kernels once, runs the tasks left (in this process, or on a Dask cluster through
 :mod:`pipeline.study.cluster`), keeps each finished task in the checkpoint
 (:mod:`pipeline.study.checkpoint`), and writes the results netCDF under a temporary name and
-renames it; the checkpoint folder is removed afterwards.
+renames it; the checkpoint folder is removed once the file is on disk.
+
+An interrupt (Ctrl-C, SIGTERM) that arrives after the results file is written carries its
+path (``exc.results_written``), so that the command says the results are complete rather than
+"run again" (which would find no checkpoint and compute everything again).
 """
 
 import os
@@ -20,7 +24,7 @@ from pipeline.dataset import append_history, write_results
 from pipeline.errors import OutputError
 from pipeline.paths import check_output_file
 from pipeline.study.checkpoint import Checkpoint, checkpoint_key
-from pipeline.study.cluster import Cluster, run_on_cluster
+from pipeline.study.cluster import Cluster, WorkersGone, run_on_cluster
 from pipeline.study.grid import check_memory, longest_first, plan, record_intensity, scale_factors
 from pipeline.study.kernels import prepare_kernels, warm_up
 from pipeline.study.progress import Progress
@@ -90,7 +94,7 @@ def _place(arrays, result):
 
 
 def run_study(study, *, out=None, motions=None, scheduler=None, workers=None, serial=False, progress=True,
-              keep_checkpoint=False, window=None, cluster=None):
+              keep_checkpoint=False, window=None, cluster=None, worker_wait=None):
     """Run a study and write its results file.
 
     Parameters
@@ -118,6 +122,10 @@ def run_study(study, *, out=None, motions=None, scheduler=None, workers=None, se
         A cluster already in use (several studies in a row): the study runs
         on it and leaves it running; ``scheduler`` and ``workers`` are then
         ignored. Default: a cluster for this study alone, closed at the end.
+    worker_wait : float, optional
+        Seconds the run waits when its cluster has no worker before it stops
+        (default :data:`pipeline.study.cluster.WORKER_WAIT`; a given
+        ``cluster`` keeps its own).
 
     Returns
     -------
@@ -131,6 +139,12 @@ def run_study(study, *, out=None, motions=None, scheduler=None, workers=None, se
     OutputError
         A checkpoint or the results file could not be written (disk full,
         read-only): the finished tasks stay in the checkpoint.
+    WorkersGone
+        The cluster had no worker for ``worker_wait`` seconds (or lost its
+        scheduler): the finished tasks stay in the checkpoint.
+    KeyboardInterrupt
+        Ctrl-C or SIGTERM; with ``results_written`` (the path) if the results
+        file was complete when it arrived.
     """
     out = check_study_output(study, out)
     check_memory(study)
@@ -141,18 +155,24 @@ def run_study(study, *, out=None, motions=None, scheduler=None, workers=None, se
     fresh = not os.path.lexists(out + ".checkpoint")
     ckpt = Checkpoint(out + ".checkpoint", checkpoint_key(study, motions, tasks))
     own = cluster is None  # a cluster for this study alone; it connects only if a task is left to compute
-    cluster = cluster or Cluster(scheduler, workers)
+    cluster = cluster or Cluster(scheduler, workers, worker_wait)
+    written = []  # the results file, once it is complete
     try:
-        return _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, cluster, serial, progress,
-                                 keep_checkpoint, window)
-    except BaseException:
-        if fresh and not ckpt.done():  # a run that could not start (no scheduler) leaves no empty folder
-            ckpt.remove()
+        try:
+            return _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, cluster, serial, progress,
+                                     keep_checkpoint, window, written)
+        except BaseException:
+            if fresh and not written and not ckpt.done():  # a run that could not start leaves no empty folder
+                ckpt.remove()
+            raise
+        finally:
+            ckpt.release()
+            if own:
+                cluster.close()  # holds Ctrl-C and SIGTERM until closed: they arrive here, after it
+    except KeyboardInterrupt as exc:
+        if written:  # the results are complete: the command says so rather than "run again"
+            exc.results_written = written[0]
         raise
-    finally:
-        ckpt.release()
-        if own:
-            cluster.close()
 
 
 def study_inputs(study):
@@ -181,7 +201,7 @@ def check_study_output(study, out=None, label=None):
 
 
 def _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, cluster, serial, progress,
-                      keep_checkpoint, window):
+                      keep_checkpoint, window, written):
     arrays = blank_arrays(study.shape, status=1, n_joints=study.n_joints)  # failures until a task fills them
     done, found, errors = set(), ckpt.done(), []
     for task in tasks:
@@ -220,23 +240,34 @@ def _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, clust
                   file=sys.stderr)
         bar.advance()
 
-    if pending:
-        if serial:
+    try:
+        if pending and serial:
             report.startup_seconds = time.monotonic() - t0
             for task in pending:
                 finish(run_task(task, motions[task.record]))
-        else:
+        elif pending:
             def started(n_workers):
                 report.startup_seconds = time.monotonic() - t0
                 report.n_workers = n_workers
-                bar.restart()  # the ETA counts computing, not starting the cluster
+                bar.restart()  # the ETA counts computing; the clock goes on counting the start as well
 
             def failed(task, message):  # a task that raised on every try: its cells fail, nothing is checkpointed
                 finish(failed_result(task, message), save=False)
 
             # the longest tasks first, each carrying its record; the workers load the kernels first
             run_on_cluster(longest_first(pending, motions), run_task, lambda task: (motions[task.record],), finish,
-                           failed, cluster, window=window, prepare=partial(warm_up, study.registry_models), started=started)
+                           failed, cluster, window=window, prepare=partial(warm_up, study.registry_models),
+                           started=started, tick=bar.tick, say=bar.note)
+    except WorkersGone as exc:
+        bar.end()
+        kept = len(ckpt.done())  # a task that failed on the way is not among them
+        if not kept:
+            raise WorkersGone(f"{exc}; no task had finished: run the same command again later") from None
+        raise WorkersGone(f"{exc}; {kept} of {len(tasks)} task(s) finished, kept in {ckpt.folder}: run the same "
+                          "command again later to resume") from None
+    except BaseException:
+        bar.end()  # what stopped the run is said on a line of its own
+        raise
     report.seconds = time.monotonic() - t0
     bar.show(final=True)
     ds = assemble(study, motions, measures, factors, arrays)
@@ -247,8 +278,9 @@ def _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, clust
     except OutputError as exc:
         raise OutputError(f"{exc}; the {len(tasks)} finished task(s) are kept in {ckpt.folder}: free space (or "
                           "give another --out) and run the same command again") from None
+    written.append(out)
     report.dataset = ds
     report.failed = int(ds.status.sum())
     if not keep_checkpoint:
-        ckpt.remove()
+        ckpt.remove(results=out)
     return report
