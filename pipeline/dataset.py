@@ -143,6 +143,8 @@ VARIABLES = {
     "epistyle_opening": Var("m", "widest head joint between epistyle blocks at the end (a colonnade; NaN for a "
                             "column)"),
     "n_drums": Var("1", "number of drums of the column (1: a monolith)"),
+    "structure": Var("1", "what stands, in words: the colonnade the column stands in (its number of columns, "
+                     "interaxial spacing, epistyle), its drums and capital, or the column alone"),
     # the summary of one compliant run (pipeline.compliant) in a simulate file, beside the names above
     "drum_peak_theta": Var("rad", "peak inclination of the drum's axis from the vertical", degrees=True),
     "restitution": Var("1", "coefficient of restitution of planar rocking that the joints' normal damping "

@@ -99,6 +99,33 @@ def assumptions(models, vertical=True, options=None):
     return "\n".join(lines) + "\n"
 
 
+def _epistyle_section(results):
+    """A colonnade's epistyle in the runs that stood: how far its blocks slid on the capitals and opened
+    between them, per column, model and incidence angle ([] for a study without colonnades)."""
+    if "epistyle_slip" not in results or not bool(np.isfinite(results["epistyle_slip"]).any()):
+        return []
+    lines = ["## The epistyle of the runs that stood", "",
+             "Residual slip of the epistyle blocks on their capitals and opening of the head joints between "
+             "blocks at the end of the runs in which nothing fell, over every record and stripe [mm].", "",
+             "| column | model | angle [deg] | runs stood | slip median | slip 90 % | opening median | opening 90 % |",
+             "|---|---|---|---|---|---|---|---|"]
+    valid = F._valid(results)
+    for c in results["column"].values:
+        for m in results["model"].values:
+            for a in results["angle"].values:
+                cell = dict(column=c, model=m, angle=a)
+                slip = results["epistyle_slip"].sel(cell).values
+                if not np.isfinite(slip).any():
+                    continue  # a column alone, or a model that does not run the colonnade
+                stood = valid.sel(cell).values & (results["overturned"].sel(cell).values == 0)
+                opening = results["epistyle_opening"].sel(cell).values
+                stats = [_fmt(1e3 * float(np.nanpercentile(v[stood], q))) if stood.any() else "n/a"
+                         for v in (slip, opening) for q in (50, 90)]
+                lines.append(f"| {c} | {str(m).upper()} | {_fmt(float(a))} | {int(stood.sum())} | "
+                             + " | ".join(stats) + " |")
+    return lines + [""]
+
+
 def _fmt(value, digits=3):
     """Numbers as they appear in the report (and are compared in tests)."""
     if value is None or (isinstance(value, float) and not math.isfinite(value)):
@@ -785,6 +812,16 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
                      f"{_fmt(get('slenderness'))} | {_fmt(get('column_beta'))} | "
                      f"{_fmt(math.degrees(get('theta_crit')))} |")
     lines.append("")
+    if "structure" in results.coords:  # drums, capitals, colonnades: what the dimensions above do not say
+        lines += [f"- **{c}**: {results['structure'].sel(column=c).item()}." for c in frag["column"].values] + [""]
+        if "epistyle_slip" in results and bool(np.isfinite(results["epistyle_slip"]).any()):
+            lines += ["A colonnade's columns stand in a straight row; their capitals carry an epistyle of blocks "
+                      "laid from axis to axis, each resting on its capitals through rectangular joints and "
+                      "pressing on its neighbours through vertical head joints. The incidence angle is measured "
+                      "from the row (0: along it, in the frame's plane; 90: across it). A run overturns when any "
+                      "body (drum, capital or epistyle block) lies down or falls off the body it rests on; "
+                      "`epistyle_slip` is the largest slip of an epistyle block on its capitals at the end, "
+                      "`epistyle_opening` the widest opening between blocks.", ""]
     lines.append(f"- **{n['record']} earthquake record(s)**" +
                  (f" from {len(quakes)} earthquake(s): {', '.join(quakes)}" if quakes else "") +
                  (f" (ids {records[0]} ... {records[-1]})" if len(records) > 1 else f" ({records[0]})") + ".")
@@ -872,6 +909,7 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
                  "by PGA (all stood below, all overturned above): the step is placed between the two.")
     lines.append("")
     lines += _caveats(rows)
+    lines += _epistyle_section(results)
     if risk[0] is not None:
         lines += _risk_section(risk[0], risk[1], frag)
 

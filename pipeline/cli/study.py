@@ -89,10 +89,14 @@ def describe(study):
     if study.calibration is not None:
         text += (f"\none bed for every model: the dashpots of '{study.calibration}' calibrated on each column's "
                  "outline, and the restitution they reach")
-    stacks = [c for c in study.columns if c.stack is not None]
+    stacks = [c for c in study.columns if c.stack is not None and c.colonnade is None]
     if stacks:
         text += ("\ncolumns of drums (the compliant model runs them, the rigid models their shafts): "
                  + ", ".join(f"{c.label} ({c.stack.describe()})" for c in stacks))
+    rows = [c for c in study.columns if c.colonnade is not None]
+    if rows:
+        text += ("\ncolonnades (the models of colonnades run them, the others their column alone): "
+                 + "; ".join(f"{c.label} = {c.describe()}" for c in rows))
     return text
 
 

@@ -90,6 +90,8 @@ def assemble(study, motions, measures, factors, arrays):
         "pga": (("record", "scale"), factors * np.array([[m["pga"]] for m in measures])),
         "pgv": (("record", "scale"), factors * np.array([[m["pgv"]] for m in measures])),
     }
+    if any(c.stack is not None or c.colonnade is not None for c in study.columns):
+        coords["structure"] = ("column", [c.describe() for c in study.columns])
     if any(math.isfinite(c.latitude) for c in study.columns):
         coords["latitude"] = ("column", [c.latitude for c in study.columns])
         coords["longitude"] = ("column", [c.longitude for c in study.columns])

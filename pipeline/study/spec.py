@@ -129,6 +129,13 @@ class ColumnInfo:
             return self.colonnade.n_joints
         return self.n_bodies
 
+    def describe(self):
+        """What stands, in words: the colonnade it stands in, its drums and capital, or the column alone."""
+        if self.colonnade is not None:  # without its name when that is the label the results show
+            text = self.colonnade.describe()
+            return text.removeprefix(f"{self.label}: ")
+        return (self.stack or self.column).describe()
+
     def body(self, variant):
         """What a :class:`ModelVariant` runs: the colonnade for a model of colonnades, the drums for a model of
         drums, else the shaft as a monolith."""

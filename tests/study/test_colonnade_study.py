@@ -83,3 +83,69 @@ def test_a_bad_colonnade_names_its_field(write_study, change, fragments):
         load_study(write_study(text), load_records=False)
     for fragment in fragments:
         assert fragment in str(err.value)
+
+
+COMPLIANT_ROW = """\
+title = "a compliant frame"
+output = "frame.nc"
+models = ["3d-compliant"]
+
+[[columns]]
+name = "frame"
+R = 0.5
+r = 0.4
+h = 4.0
+capital = [1.0, 0.4]
+colonnade = {columns = 2, interaxial = 2.0, epistyle_height = 0.5}
+
+[[columns]]
+name = "alone"
+R = 0.5
+r = 0.4
+h = 4.0
+drums = 2
+
+[records]
+synthetic = [{generator = "ricker_wavelet", id = "ricker", ap = 2.0, fp = 2.0, dt = 0.01, duration = 1.0}]
+
+[excitation]
+angles = [0.0, 90.0]
+scales = [1.0]
+
+[options]
+tail = 0.5
+contact_sectors = 8
+"""
+
+
+def test_the_report_of_a_colonnade_study_says_what_stood_and_how_the_epistyle_moved(write_study, tmp_path):
+    """Issue 37, item 4: the results name each structure in words (the study check's words), and the report
+    describes it, explains the colonnade's outcome and tables the epistyle's slip and opening of the runs
+    that stood, as the results hold them (a column alone has none)."""
+    from pipeline.fragility import open_results
+    from pipeline.report import write_report
+
+    study = load_study(write_study(COMPLIANT_ROW))
+    frame, alone = study.columns
+    ds = run_study(study, serial=True, progress=False).dataset
+    assert list(ds["structure"].values) == [frame.describe(), alone.stack.describe()]
+    assert frame.colonnade.describe() == f"frame: {frame.describe()}"  # the label is not said twice
+    assert "2 columns at 2 m carrying 1 epistyle block(s) 0.5 m high" in str(ds["structure"].values[0])
+    assert np.isnan(ds.epistyle_slip.sel(column="alone")).all()
+    path = tmp_path / "frame.nc"
+    ds.to_netcdf(path)
+    written = write_report(open_results(path), tmp_path / "report", bootstrap=0)
+    text = open(written["report"], encoding="utf-8").read()
+    assert f"- **frame**: {frame.describe()}." in text
+    assert f"- **alone**: {alone.stack.describe()}." in text
+    assert "falls off the body it rests on" in text
+    section = text.split("## The epistyle of the runs that stood")[1].split("\n## ")[0]
+    rows = [line for line in section.splitlines() if line.startswith("| frame |")]
+    assert len(rows) == 2 and not any(line.startswith("| alone |") for line in section.splitlines())
+    for line, angle in zip(rows, (0.0, 90.0)):
+        cell = ds.sel(column="frame", model="3d-compliant", angle=angle).isel(record=0, scale=0)
+        stood = int(cell.overturned) == 0
+        cells = [x.strip() for x in line.strip("|").split("|")]
+        assert cells[3] == str(int(stood))
+        if stood:
+            assert cells[4] == f"{1e3 * float(cell.epistyle_slip):.3g}"
