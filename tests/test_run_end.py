@@ -22,7 +22,7 @@ from pipeline.groundmotion.record import GroundMotion
 from pipeline.models import REGISTRY
 from pipeline.settings import ModelSettings
 from pipeline.simulate import simulate
-from pipeline.structures import Column, DrumColumn
+from pipeline.structures import Capital, Column, DrumColumn
 from pipeline.structures.kinds import example
 from pipeline.units import G
 
@@ -136,6 +136,39 @@ def test_stands_for_good_is_the_energy_barrier():
     assert not stands_for_good(PHASE_ROLLING, top - 1e-9, 0.5 * crit, 1e-3, zc)  # still rising
     assert not stands_for_good(PHASE_ROLLING, top + 1e-9, 0.5 * crit, -1.0, zc)  # can pass the top
     assert not stands_for_good(PHASE_ROLLING, 0.9 * top, 1.01 * crit, -1.0, zc)  # beyond it, falls
+
+
+def test_a_row_at_rest_with_round_off_tilt_rates_stands_for_good():
+    """The compliant rule on a row of 3 columns at rest, every watched column top given a tilt rate of
+    round-off (1e-12 rad per time unit, the measured rates at rest are 1e-15 to 1e-8 rad/s) in the
+    sense that raises its tilt: it stands for good (before, any rising rate, however small, said "not
+    yet", and a row of 6 ran on 54 s on still ground until all its tops fell at one instant). A top
+    rising at 1e-5, a slow real swing, says not yet (the floor RISE_FLOOR is 1e-7)."""
+    from pipeline.compliant.rest import rest_state
+    from pipeline.dynamics.compliant import layout as ly
+    from pipeline.dynamics.compliant.statistics import stands_for_good as compliant_stands
+    from pipeline.structures.colonnade import Colonnade
+
+    row = Colonnade(DrumColumn.equal(Column(0.5, 0.4, 4.0), 1, Capital(1.0, 0.3)), 3, 2.0, 0.5)
+    settings = ModelSettings(model="3d-compliant", contact_sectors=8)
+    asm = assemble(row, settings, 1e7)
+    params = asm.params()
+    y = rest_state(asm, params, settings.integrator).copy()
+    tilt = 1e-3  # each top leans 1 mrad towards +x: its tilt rises while it turns further about +y
+    for b in asm.layout.watched:
+        o = ly.NB * b
+        y[o + ly.QW], y[o + ly.QY] = math.cos(0.5 * tilt), math.sin(0.5 * tilt)
+    e_rest = float(compliant_energy(asm, params, rest_state(asm, params, settings.integrator)))
+    for rate, stands in ((1e-12, True), (1e-5, False)):
+        for b in asm.layout.watched:
+            y[ly.NB * b + ly.WY] = rate  # body axes, at 1 mrad nearly the ground's
+        assert compliant_stands(y, params, e_rest, asm.barrier, asm.critical) is stands, rate
+
+
+def compliant_energy(asm, params, y):
+    from pipeline.dynamics.compliant.assembly import energy
+
+    return energy(y, params)
 
 
 def test_overturning_barriers_of_a_monolith_a_stack_and_a_frame():

@@ -107,6 +107,16 @@ N_HBODY = 4
 
 # A joint mobilises its friction when |F_t| reaches this fraction of mu N (sliding onset).
 SLIDE_FRACTION = 0.999
+# A watched body's tilt counts as rising (its swing's peak still ahead) above this rate [rad per
+# time unit sqrt(L/g)]. A structure at rest on its compliant joints keeps tilt rates of round-off
+# and of micro-vibration, 1e-15 to 1e-8 rad/s of either sign (measured on a row of 6 columns after
+# FEMA-FF-01 at 0.2 g), and all of its column tops had to be falling at one instant: a lottery that
+# kept runs going for tens of seconds on still ground (that row: 54 s past its tail, twice the
+# cost of its run). A real swing turns at mrad/s and more; a tilt rising at this floor for a whole
+# 60-s settle limit (265 time units at L = 0.5 m) would gain 3e-5 rad, 0.0015 deg, below the
+# 0.01 deg summaries show. The floor changes when a run is decided, never its outcome or peak
+# (that row: peak and outcome alike at floors 1e-9 and 1e-7, decided 21 s and 3 s past its tail).
+RISE_FLOOR = 1e-7
 STATUS_COLLAPSED = 2  # summary status: a body fell off its support (or below the ground)
 
 

@@ -17,7 +17,7 @@ from pipeline.dynamics.compliant.layout import (
     BS_PEAK, BS_PEAK_TIME, BS_ROTATION, D_AREA, D_AX, D_AY, D_AZ, D_COP_X, D_COP_Y, D_ENERGY, D_MU, D_NORMAL,
     D_ON_RIM, D_TANGENTIAL, H_DX, H_DY, H_ROT, H_TILT, JS_FLIGHT_TIME, JS_MIN_AREA, JS_MIN_NORMAL, JS_ON_RIM,
     JS_PEAK_MU, JS_RETURNS, JS_SLIDE_TIME, JS_UPLIFT_TIME, J_LAND, J_MU, J_RIM, M_AREA, M_COP_BX, M_COP_BY,
-    M_COP_X, M_COP_Y, M_NORMAL, M_NORMAL_EL, M_TX, M_TY, NB, SLIDE_FRACTION, S_ENERGY_START, S_OVERTURN_BODY,
+    M_COP_X, M_COP_Y, M_NORMAL, M_NORMAL_EL, M_TX, M_TY, NB, RISE_FLOOR, SLIDE_FRACTION, S_ENERGY_START, S_OVERTURN_BODY,
     S_OVERTURN_TIME, S_PEAK_THETA, S_PEAK_TIME, W_OM, X, Y,
 )
 from pipeline.dynamics.excitation import ground_acceleration
@@ -53,11 +53,13 @@ def stands_for_good(y, params, energy_rest, barrier, critical):
             return False
     if energy(y, params) - energy_rest >= barrier:
         return False
-    # a watched body's axis a = R e_z turns at omega x a (ground frame): its tilt rises while a_z falls
+    # a watched body's axis a = R e_z turns at omega x a (ground frame): its tilt rises while a_z
+    # falls, a_z' = -sin(theta) theta', sin(theta) = |(a_x, a_y)|; rising: theta' above the floor
     work, watched = params[6], params[9]
     for w in range(watched.shape[0]):
         R = work[watched[w]]  # the rotation and angular velocity energy() left in the scratch
-        if R[W_OM] * R[5] - R[W_OM + 1] * R[2] < 0.0:
+        falls = R[W_OM] * R[5] - R[W_OM + 1] * R[2]
+        if falls < -RISE_FLOOR * math.sqrt(R[2] * R[2] + R[5] * R[5]):
             return False
     return True
 
