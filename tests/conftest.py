@@ -2,7 +2,7 @@
 
 numba compiles a kernel on its first call and caches it on disk (``cache=True``). In one
 process that happens once; with ``-n N`` (``make test``) every worker that reaches a kernel
-before another has cached it compiles it again (the 3D model's run takes one to two minutes).
+before another has cached it compiles it again (the 3D model's run takes minutes).
 So the controlling process first does what a study does before its Dask workers start
 (:func:`pipeline.study.kernels.prepare_kernels`: one model here, each other model in a helper
 process beside it), and the workers load the registry's kernels from the cache. A warm cache

@@ -33,9 +33,10 @@ def warm_up(models):
     return True
 
 
-#: What the first run on a machine is told: compiling both models' kernels took 40-70 s on
-#: the project's 2-core machines; later runs load them from numba's cache in about 2 s.
-COMPILE_NOTICE = ("frustum: compiling the simulation kernels for this machine, once (one to two minutes on two cores); "
+#: What the first run on a machine is told: compiling the quickstart's kernels (3d and 2d) took 206 s and 311 s
+#: in fresh clones on the project's 2-core machine under loads of 1.5 to 3 (README.md); later runs load them from
+#: numba's cache in about 2 s.
+COMPILE_NOTICE = ("frustum: compiling the simulation kernels for this machine, once (a few minutes on two cores); "
                   "later runs load them from the cache")
 #: Without a readable cache index (another numba version), a load this long [s] is taken for a compile.
 COMPILE_NOTICE_AFTER = 10.0
