@@ -432,3 +432,128 @@ def test_planar_slip_to_a_stop_keeps_the_energy_budget():
                  ModelSettings(model="2d", friction=0.7, tail=5.0), histories=False).summary
     assert s["sliding_onset"]
     assert abs(s["energy_balance_error"]) < 1e-6 * abs(s["work_ground"])
+
+
+# -- a contact that can neither push nor fly (loop.holds_rim) --------------------------------------------------
+
+# R 0.5, r 0.3, h 2 m: the squat column of model_2d_vs_3d whose 2D runs flew through the ground
+THROUGH = Column(0.5, 0.3, 2.0)
+DEPTH = 1e-3  # [R] a flight's lowest base point below this is through the ground (the patch sinks ~1e-6 R)
+
+
+def _kernel_run(column, motion, excitation, settings):
+    """A rigid run as ``simulate`` makes it, with the kernel's raw arrays: (raw, summary)."""
+    from pipeline import models
+    from pipeline.dynamics.rigid import frustum as fk
+    from pipeline.dynamics.rigid import rocking as rk
+    from pipeline.simulate import _run, kernel_record, kernel_summary, time_scale
+
+    planar = models.get(settings.model).planar
+    y0 = np.zeros(rk.N_STATE2 if planar else fk.N_STATE)
+    raw = _run(column, settings, kernel_record(motion, excitation, planar), motion.dt / time_scale(column.R), y0,
+               motion.duration + settings.tail, settings.settle_limit)
+    return raw, kernel_summary(raw, column.R, column.critical_tilt, settings, motion, excitation)
+
+
+def _lowest_base_point_in_flight(raw, column):
+    """Lowest height [R] of the base's lowest point above the ground over the flight rows (inf if none):
+    the centre of mass's height less z_cm cos(theta) + R sin(theta)."""
+    from pipeline.dynamics.rigid import frustum as fk
+    from pipeline.dynamics.rigid import rocking as rk
+
+    flight = raw.phase[:raw.states.shape[0]] == 5
+    if not flight.any():
+        return math.inf
+    planar = raw.states.shape[1] == rk.N_STATE2
+    st = raw.states[flight]
+    theta = np.abs(st[:, rk.THETA2 if planar else fk.THETA])
+    height = st[:, rk.Z2 if planar else fk.ZC]
+    return float(np.min(height - (column.z_cm / column.R * np.cos(theta) + np.sin(theta))))
+
+
+@pytest.mark.parametrize("model", ["3d", "2d"])
+@pytest.mark.parametrize("tilt", [0.002, 0.05])
+def test_a_column_released_on_still_ground_never_flies(model, tilt):
+    """A column released from a small tilt on still ground rocks and comes to rest; it cannot fly.
+
+    R 0.5, r 0.3, h 2 m, mu 0.7, the default contact patch. On its rim with the ground
+    still, the free column's lowest point accelerates at ``-1 + C_z theta'^2`` (2D; the 3D
+    adds ``- reach theta''`` of torque-free motion, zero when it does not precess): to rise
+    it needs theta'^2 >= 1 / C_z, a kinetic energy of I_y / (2 C_z) = 1.6 m g R, while the
+    release holds sin(theta0) + z_cm cos(theta0) - z_cm < theta0 above rest and energy can
+    only fall. Yet at the first landing near flat the patch's rolling damping asked more than
+    mu N of the new rim point and made its slip pull (N -0.03 to -0.7 m g): the kernels chose
+    flight, which sank from its first instant, and the column flew through the ground
+    (2D from 0.002 rad: 240 R below it after 5 s; 3D from 0.05 rad) or, when round-off let
+    the landing fire at once, logged a lift-off. Now the rim is held there: no flight, at
+    rest at the end (measured 6 to 9 landings), the friction at most mu, the budget closed
+    (measured 4e-13 m g R; asserted 1e-9, the integration's rtol, as its terms are integrated).
+    """
+    from pipeline.dynamics.rigid import frustum as fk
+    from pipeline.dynamics.rigid import layout as hy
+    from pipeline.dynamics.rigid import rocking as rk
+    from pipeline.simulate import _run, time_scale
+
+    settings = ModelSettings(model=model, friction=0.7, tail=0.0)
+    y0 = np.zeros(rk.N_STATE2 if model == "2d" else fk.N_STATE)
+    y0[rk.THETA2 if model == "2d" else fk.THETA] = tilt
+    raw = _run(THROUGH, settings, np.zeros((2, 3)), 0.01 / time_scale(THROUGH.R), y0, 3.0)
+    s = raw.summary
+    assert math.isnan(s[hy.S_FLIGHT_TIME])
+    assert not (raw.phase == hy.PHASE_FLIGHT).any()
+    assert s[hy.S_N_IMPACTS] >= 3  # it landed near flat: the case is reached
+    assert s[hy.S_FINAL_PHASE] == hy.PHASE_REST
+    assert s[hy.S_PEAK_MU] <= 0.7 * (1 + 1e-9)
+    balance = (s[hy.S_ENERGY_END] - s[hy.S_ENERGY_START]) - (
+        s[hy.S_WORK] + s[hy.S_TRANSITION] - s[hy.S_DISSIPATED] - s[hy.S_FRICTION])
+    assert abs(balance) < 1e-9
+
+
+def test_2d_landing_near_flat_under_fema_ff01_stands_instead_of_flying_through_the_ground(fema1):
+    """The study's case: FEMA-FF-01 x 1.92 (0 deg), 2D, R 0.5, r 0.3, h 2 m, mu 0.7, tail 5 s.
+
+    At 6.52 s the column landed nearly flat (theta' -0.08 rad/s) and went into a flight that
+    sank from its first instant (gap'' = -1 g: gravity), so its landing never fired: 33 s in
+    flight, |theta| rising at 0.05 rad/s to the lying tilt, "overturned" at 39.74 s, after the
+    record and tail end. Now the new rim point is held (a few ms, measured) and the column
+    rocks on: it stands, at 0.0045 rad. Independent check: with a point contact (rigid base,
+    no patch: its contact never meets the hold) it stands too, at 0.0049 rad; both peaks are
+    below 1 % of the critical tilt (0.54 rad), where no outcome is near to changing.
+    """
+    excitation = Excitation(angle=0.0, scale=1.9216589280051952)
+    runs = {kn: _kernel_run(THROUGH, fema1, excitation, ModelSettings(model="2d", friction=0.7, tail=5.0,
+                                                                      normal_stiffness=kn))
+            for kn in (ModelSettings().normal_stiffness, math.inf)}
+    (raw, patch), (_raw, point) = runs[ModelSettings().normal_stiffness], runs[math.inf]
+    assert _lowest_base_point_in_flight(raw, THROUGH) >= -DEPTH
+    # no flight: on its rim with a_z = 0 a planar column lifts off only with theta'^2 >= 1 / C_z, a kinetic
+    # energy I_y / (2 C_z) = 1.6 m g R, six times the barrier to overturning (0.28 m g R)
+    assert not (raw.phase == 5).any()
+    for s in (patch, point):
+        assert not s["overturned"] and not s["undecided"]
+        assert s["peak_theta"] < 0.01 * THROUGH.critical_tilt
+    assert abs(patch["energy_balance_error"]) < 1e-6 * abs(patch["work_ground"])
+
+
+def test_3d_slip_whose_normal_force_the_patch_pulls_below_zero_keeps_contact():
+    """FEMA-FF-21 x 6.24 (PGA 3 g), 3D, R 0.5, r 0.3, h 2 m, mu 0.7, vertical on (FF has none).
+
+    At 3.21 s, slipping at theta 4.7e-5 rad (7 theta_k, the patch nearly the whole base), the
+    patch's rolling damping (sized by rolling's normal force, capped at N w) drove the slip's N
+    through 0 while the free column would sink at 9 g: the lift-off event started a sinking
+    flight and the column went 273 R through the ground. Now the slip goes on, held (1e-4 tau,
+    measured), until N pushes again. The column overturns, as it does on a point contact
+    (rigid base, no patch: 5.2 s against 8.4 s): no flight below the ground, none at all
+    (measured), and the budget closes to 1e-6 of the work.
+    """
+    motion = load("FEMA-FF-21")
+    excitation = Excitation(angle=0.0, scale=6.242565301063265, vertical=True)
+    runs = {kn: _kernel_run(THROUGH, motion, excitation, ModelSettings(model="3d", friction=0.7, tail=5.0,
+                                                                       normal_stiffness=kn))
+            for kn in (ModelSettings().normal_stiffness, math.inf)}
+    (raw, patch), (_raw, point) = runs[ModelSettings().normal_stiffness], runs[math.inf]
+    assert _lowest_base_point_in_flight(raw, THROUGH) >= -DEPTH
+    assert not (raw.phase == 5).any()
+    assert patch["overturned"] and point["overturned"]
+    assert patch["peak_mu_mob"] <= 0.7 * (1 + 1e-9)
+    assert abs(patch["energy_balance_error"]) < 1e-6 * abs(patch["work_ground"])

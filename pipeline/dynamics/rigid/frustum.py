@@ -66,9 +66,10 @@ N_STATE = 17
 # OPT_MAX_STEP [tau]: the longest step of the phase being integrated (inf but
 # while a slip direction is slaved, so that its speed cannot cross the layer's
 # edge and come back within one step unseen; pipeline.dynamics.rigid.run3d).
-# OPT_RIM_HELD is 1 while infinite friction and lift-off contradict each other
-# (the rim would have to pull, yet the column in free flight would sink into
-# the ground): the rim is held until either stops (pipeline.dynamics.rigid.run3d).
+# OPT_RIM_HELD is 1 while the contact's equations and lift-off contradict each
+# other (no contact the model allows: the rim would have to pull or to stick
+# beyond mu N, yet the column in free flight would sink into the ground): the
+# rim is held, rolling or slipping, until either stops (pipeline.dynamics.rigid.loop.holds_rim).
 # The contact patch (pipeline.dynamics.rigid.patch): the tilt theta_k of lost full
 # contact (0: a point contact, the paper's) and the dashpots per unit area,
 # c_n R^3 / (m sqrt(g R)); whether the patch's drilling friction holds the

@@ -6,7 +6,7 @@ close, the first times of uplift, sliding and flight, the peak tilt, the step
 monitor's peak mobilized friction and lowest normal force, the rest phase up
 to the column's departure (found exactly on the piecewise-linear record), the
 booking of an integrated phase with its stall count, lying down, the landing
-log, and the rim hold of infinite friction; and the run itself,
+log, and the rim hold of a contact that can neither push nor fly; and the run itself,
 :func:`run_events`, into which each model passes its own parts.
 """
 
@@ -198,17 +198,33 @@ def stands_for_good(phase, energy, theta, theta_rate, zc):
 
 @njit(cache=True)
 def holds_rim(opts, gap_acceleration):
-    """Infinite friction, a pulling normal force and a sinking flight: hold the rim (OPT_RIM_HELD).
+    """A contact whose force the model cannot make push while the free column would sink: hold the rim.
 
-    Without slip (mu = inf) the contact force is whatever rolling needs; when
-    that would pull while the free column would fall into the ground
-    (``gap_acceleration`` < 0, :func:`flight_gap_acceleration`), neither
-    rolling nor flight is consistent (an infinite-friction paradox that any
-    finite mu avoids by slipping first). The rim is then held, as the paper
-    holds it, until the normal force pushes again or the flight would rise.
+    Flight is consistent only if the lowest rim point, free, would not sink into the ground
+    (``gap_acceleration`` >= 0, :func:`flight_gap_acceleration`): its height and rate are 0
+    when a contact ends, so a flight that starts with a negative gap acceleration is below
+    the ground at once, its landing event (gap falling through 0) never fires and the column
+    flies through the ground. A rigid body whose contact point would accelerate into the
+    ground gets a compressive normal force; when the contact's equations give none, they
+    are at fault, not the ground:
+
+    - with infinite friction, rolling can need a finite tangential force while N reaches
+      0 (mobilized friction tends to infinity; any finite mu slips first), the paper's
+      paradox;
+    - with finite friction, the contact patch's rolling damping (sized by the normal force
+      rolling would carry without the patch's couples, :mod:`pipeline.dynamics.rigid.patch`,
+      docs/model.md) can ask a couple that the actual normal force cannot carry: near full
+      contact, where the dashpots reach the couple's cap N w with w up to the base's 2 R,
+      it drives sticking beyond mu N and the slip's N below 0 (after every near-flat landing
+      of a rocking column on still ground, and mid-slip under strong vertical shaking).
+
+    Neither rolling, slipping nor flight is then consistent; the contact is kept (the rim
+    held, as the paper holds it) with the model's forces, until a contact the model allows
+    exists again or the free flight would rise (the event functions of the held phase).
+    Returns whether it holds (``OPT_RIM_HELD`` set); never with a two-sided ground.
     Both kernels use it.
     """
-    if opts[fk.OPT_MU] != math.inf or opts[fk.OPT_UNILATERAL] == 0.0 or gap_acceleration >= 0.0:
+    if opts[fk.OPT_UNILATERAL] == 0.0 or gap_acceleration >= 0.0:
         return False
     opts[fk.OPT_RIM_HELD] = 1.0
     return True

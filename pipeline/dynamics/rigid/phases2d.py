@@ -158,18 +158,46 @@ def events2d(t, y, params, g):
     # signed with the pivot side, so that theta_c = 0 is a crossing too
     g[EV_LAND] = opts[fk.OPT_PIVOT] * theta - (1.0 - opts[fk.OPT_LANDING_MARGIN]) * opts[fk.OPT_THETA_C]
     unilateral = opts[fk.OPT_UNILATERAL] != 0.0
+    held = opts[fk.OPT_RIM_HELD] != 0.0  # (loop.holds_rim)
     if phase == PHASE_ROLLING:
         f_u, f_z, _dd, _p = rocking_contact(theta, y[rk.DTHETA2], a_u, a_z, c, opts)
-        if opts[fk.OPT_RIM_HELD] != 0.0:  # falls through 0 when N pushes again or the flight would rise
-            g[EV_LIFT] = min(-f_z, -flight_gap_acceleration2d(theta, y[rk.DTHETA2], a_z, c))
+        if held:
+            # falls through 0 when a contact the model allows exists again (N pushes, for
+            # mu = inf) or the flight would rise; no slip event while held
+            contact = f_z
+            if opts[fk.OPT_MU] < math.inf:
+                contact = _contact_margin2d(theta, y[rk.DTHETA2], f_u, f_z, a_u, a_z, c, opts)
+            g[EV_LIFT] = min(-contact, -flight_gap_acceleration2d(theta, y[rk.DTHETA2], a_z, c))
         elif unilateral:
             g[EV_LIFT] = f_z
-        if opts[fk.OPT_MU] < math.inf:
+        if opts[fk.OPT_MU] < math.inf and not held:
             g[EV_SLIP] = opts[fk.OPT_MU] * f_z - abs(f_u)
     else:
         if unilateral:
-            g[EV_LIFT] = rocking_slip(theta, y[rk.DTHETA2], opts[fk.OPT_SIGN], a_u, a_z, c, opts)[2]
+            normal = rocking_slip(theta, y[rk.DTHETA2], opts[fk.OPT_SIGN], a_u, a_z, c, opts)[2]
+            # held: falls through 0 when N pushes again or the flight would rise
+            g[EV_LIFT] = min(-normal, -flight_gap_acceleration2d(theta, y[rk.DTHETA2], a_z, c)) if held else normal
         g[EV_STICK] = opts[fk.OPT_SIGN] * y[rk.V2]
+
+
+@njit(cache=True)
+def _contact_margin2d(theta, dtheta, f_u, f_z, a_u, a_z, c, opts):
+    """How near a contact the model allows the pivot is [m g]: >= 0 if there is one.
+
+    Rolling (``F_u, N`` = ``f_u, f_z``) within friction on a pushing N, or the slip against
+    the friction rolling would need with a pushing N (the choice of
+    ``run2d._enter_contact2d``); the larger margin.
+    """
+    sigma = -1.0 if f_u > 0.0 else 1.0
+    normal = rocking_slip(theta, dtheta, sigma, a_u, a_z, c, opts)[2]
+    return max(min(f_z, opts[fk.OPT_MU] * f_z - abs(f_u)), normal)
+
+
+@njit(cache=True)
+def contact_margin2d(theta, dtheta, a_u, a_z, c, opts):
+    """:func:`_contact_margin2d` of a planar state on its pivot [m g]."""
+    f_u, f_z, _dd, _p = rocking_contact(theta, dtheta, a_u, a_z, c, opts)
+    return _contact_margin2d(theta, dtheta, f_u, f_z, a_u, a_z, c, opts)
 
 
 @njit(cache=True)
@@ -181,7 +209,8 @@ def monitor2d(t, y, params, g):
     c, record, dt, opts, summary = params[0], params[1], params[2], params[3], params[4]
     phase = opts[fk.OPT_PHASE]
     mu = opts[fk.OPT_MU]
-    fast = opts[fk.OPT_UNILATERAL] != 0.0 and mu < math.inf
+    # the event functions hold N unless the rim is held (then they hold the hold's end)
+    fast = opts[fk.OPT_UNILATERAL] != 0.0 and mu < math.inf and opts[fk.OPT_RIM_HELD] == 0.0
     if phase == PHASE_ROLLING:
         if fast:
             normal = g[EV_LIFT]
@@ -190,6 +219,10 @@ def monitor2d(t, y, params, g):
             a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
             f_u, normal, _dd, _p = rocking_contact(y[rk.THETA2], y[rk.DTHETA2], a_u, a_z, c, opts)
             f_t = abs(f_u)
+            if opts[fk.OPT_RIM_HELD] != 0.0 and mu < math.inf:
+                # a held rim is at its friction limit: what it asks beyond is the patch
+                # couple's overreach (loop.holds_rim), not friction the ground gives
+                f_t = min(f_t, mu * max(normal, 0.0))
         watch_contact(summary, f_t / normal if normal > 0.0 else 0.0, normal)
     elif phase == PHASE_SLIPPING:
         if fast:

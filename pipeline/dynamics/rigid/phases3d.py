@@ -466,16 +466,24 @@ def events3d(t, y, params, g):
         g[EV_SLIP] = theta  # the axis passes the vertical (planar flight): Euler angles flip
         return
     g[EV_LAND] = theta - (1.0 - opts[fk.OPT_LANDING_MARGIN]) * opts[fk.OPT_THETA_C]
+    held = opts[fk.OPT_RIM_HELD] != 0.0  # (loop.holds_rim)
     if phase == PHASE_ROLLING:
         r = rolling_state(t, y, params)
         f_xi, f_n, f_z = r[3], r[4], r[5]
-        if opts[fk.OPT_RIM_HELD] != 0.0:  # falls through 0 when N pushes again or the flight would rise
-            g[EV_LIFT] = min(-f_z, -flight_gap_acceleration(theta, y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA],
-                                                            r[8], c))
+        if held:
+            # falls through 0 when a contact the model allows exists again (N pushes, for
+            # mu = inf) or the flight would rise; no slip event while held
+            contact = f_z
+            if opts[fk.OPT_MU] < math.inf:
+                contact = _contact_margin(t, y, params, f_xi, f_n, f_z)
+            g[EV_LIFT] = min(-contact, -flight_gap_acceleration(theta, y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA],
+                                                               r[8], c))
         elif opts[fk.OPT_UNILATERAL] != 0.0:
             g[EV_LIFT] = f_z
         if opts[fk.OPT_MU] < math.inf:  # inf: rolling without slip, whatever the force
-            g[EV_SLIP] = opts[fk.OPT_MU] * f_z - math.sqrt(f_xi * f_xi + f_n * f_n) + opts[fk.OPT_FRICTION_EXCESS]
+            if not held:
+                g[EV_SLIP] = (opts[fk.OPT_MU] * f_z - math.sqrt(f_xi * f_xi + f_n * f_n)
+                              + opts[fk.OPT_FRICTION_EXCESS])
             if opts[fk.OPT_THETA_K] > 0.0:
                 g[EV_PIVOT] = _pivot_event(opts, r[12], r[13], r[14])
     else:
@@ -483,10 +491,39 @@ def events3d(t, y, params, g):
         normal = r[0]
         if opts[fk.OPT_UNILATERAL] != 0.0:
             g[EV_LIFT] = normal
+            if held:  # falls through 0 when N pushes again or the flight would rise
+                g[EV_LIFT] = min(-normal, -flight_gap_acceleration(theta, y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA],
+                                                                   r[12], c))
         if opts[fk.OPT_THETA_K] > 0.0:
             g[EV_PIVOT] = _pivot_event(opts, r[18], r[19], r[20])
         g[EV_STICK] = y[fk.SLIP_SPEED]
         g[EV_MODE] = _layer_event(y, opts, normal)
+
+
+@njit(cache=True)
+def sticking_slip_direction(phi, f_xi, f_n):
+    """Slip direction [rad] (plane frame) against the friction ``(f_xi, f_n)`` that rolling needs."""
+    sp_, cp = fk.sincos(phi)
+    return math.atan2(-(f_xi * sp_ + f_n * cp), -(f_xi * cp - f_n * sp_))
+
+
+@njit(cache=True)
+def _contact_margin(t, y, params, f_xi, f_n, f_z):
+    """How near a contact the model allows the rim point is [m g]: >= 0 if there is one.
+
+    Rolling (contact force ``f_xi, f_n, f_z``) within friction on a pushing N, or the slip
+    against the friction rolling would need with a pushing N (the choice of
+    ``run3d._enter_contact``); the larger margin.
+    """
+    normal = slip_with(t, y, params, sticking_slip_direction(y[fk.PHI], f_xi, f_n))[0]
+    return max(min(f_z, params[3][fk.OPT_MU] * f_z - math.sqrt(f_xi * f_xi + f_n * f_n)), normal)
+
+
+@njit(cache=True)
+def contact_margin(t, y, params):
+    """:func:`_contact_margin` of a 3D state in rim contact at t [m g]."""
+    f_xi, f_n, f_z, _ax, _ay, _az = rolling_contact(t, y, params)
+    return _contact_margin(t, y, params, f_xi, f_n, f_z)
 
 
 @njit(cache=True)
@@ -549,7 +586,8 @@ def monitor3d(t, y, params, g):
     opts, summary = params[3], params[4]
     phase = opts[fk.OPT_PHASE]
     mu = opts[fk.OPT_MU]
-    fast = opts[fk.OPT_UNILATERAL] != 0.0 and mu < math.inf
+    # the event functions hold N unless the rim is held (then they hold the hold's end)
+    fast = opts[fk.OPT_UNILATERAL] != 0.0 and mu < math.inf and opts[fk.OPT_RIM_HELD] == 0.0
     if phase == PHASE_ROLLING:
         if fast:
             normal = g[EV_LIFT]
@@ -557,6 +595,10 @@ def monitor3d(t, y, params, g):
         else:
             f_xi, f_n, normal, _ax, _ay, _az = rolling_contact(t, y, params)
             f_t = math.sqrt(f_xi * f_xi + f_n * f_n)
+            if opts[fk.OPT_RIM_HELD] != 0.0 and mu < math.inf:
+                # a held rim is at its friction limit: what it asks beyond is the patch
+                # couple's overreach (loop.holds_rim), not friction the ground gives
+                f_t = min(f_t, mu * max(normal, 0.0))
         watch_contact(summary, f_t / normal if normal > 0.0 else 0.0, normal)
     elif phase == PHASE_SLIPPING:
         watch_contact(summary, mu, g[EV_LIFT] if fast else slip_state(t, y, params)[0])

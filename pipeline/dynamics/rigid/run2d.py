@@ -22,7 +22,7 @@ from pipeline.dynamics.rigid.layout import (
 )
 from pipeline.dynamics.rigid.loop import book_peak, first_time, holds_rim, log_impact, note_entry, run_events
 from pipeline.dynamics.rigid.phases2d import (
-    energy2d, flight_gap_acceleration2d, integrate2d, rocking_contact, rocking_slip
+    contact_margin2d, energy2d, flight_gap_acceleration2d, integrate2d, rocking_contact, rocking_slip
 )
 
 
@@ -70,6 +70,8 @@ def _enter_contact2d(t, y, params):
         if normal >= 0.0 or not unilateral:
             opts[fk.OPT_SIGN] = sigma
             return PHASE_SLIPPING
+    # no contact the model allows: a flight if it rises, else the rim held (loop.holds_rim); a
+    # flight that started sinking would never see its landing (the gap starts at 0, falling)
     if not unilateral or holds_rim(opts, flight_gap_acceleration2d(y[rk.THETA2], y[rk.DTHETA2], a_z, c)):
         return PHASE_ROLLING
     _to_flight2d(y, c)
@@ -188,7 +190,9 @@ def _on_event2d(ev, t, y, params, phase, impacts, restitution, e, settle_kinetic
             _down_on_base2d(y, opts[fk.OPT_PIVOT])
             return PHASE_REST, False
         return phase, False
-    # the events below restart the integration
+    # the events below restart the integration; a rim hold ends with them (or is set again)
+    held = opts[fk.OPT_RIM_HELD] != 0.0
+    opts[fk.OPT_RIM_HELD] = 0.0
     if ev == EV_SLIP:
         phase = _enter_contact2d(t, y, params)
         first_time(summary, S_SLIDE_TIME, t)
@@ -203,18 +207,33 @@ def _on_event2d(ev, t, y, params, phase, impacts, restitution, e, settle_kinetic
             return phase, True
         return PHASE_REST, True
     if ev == EV_LIFT:
+        a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
+        free = flight_gap_acceleration2d(y[rk.THETA2], y[rk.DTHETA2], a_z, c)
         if phase == PHASE_ROLLING:
-            if opts[fk.OPT_RIM_HELD] != 0.0:
-                # the hold ends: N pushes again (rolling on), or the flight now rises
-                # (whichever of -N and -gap'' reached 0, the minimum in the event function)
-                opts[fk.OPT_RIM_HELD] = 0.0
-                a_u, _unused, a_z = fk.ground_acceleration(t, record, dt)
-                if (rocking_contact(y[rk.THETA2], y[rk.DTHETA2], a_u, a_z, c, opts)[1]
-                        >= flight_gap_acceleration2d(y[rk.THETA2], y[rk.DTHETA2], a_z, c)):
+            if held:
+                # the hold ends: a contact the model allows exists again (rolling on, or
+                # entered anew with finite friction), or the flight now rises (whichever of
+                # -contact and -gap'' reached 0, the minimum in the event function)
+                if mu == math.inf:
+                    if rocking_contact(y[rk.THETA2], y[rk.DTHETA2], a_u, a_z, c, opts)[1] >= free:
+                        return phase, True
+                elif contact_margin2d(y[rk.THETA2], y[rk.DTHETA2], a_u, a_z, c, opts) >= free:
+                    phase = _enter_contact2d(t, y, params)
+                    note_entry(summary, t, phase)
                     return phase, True
-            elif holds_rim(opts, flight_gap_acceleration2d(
-                    y[rk.THETA2], y[rk.DTHETA2], fk.ground_acceleration(t, record, dt)[2], c)):
+            elif mu < math.inf:
+                if free < 0.0:  # the free column would sink: slip if it pushes, else hold the rim
+                    phase = _enter_contact2d(t, y, params)
+                    note_entry(summary, t, phase)
+                    return phase, True
+            elif holds_rim(opts, free):
                 return phase, True
+        elif phase == PHASE_SLIPPING:
+            if held:
+                if rocking_slip(y[rk.THETA2], y[rk.DTHETA2], opts[fk.OPT_SIGN], a_u, a_z, c, opts)[2] >= free:
+                    return phase, True  # N pushes again: slipping on
+            elif holds_rim(opts, free):
+                return phase, True  # slipping on, held
         first_time(summary, S_FLIGHT_TIME, t)
         if phase == PHASE_SLIDING:
             y[rk.Z2] = zc

@@ -30,9 +30,9 @@ from pipeline.dynamics.rigid.layout import (
 )
 from pipeline.dynamics.rigid.loop import book_peak, first_time, holds_rim, log_impact, note_entry, run_events
 from pipeline.dynamics.rigid.phases3d import (
-    along_slip, consistent_direction, energy3d, flat_direction, flight_gap_acceleration, horizontal_spin,
-    integrate3d, layer_edge, layer_exit, rhs_rolling, rhs_sliding, rhs_slipping, rolling_contact, rolling_state,
-    slip_direction, slip_setting, slip_state, slip_with
+    along_slip, consistent_direction, contact_margin, energy3d, flat_direction, flight_gap_acceleration,
+    horizontal_spin, integrate3d, layer_edge, layer_exit, rhs_rolling, rhs_sliding, rhs_slipping, rolling_contact,
+    rolling_state, slip_direction, slip_setting, slip_state, slip_with, sticking_slip_direction
 )
 
 
@@ -267,8 +267,7 @@ def _enter_contact(t, y, params):
     if mu < math.inf:
         # sticking fails (friction or a pulling normal force): slipping against
         # the friction it would need, if the plane then pushes
-        sp_, cp = fk.sincos(y[fk.PHI])
-        chi = math.atan2(-(f_xi * sp_ + f_n * cp), -(f_xi * cp - f_n * sp_))
+        chi = sticking_slip_direction(y[fk.PHI], f_xi, f_n)
         normal = slip_with(t, y, params, chi)[0]
         y[fk.SLIP_SPEED] = 0.0
         if normal >= 0.0 or not unilateral:
@@ -287,6 +286,8 @@ def _enter_contact(t, y, params):
                                                          math.sqrt(g_xi * g_xi + g_n * g_n) - mu * g_z) + 1e-12
                 return PHASE_ROLLING
             return PHASE_SLIPPING
+    # no contact the model allows: a flight if it rises, else the rim held (loop.holds_rim); a
+    # flight that started sinking would never see its landing (the gap starts at 0, falling)
     if not unilateral or holds_rim(opts, _gap_acceleration(t, y, params)):
         return PHASE_ROLLING
     _to_flight(y, c, False)
@@ -526,7 +527,9 @@ def _on_event3d(ev, t, y, params, phase, impacts, restitution, planar_e, settle_
         y[fk.THETA] = -y[fk.THETA]
         y[fk.DTHETA] = -y[fk.DTHETA]
         return phase, False
-    # the events below restart the integration
+    # the events below restart the integration; a rim hold ends with them (or is set again)
+    held = opts[fk.OPT_RIM_HELD] != 0.0
+    opts[fk.OPT_RIM_HELD] = 0.0
     if ev == EV_SLIP:  # rolling -> slipping: against the friction sticking would need
         phase = _enter_contact(t, y, params)
         first_time(summary, S_SLIDE_TIME, t)
@@ -544,14 +547,31 @@ def _on_event3d(ev, t, y, params, phase, impacts, restitution, planar_e, settle_
         return PHASE_REST, True
     if ev == EV_LIFT:
         if phase == PHASE_ROLLING:
-            if opts[fk.OPT_RIM_HELD] != 0.0:
-                # the hold ends: N pushes again (rolling on), or the flight now rises
-                # (whichever of -N and -gap'' reached 0, the minimum in the event function)
-                opts[fk.OPT_RIM_HELD] = 0.0
-                if rolling_state(t, y, params)[5] >= _gap_acceleration(t, y, params):
+            if held:
+                # the hold ends: a contact the model allows exists again (rolling on, or
+                # entered anew with finite friction), or the flight now rises (whichever of
+                # -contact and -gap'' reached 0, the minimum in the event function)
+                if mu == math.inf:
+                    if rolling_state(t, y, params)[5] >= _gap_acceleration(t, y, params):
+                        return phase, True
+                elif contact_margin(t, y, params) >= _gap_acceleration(t, y, params):
+                    phase = _enter_contact(t, y, params)
+                    note_entry(summary, t, phase)
+                    return phase, True
+            elif mu < math.inf:
+                if _gap_acceleration(t, y, params) < 0.0:
+                    # the free column would sink: slip if it pushes, else hold the rim
+                    phase = _enter_contact(t, y, params)
+                    note_entry(summary, t, phase)
                     return phase, True
             elif holds_rim(opts, _gap_acceleration(t, y, params)):
                 return phase, True
+        elif phase == PHASE_SLIPPING:
+            if held:
+                if slip_state(t, y, params)[0] >= _gap_acceleration(t, y, params):
+                    return phase, True  # N pushes again: slipping on
+            elif holds_rim(opts, _gap_acceleration(t, y, params)):
+                return phase, True  # slipping on, held
         first_time(summary, S_FLIGHT_TIME, t)
         if phase == PHASE_SLIDING:
             speed, cx, sx = y[fk.SLIP_SPEED], math.cos(y[fk.SLIP_DIR]), math.sin(y[fk.SLIP_DIR])
