@@ -166,7 +166,8 @@ def events2d(t, y, params, g):
             # mu = inf) or the flight would rise; no slip event while held
             contact = f_z
             if opts[fk.OPT_MU] < math.inf:
-                contact = _contact_margin2d(theta, y[rk.DTHETA2], f_u, f_z, a_u, a_z, c, opts)
+                stick, slip = _contact_margins2d(theta, y[rk.DTHETA2], f_u, f_z, a_u, a_z, c, opts)
+                contact = max(stick, slip)
             g[EV_LIFT] = min(-contact, -flight_gap_acceleration2d(theta, y[rk.DTHETA2], a_z, c))
         elif unilateral:
             g[EV_LIFT] = f_z
@@ -181,23 +182,23 @@ def events2d(t, y, params, g):
 
 
 @njit(cache=True)
-def _contact_margin2d(theta, dtheta, f_u, f_z, a_u, a_z, c, opts):
-    """How near a contact the model allows the pivot is [m g]: >= 0 if there is one.
+def _contact_margins2d(theta, dtheta, f_u, f_z, a_u, a_z, c, opts):
+    """How near the contacts the model allows the pivot is [m g]: ``(stick, slip)``, each >= 0 if it is allowed.
 
-    Rolling (``F_u, N`` = ``f_u, f_z``) within friction on a pushing N, or the slip against
-    the friction rolling would need with a pushing N (the choice of
-    ``run2d._enter_contact2d``); the larger margin.
+    Rolling (``F_u, N`` = ``f_u, f_z``) within friction on a pushing N: ``min(N, mu N - |F_u|)``;
+    the slip against the friction rolling would need (the choice of ``run2d._enter_contact2d``):
+    its N.
     """
     sigma = -1.0 if f_u > 0.0 else 1.0
     normal = rocking_slip(theta, dtheta, sigma, a_u, a_z, c, opts)[2]
-    return max(min(f_z, opts[fk.OPT_MU] * f_z - abs(f_u)), normal)
+    return min(f_z, opts[fk.OPT_MU] * f_z - abs(f_u)), normal
 
 
 @njit(cache=True)
-def contact_margin2d(theta, dtheta, a_u, a_z, c, opts):
-    """:func:`_contact_margin2d` of a planar state on its pivot [m g]."""
+def contact_margins2d(theta, dtheta, a_u, a_z, c, opts):
+    """:func:`_contact_margins2d` of a planar state on its pivot [m g]."""
     f_u, f_z, _dd, _p = rocking_contact(theta, dtheta, a_u, a_z, c, opts)
-    return _contact_margin2d(theta, dtheta, f_u, f_z, a_u, a_z, c, opts)
+    return _contact_margins2d(theta, dtheta, f_u, f_z, a_u, a_z, c, opts)
 
 
 @njit(cache=True)

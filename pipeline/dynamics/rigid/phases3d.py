@@ -475,7 +475,8 @@ def events3d(t, y, params, g):
             # mu = inf) or the flight would rise; no slip event while held
             contact = f_z
             if opts[fk.OPT_MU] < math.inf:
-                contact = _contact_margin(t, y, params, f_xi, f_n, f_z)
+                stick, slip = _contact_margins(t, y, params, f_xi, f_n, f_z)
+                contact = max(stick, slip)
             g[EV_LIFT] = min(-contact, -flight_gap_acceleration(theta, y[fk.DPHI], y[fk.DTHETA], y[fk.OMEGA],
                                                                r[8], c))
         elif opts[fk.OPT_UNILATERAL] != 0.0:
@@ -508,22 +509,22 @@ def sticking_slip_direction(phi, f_xi, f_n):
 
 
 @njit(cache=True)
-def _contact_margin(t, y, params, f_xi, f_n, f_z):
-    """How near a contact the model allows the rim point is [m g]: >= 0 if there is one.
+def _contact_margins(t, y, params, f_xi, f_n, f_z):
+    """How near the contacts the model allows the rim point is [m g]: ``(stick, slip)``, each >= 0 if allowed.
 
-    Rolling (contact force ``f_xi, f_n, f_z``) within friction on a pushing N, or the slip
-    against the friction rolling would need with a pushing N (the choice of
-    ``run3d._enter_contact``); the larger margin.
+    Rolling (contact force ``f_xi, f_n, f_z``) within friction on a pushing N:
+    ``min(N, mu N - |F_t|)``; the slip against the friction rolling would need (the choice of
+    ``run3d._enter_contact``): its N.
     """
     normal = slip_with(t, y, params, sticking_slip_direction(y[fk.PHI], f_xi, f_n))[0]
-    return max(min(f_z, params[3][fk.OPT_MU] * f_z - math.sqrt(f_xi * f_xi + f_n * f_n)), normal)
+    return min(f_z, params[3][fk.OPT_MU] * f_z - math.sqrt(f_xi * f_xi + f_n * f_n)), normal
 
 
 @njit(cache=True)
-def contact_margin(t, y, params):
-    """:func:`_contact_margin` of a 3D state in rim contact at t [m g]."""
+def contact_margins(t, y, params):
+    """:func:`_contact_margins` of a 3D state in rim contact at t [m g]."""
     f_xi, f_n, f_z, _ax, _ay, _az = rolling_contact(t, y, params)
-    return _contact_margin(t, y, params, f_xi, f_n, f_z)
+    return _contact_margins(t, y, params, f_xi, f_n, f_z)
 
 
 @njit(cache=True)

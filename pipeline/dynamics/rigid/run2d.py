@@ -22,7 +22,7 @@ from pipeline.dynamics.rigid.layout import (
 )
 from pipeline.dynamics.rigid.loop import book_peak, first_time, holds_rim, log_impact, note_entry, run_events
 from pipeline.dynamics.rigid.phases2d import (
-    contact_margin2d, energy2d, flight_gap_acceleration2d, integrate2d, rocking_contact, rocking_slip
+    contact_margins2d, energy2d, flight_gap_acceleration2d, integrate2d, rocking_contact, rocking_slip
 )
 
 
@@ -70,9 +70,22 @@ def _enter_contact2d(t, y, params):
         if normal >= 0.0 or not unilateral:
             opts[fk.OPT_SIGN] = sigma
             return PHASE_SLIPPING
+    if not unilateral:
+        return PHASE_ROLLING
     # no contact the model allows: a flight if it rises, else the rim held (loop.holds_rim); a
     # flight that started sinking would never see its landing (the gap starts at 0, falling)
-    if not unilateral or holds_rim(opts, flight_gap_acceleration2d(y[rk.THETA2], y[rk.DTHETA2], a_z, c)):
+    free = flight_gap_acceleration2d(y[rk.THETA2], y[rk.DTHETA2], a_z, c)
+    if free < 0.0 and mu < math.inf:
+        # one the model allows a look-ahead later (sticking's margin or the slip's N rising
+        # through 0, as where a hold ends) is entered now: a hold started there would start on
+        # its own end, which its event (falling through 0) would then never see
+        if min(g_z, mu * g_z - abs(g_u)) >= 0.0:
+            return PHASE_ROLLING
+        sigma = -1.0 if g_u > 0.0 else 1.0
+        if rocking_slip(theta_ahead, rate_ahead, sigma, b_u, b_z, c, opts)[2] >= 0.0:
+            opts[fk.OPT_SIGN] = sigma
+            return PHASE_SLIPPING
+    if holds_rim(opts, free):
         return PHASE_ROLLING
     _to_flight2d(y, c)
     return PHASE_FLIGHT
@@ -217,10 +230,14 @@ def _on_event2d(ev, t, y, params, phase, impacts, restitution, e, settle_kinetic
                 if mu == math.inf:
                     if rocking_contact(y[rk.THETA2], y[rk.DTHETA2], a_u, a_z, c, opts)[1] >= free:
                         return phase, True
-                elif contact_margin2d(y[rk.THETA2], y[rk.DTHETA2], a_u, a_z, c, opts) >= free:
-                    phase = _enter_contact2d(t, y, params)
-                    note_entry(summary, t, phase)
-                    return phase, True
+                else:
+                    stick, slip = contact_margins2d(y[rk.THETA2], y[rk.DTHETA2], a_u, a_z, c, opts)
+                    if stick >= slip and stick >= free:
+                        return phase, True  # sticking holds again (its margin rising through 0)
+                    if slip >= free:  # the slip's N rises through 0
+                        phase = _enter_contact2d(t, y, params)
+                        note_entry(summary, t, phase)
+                        return phase, True
             elif mu < math.inf:
                 if free < 0.0:  # the free column would sink: slip if it pushes, else hold the rim
                     phase = _enter_contact2d(t, y, params)

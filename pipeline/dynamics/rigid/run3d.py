@@ -30,7 +30,7 @@ from pipeline.dynamics.rigid.layout import (
 )
 from pipeline.dynamics.rigid.loop import book_peak, first_time, holds_rim, log_impact, note_entry, run_events
 from pipeline.dynamics.rigid.phases3d import (
-    along_slip, consistent_direction, contact_margin, energy3d, flat_direction, flight_gap_acceleration,
+    along_slip, consistent_direction, contact_margins, energy3d, flat_direction, flight_gap_acceleration,
     horizontal_spin, integrate3d, layer_edge, layer_exit, rhs_rolling, rhs_sliding, rhs_slipping, rolling_contact,
     rolling_state, slip_direction, slip_setting, slip_state, slip_with, sticking_slip_direction
 )
@@ -286,9 +286,25 @@ def _enter_contact(t, y, params):
                                                          math.sqrt(g_xi * g_xi + g_n * g_n) - mu * g_z) + 1e-12
                 return PHASE_ROLLING
             return PHASE_SLIPPING
+    if not unilateral:
+        return PHASE_ROLLING
     # no contact the model allows: a flight if it rises, else the rim held (loop.holds_rim); a
     # flight that started sinking would never see its landing (the gap starts at 0, falling)
-    if not unilateral or holds_rim(opts, _gap_acceleration(t, y, params)):
+    gap = _gap_acceleration(t, y, params)
+    if gap < 0.0 and mu < math.inf:
+        # one the model allows a look-ahead later (sticking's margin or the slip's N rising
+        # through 0, as where a hold ends) is entered now: a hold started there would start on
+        # its own end, which its event (falling through 0) would then never see
+        if min(g_z, mu * g_z - math.sqrt(g_xi * g_xi + g_n * g_n)) >= 0.0:
+            return PHASE_ROLLING
+        later = t + opts[fk.OPT_LOOK_AHEAD]
+        normal_ahead = slip_with(later, ahead, params, sticking_slip_direction(ahead[fk.PHI], g_xi, g_n))[0]
+        if normal_ahead >= 0.0:
+            # slaved from rest on the N it pushes with a moment later (the direction that accelerates)
+            y[fk.SLIP_SPEED] = 0.0
+            _start_slip(y, opts, sticking_slip_direction(y[fk.PHI], f_xi, f_n), normal_ahead)
+            return PHASE_SLIPPING
+    if holds_rim(opts, gap):
         return PHASE_ROLLING
     _to_flight(y, c, False)
     return PHASE_FLIGHT
@@ -554,10 +570,15 @@ def _on_event3d(ev, t, y, params, phase, impacts, restitution, planar_e, settle_
                 if mu == math.inf:
                     if rolling_state(t, y, params)[5] >= _gap_acceleration(t, y, params):
                         return phase, True
-                elif contact_margin(t, y, params) >= _gap_acceleration(t, y, params):
-                    phase = _enter_contact(t, y, params)
-                    note_entry(summary, t, phase)
-                    return phase, True
+                else:
+                    gap = _gap_acceleration(t, y, params)
+                    stick, slip = contact_margins(t, y, params)
+                    if stick >= slip and stick >= gap:
+                        return phase, True  # sticking holds again (its margin rising through 0)
+                    if slip >= gap:  # the slip's N rises through 0
+                        phase = _enter_contact(t, y, params)
+                        note_entry(summary, t, phase)
+                        return phase, True
             elif mu < math.inf:
                 if _gap_acceleration(t, y, params) < 0.0:
                     # the free column would sink: slip if it pushes, else hold the rim
