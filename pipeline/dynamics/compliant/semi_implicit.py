@@ -160,20 +160,32 @@ def _point_geometry(F, mo, start, stop, pcols, pts):
     branch, a loop the compiler runs in SIMD lanes (``pcols``, ``pts``: one row per quantity)."""
     p00, p01, p02, p10, p11, p12, p20, p21, p22 = F[0], F[1], F[2], F[3], F[4], F[5], F[6], F[7], F[8]
     qz = F[11]
-    vx_rel, vy_rel, vz_rel, wx_rel, wy_rel, wz_rel = mo[0], mo[1], mo[2], mo[3], mo[4], mo[5]
-    PX, PY, PZ = pcols[P_X], pcols[P_Y], pcols[P_Z]
-    RX, RY, RZ, D = pts[Q_RX], pts[Q_RY], pts[Q_RZ], pts[Q_D]
-    VTX, VTY, DDOT = pts[Q_VTX], pts[Q_VTY], pts[Q_DDOT]
-    for p in range(start, stop):
-        px, py, pz = PX[p], PY[p], PZ[p]
+    # views from the joint's first point: indexed from 0, the loop is one LLVM vectorises (with
+    # the rows indexed from ``start`` it stays scalar); the same arithmetic for every point
+    PX, PY, PZ = pcols[P_X, start:stop], pcols[P_Y, start:stop], pcols[P_Z, start:stop]
+    RX, RY, RZ, D = pts[Q_RX, start:stop], pts[Q_RY, start:stop], pts[Q_RZ, start:stop], pts[Q_D, start:stop]
+    for i in range(stop - start):
+        px, py, pz = PX[i], PY[i], PZ[i]
         rz = p20 * px + p21 * py + p22 * pz
-        rx = p00 * px + p01 * py + p02 * pz
-        ry = p10 * px + p11 * py + p12 * pz
-        RX[p], RY[p], RZ[p] = rx, ry, rz
-        D[p] = -(rz + qz)
-        VTX[p] = vx_rel + wy_rel * rz - wz_rel * ry
-        VTY[p] = vy_rel + wz_rel * rx - wx_rel * rz
-        DDOT[p] = -(vz_rel + wx_rel * ry - wy_rel * rx)
+        RX[i] = p00 * px + p01 * py + p02 * pz
+        RY[i] = p10 * px + p11 * py + p12 * pz
+        RZ[i] = rz
+        D[i] = -(rz + qz)
+    _point_velocities(mo, start, stop, pts)
+
+
+@njit(cache=True)
+def _point_velocities(mo, start, stop, pts):
+    """Every point's relative velocity (v_t, d') in its joint's face frame from the joint's motion
+    ``mo`` and the lever arms in ``pts``: one loop LLVM vectorises (views from the joint's start)."""
+    vx_rel, vy_rel, vz_rel, wx_rel, wy_rel, wz_rel = mo[0], mo[1], mo[2], mo[3], mo[4], mo[5]
+    RX, RY, RZ = pts[Q_RX, start:stop], pts[Q_RY, start:stop], pts[Q_RZ, start:stop]
+    VTX, VTY, DDOT = pts[Q_VTX, start:stop], pts[Q_VTY, start:stop], pts[Q_DDOT, start:stop]
+    for i in range(stop - start):
+        rx, ry, rz = RX[i], RY[i], RZ[i]
+        VTX[i] = vx_rel + wy_rel * rz - wz_rel * ry
+        VTY[i] = vy_rel + wz_rel * rx - wx_rel * rz
+        DDOT[i] = -(vz_rel + wx_rel * ry - wy_rel * rx)
 
 
 @njit(cache=True)
@@ -185,9 +197,10 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats):
     contact and active flags), the joint frames and motions, and returns the friction the returns
     to the cone dissipate; ``fric_slip[j]`` gets the joint's area-weighted plastic slip of this
     step. Shear states are returned onto the cone in y. Then the joints' loads and dashpot
-    matrices with the active set at the step's start (:func:`_joint_loads`). Per joint, three
-    passes: the geometry, the same for every point (:func:`_point_geometry`); the law, point by
-    point; the joint's sums, in the points' order (:func:`_joint_sums`).
+    matrices with the active set at the step's start (as :func:`_joint_loads`). Per joint, two
+    passes: the geometry, the same for every point (:func:`_point_geometry`, vectorised); the law,
+    point by point, adding each point to the joint's sums as it goes, in the points' order (as
+    :func:`_joint_sums` does).
     """
     bodies, points, joint_start, joints = params[:4]
     n_bodies = bodies.shape[0]
@@ -195,7 +208,8 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats):
     sh = NB * n_bodies
     friction = 0.0
     AREA = pcols[P_AREA]
-    RX, RY, D, VTX, VTY, DDOT = pts[Q_RX], pts[Q_RY], pts[Q_D], pts[Q_VTX], pts[Q_VTY], pts[Q_DDOT]
+    RX, RY, RZ, D = pts[Q_RX], pts[Q_RY], pts[Q_RZ], pts[Q_D]
+    VTX, VTY, DDOT = pts[Q_VTX], pts[Q_VTY], pts[Q_DDOT]
     FEL, CN, CT, FX, FY = pts[Q_FEL], pts[Q_CN], pts[Q_CT], pts[Q_FX], pts[Q_FY]
     PULLX, PULLY, S, ACTIVE, CONTACT = pts[Q_PX], pts[Q_PY], pts[Q_S], pts[Q_ACTIVE], pts[Q_CONTACT]
     for j in range(joints.shape[0]):
@@ -216,6 +230,7 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats):
         _point_geometry(F, mo, start, stop, pcols, pts)
         qx, qy = F[9], F[10]
         slip = 0.0
+        sums = ZERO_SUMS
         for p in range(start, stop):
             iu = sh + 2 * p
             d = D[p]
@@ -265,15 +280,21 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats):
                 pull = -0.5 * kn * area * d * d
                 pull_x, pull_y = pull * sx, pull * sy
             PULLX[p], PULLY[p], S[p] = pull_x, pull_y, s
+            fx = -k_area * ux + pull_x
+            fy = -k_area * uy + pull_y
             FEL[p] = f_el
             CN[p] = c_n
             CT[p] = c_t
-            FX[p] = -k_area * ux + pull_x
-            FY[p] = -k_area * uy + pull_y
+            FX[p] = fx
+            FY[p] = fy
             CONTACT[p] = 1.0
             # the clipped joint: active if the normal force at the current velocities pushes
-            ACTIVE[p] = 1.0 if f_el + c_n * d_dot >= 0.0 else 0.0
-        _close_joint(y, j, params, _joint_sums(pts, start, stop), mats)
+            active = f_el + c_n * d_dot >= 0.0
+            ACTIVE[p] = 1.0 if active else 0.0
+            # the joint's sums as :func:`_joint_sums` takes them, in the same pass
+            sums = _add_point(sums, RX[p], RY[p], RZ[p], f_el if active else 0.0, fx, fy, c_t,
+                              (c_n if active else 0.0) - c_t)
+        _close_joint(y, j, params, sums, mats)
         fric_slip[j] = slip / joints[j, J_AREA]
     return friction
 
@@ -284,49 +305,56 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats):
 N_SUMS = 22
 
 
+@njit(cache=True, inline="always")
+def _add_point(sums, rx, ry, rz, f_n, fx, fy, alpha, beta):
+    """``sums`` (:data:`N_SUMS`, a tuple) with one point in contact added: lever arm r, normal force
+    f_n (0 if clipped), shear force (fx, fy), shear dashpot alpha and beta = normal dashpot - alpha.
+    Inlined: the caller's accumulators stay in registers."""
+    (a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, b0, b1, b2, b3, b4, b5, sfx, sfy, sfz, stx, sty, stz) = sums
+    if alpha != 0.0:
+        a0 += alpha
+        a1 += alpha * rx
+        a2 += alpha * ry
+        a3 += alpha * rz
+        a4 += alpha * rx * rx
+        a5 += alpha * ry * ry
+        a6 += alpha * rz * rz
+        a7 += alpha * rx * ry
+        a8 += alpha * rx * rz
+        a9 += alpha * ry * rz
+    b0 += beta
+    b1 += beta * rx
+    b2 += beta * ry
+    b3 += beta * rx * rx
+    b4 += beta * ry * ry
+    b5 += beta * rx * ry
+    sfx += fx
+    sfy += fy
+    sfz += f_n
+    stx += ry * f_n - rz * fy
+    sty += rz * fx - rx * f_n
+    stz += rx * fy - ry * fx
+    return (a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, b0, b1, b2, b3, b4, b5, sfx, sfy, sfz, stx, sty, stz)
+
+
+ZERO_SUMS = (0.0,) * N_SUMS
+
+
 @njit(cache=True)
 def _joint_sums(pts, start, stop):
     """The sums (:data:`N_SUMS`) of the points ``start`` to ``stop`` of a joint in contact: their dashpot
     moments and explicit forces and torques, in the points' order (point pairs next to each other, so
     that at rest a symmetric joint's moments cancel exactly)."""
-    a0 = a1 = a2 = a3 = a4 = a5 = a6 = a7 = a8 = a9 = 0.0
-    b0 = b1 = b2 = b3 = b4 = b5 = 0.0
-    sfx = sfy = sfz = stx = sty = stz = 0.0
     RX, RY, RZ, FEL, CN, CT = pts[Q_RX], pts[Q_RY], pts[Q_RZ], pts[Q_FEL], pts[Q_CN], pts[Q_CT]
     FX, FY, ACTIVE, CONTACT = pts[Q_FX], pts[Q_FY], pts[Q_ACTIVE], pts[Q_CONTACT]
+    sums = ZERO_SUMS
     for p in range(start, stop):
         if CONTACT[p] == 0.0:
             continue
         active = ACTIVE[p] > 0.0
-        f_n = FEL[p] if active else 0.0
-        fx, fy = FX[p], FY[p]
-        rx, ry, rz = RX[p], RY[p], RZ[p]
-        alpha = CT[p]
-        beta = (CN[p] if active else 0.0) - alpha
-        if alpha != 0.0:
-            a0 += alpha
-            a1 += alpha * rx
-            a2 += alpha * ry
-            a3 += alpha * rz
-            a4 += alpha * rx * rx
-            a5 += alpha * ry * ry
-            a6 += alpha * rz * rz
-            a7 += alpha * rx * ry
-            a8 += alpha * rx * rz
-            a9 += alpha * ry * rz
-        b0 += beta
-        b1 += beta * rx
-        b2 += beta * ry
-        b3 += beta * rx * rx
-        b4 += beta * ry * ry
-        b5 += beta * rx * ry
-        sfx += fx
-        sfy += fy
-        sfz += f_n
-        stx += ry * f_n - rz * fy
-        sty += rz * fx - rx * f_n
-        stz += rx * fy - ry * fx
-    return (a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, b0, b1, b2, b3, b4, b5, sfx, sfy, sfz, stx, sty, stz)
+        sums = _add_point(sums, RX[p], RY[p], RZ[p], FEL[p] if active else 0.0, FX[p], FY[p], CT[p],
+                          (CN[p] if active else 0.0) - CT[p])
+    return sums
 
 
 @njit(cache=True)
@@ -438,19 +466,12 @@ def _update_active_set(params, pts, pcols, vel, motion):
     its elastic force and dashpot are zero).
     """
     joint_start, joints = params[2], params[3]
-    RX, RY, RZ = pts[Q_RX], pts[Q_RY], pts[Q_RZ]
-    VTX, VTY, DDOT = pts[Q_VTX], pts[Q_VTY], pts[Q_DDOT]
-    FEL, CN, ACTIVE, CONTACT = pts[Q_FEL], pts[Q_CN], pts[Q_ACTIVE], pts[Q_CONTACT]
+    DDOT, FEL, CN, ACTIVE, CONTACT = pts[Q_DDOT], pts[Q_FEL], pts[Q_CN], pts[Q_ACTIVE], pts[Q_CONTACT]
     changed = 0
     for j in range(joints.shape[0]):
         mo = motion[j]
         _joint_motion_of_bodies(vel, j, params, mo)
-        vx_rel, vy_rel, vz_rel, wx_rel, wy_rel, wz_rel = mo[0], mo[1], mo[2], mo[3], mo[4], mo[5]
-        for p in range(joint_start[j], joint_start[j + 1]):
-            rx, ry, rz = RX[p], RY[p], RZ[p]
-            VTX[p] = vx_rel + wy_rel * rz - wz_rel * ry
-            VTY[p] = vy_rel + wz_rel * rx - wx_rel * rz
-            DDOT[p] = -(vz_rel + wx_rel * ry - wy_rel * rx)
+        _point_velocities(mo, joint_start[j], joint_start[j + 1], pts)
         for p in range(joint_start[j], joint_start[j + 1]):
             push = 1.0 if CONTACT[p] > 0.0 and FEL[p] + CN[p] * DDOT[p] >= 0.0 else 0.0
             if push != ACTIVE[p]:
