@@ -99,10 +99,15 @@ def assumptions(models, vertical=True, options=None):
     return "\n".join(lines) + "\n"
 
 
+def _has_epistyle(results):
+    """Whether any run of the results carried an epistyle (a colonnade run by a model of colonnades)."""
+    return "epistyle_slip" in results and bool(np.isfinite(results["epistyle_slip"]).any())
+
+
 def _epistyle_section(results):
     """A colonnade's epistyle in the runs that stood: how far its blocks slid on the capitals and opened
     between them, per column, model and incidence angle ([] for a study without colonnades)."""
-    if "epistyle_slip" not in results or not bool(np.isfinite(results["epistyle_slip"]).any()):
+    if not _has_epistyle(results):
         return []
     lines = ["## The epistyle of the runs that stood", "",
              "Residual slip of the epistyle blocks on their capitals and opening of the head joints between "
@@ -814,7 +819,7 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
     lines.append("")
     if "structure" in results.coords:  # drums, capitals, colonnades: what the dimensions above do not say
         lines += [f"- **{c}**: {results['structure'].sel(column=c).item()}." for c in frag["column"].values] + [""]
-        if "epistyle_slip" in results and bool(np.isfinite(results["epistyle_slip"]).any()):
+        if _has_epistyle(results):
             lines += ["A colonnade's columns stand in a straight row; their capitals carry an epistyle of blocks "
                       "laid from axis to axis, each resting on its capitals through rectangular joints and "
                       "pressing on its neighbours through vertical head joints. The incidence angle is measured "

@@ -171,7 +171,7 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats):
     the sums) the step of a 10-drum stack cost 30 % more: the passes did not vectorise, and they
     worked on the many points of a rocking column that are out of contact.
     """
-    bodies, points, joint_start, joints = params[:4]
+    bodies, joint_start, joints = params[0], params[2], params[3]
     n_bodies = bodies.shape[0]
     _clear_loads(params)
     sh = NB * n_bodies
@@ -439,7 +439,7 @@ def _momentum(y, bodies, work, h, ax, ay, az, rhs):
 
 
 @njit(cache=True)
-def _update_active_set(params, pts, pcols, vel, motion):
+def _update_active_set(params, pts, vel, motion):
     """Relative velocities of the contact points at the new body velocities (stored in ``pts``),
     and the clipped joint: points whose normal force would pull are clipped, those that push
     are not. Returns the number of points that changed. Points out of contact are skipped (they
@@ -532,7 +532,7 @@ def step(t, y, h, params, s):
         impulse[:, :] = vel
         ls.sparse_block_solve(pattern, diag, blocks, vel, tmp6)
         solves += 1
-        changed = _update_active_set(params, pts, pcols, vel, motion)
+        changed = _update_active_set(params, pts, vel, motion)
         if changed == 0 or solves >= MAX_PASSES:
             break
     # bookings at the new velocities, the monitor, then the shear states
