@@ -25,7 +25,7 @@ whose state layout, tables, monitor and statistics it shares. One step of size h
 3. **Positions** with the new velocities (symplectic Euler): centres ``c += h v``, orientation
    by the exact rotation of the body-frame angular velocity over h; shear states
    ``u += h v_t`` (the relative tangential velocity in the frame of the face below); a spring
-   without normal force relaxes by ``exp(-h / tau)``.
+   without normal force relaxes by ``exp(-h / tau)`` until it is spent (:data:`SPENT`).
 
 The step is bounded by the springs alone: symplectic Euler is stable for ``h omega < 2`` on
 the stiffest undamped mode. :func:`pipeline.dynamics.compliant.linear_system.stiffest_frequency` finds it (the generalised eigenvalue
@@ -65,11 +65,18 @@ MAX_PASSES = 4
 
 # Per-point scratch columns (one row per contact point).
 # Q_PX, Q_PY: the pull of a patch running off an edge (part of Q_FX, Q_FY); Q_S: the overlap s.
-# Lever arm and relative velocity are kept for the points in contact only (the rows of the others
-# are stale: every pass reads Q_CONTACT first).
-(Q_RX, Q_RY, Q_RZ, Q_FEL, Q_CN, Q_CT, Q_FX, Q_FY, Q_ACTIVE, Q_CONTACT, Q_VTX, Q_VTY,
- Q_DDOT, Q_PX, Q_PY, Q_S) = range(16)
-N_Q = 16
+# The rows are kept for the points in contact only (the others' are stale): every pass after
+# :func:`_point_forces` goes through its list of the points in contact (scratch ``contacts``).
+(Q_RX, Q_RY, Q_RZ, Q_FEL, Q_CN, Q_CT, Q_FX, Q_FY, Q_ACTIVE, Q_VTX, Q_VTY,
+ Q_DDOT, Q_PX, Q_PY, Q_S) = range(15)
+N_Q = 15
+
+# [length^2] An unloaded spring whose squared state falls below this is spent: set to zero, its
+# energy booked as friction at once. Its state is then 1e-40 of the length unit, some 1e-34 of
+# an elastic shear displacement, so nothing it adds to survives rounding; without the floor a
+# spring relaxes (a factor of about 0.9 a step) for thousands of steps, through products too
+# small for normal floats, the slowest arithmetic a processor has (issue 37, speed).
+SPENT = 1e-80
 
 
 @njit(cache=True)
@@ -156,20 +163,27 @@ def _joint_motion_of_bodies(vel, j, params, out):
 
 
 @njit(cache=True)
-def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats):
+def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, contacts, n_contact):
     """Geometry and explicit forces of every point at the step's start (step 1 of the module).
 
     Fills the point scratch ``pts`` (one row per quantity: lever arm r and forces in the frame of
-    the joint's face, elastic normal force, dashpot coefficients, penetration, relative velocity,
-    contact and active flags), the joint frames and motions, and returns the friction the returns
-    to the cone dissipate; ``fric_slip[j]`` gets the joint's area-weighted plastic slip of this
-    step. Shear states are returned onto the cone in y. Then the joints' loads and dashpot
-    matrices with the active set at the step's start (as :func:`_joint_loads`). One pass over a
-    joint's points: the penetration of each, and for those in contact their lever arm, velocity
-    and law, each point added to the joint's sums as it goes, in the points' order (as
-    :func:`_joint_sums` does). Split into passes (the geometry of every point, then the law, then
-    the sums) the step of a 10-drum stack cost 30 % more: the passes did not vectorise, and they
-    worked on the many points of a rocking column that are out of contact.
+    the joint's face, elastic normal force, dashpot coefficients, relative velocity, active
+    flag), the list of the points in contact (``contacts[start:start + n_contact[j]]`` for joint
+    j's points from ``start``, in their order), the joint frames and motions, and returns the
+    friction the returns to the cone dissipate; ``fric_slip[j]`` gets the joint's area-weighted
+    plastic slip of this step. Shear states are returned onto the cone in y. Then the joints'
+    loads and dashpot matrices with the active set at the step's start (as :func:`_joint_loads`).
+
+    One pass over a joint's points: the penetration of each, and for those in contact their lever
+    arm, velocity and law, each point added to the joint's sums as it goes, in the points' order
+    (as :func:`_joint_sums` does). Split into passes (the geometry of every point, then the law,
+    then the sums) the step of a 10-drum stack cost 30 % more: the passes did not vectorise, and
+    they worked on the many points of a rocking column that are out of contact. Made to run in
+    SIMD lanes (each joint's rows as slices indexed from 0, the law's branches as selects, in
+    loops of few enough arrays for LLVM's run-time overlap checks) it cost more still: on a row
+    of 6 mid-record the pass took 134 us against 77 us, the geometry alone of 44 joints of 48
+    points 15.5 us in lanes against 6.8 us scalar (slices and overlap checks cost more than the
+    lanes save on so few points).
     """
     bodies, joint_start, joints = params[0], params[2], params[3]
     n_bodies = bodies.shape[0]
@@ -180,7 +194,7 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats):
     RX, RY, RZ = pts[Q_RX], pts[Q_RY], pts[Q_RZ]
     VTX, VTY, DDOT = pts[Q_VTX], pts[Q_VTY], pts[Q_DDOT]
     FEL, CN, CT, FX, FY = pts[Q_FEL], pts[Q_CN], pts[Q_CT], pts[Q_FX], pts[Q_FY]
-    PULLX, PULLY, S, ACTIVE, CONTACT = pts[Q_PX], pts[Q_PY], pts[Q_S], pts[Q_ACTIVE], pts[Q_CONTACT]
+    PULLX, PULLY, S, ACTIVE = pts[Q_PX], pts[Q_PY], pts[Q_S], pts[Q_ACTIVE]
     for j in range(joints.shape[0]):
         kn, ks, mu, cn, tau = joints[j, J_KN], joints[j, J_KS], joints[j, J_MU], joints[j, J_CN], joints[j, J_TAU]
         delta = joints[j, J_DELTA]
@@ -203,6 +217,7 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats):
         vx_rel, vy_rel, vz_rel, wx_rel, wy_rel, wz_rel = mo[0], mo[1], mo[2], mo[3], mo[4], mo[5]
         slip = 0.0
         sums = ZERO_SUMS
+        n_in = 0
         for p in range(start, stop):
             iu = sh + 2 * p
             # the lever arm r = P p (face frame) and the penetration; the rest only in contact
@@ -220,13 +235,13 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats):
             if d <= 0.0 or s <= 0.0:
                 ux, uy = y[iu], y[iu + 1]
                 uu = ux * ux + uy * uy
-                if uu > 0.0:  # an unloaded spring relaxes; its energy goes as friction
+                if uu >= SPENT:  # an unloaded spring relaxes; its energy goes as friction
                     friction += 0.5 * ks * AREA[p] * uu * (1.0 - decay * decay)
                     y[iu] = ux * decay
                     y[iu + 1] = uy * decay
-                CONTACT[p] = 0.0
-                ACTIVE[p] = 0.0
-                FEL[p] = CN[p] = 0.0  # what the active set's pass reads of a point out of contact
+                elif uu > 0.0:  # spent (see SPENT): what is left of its energy goes at once
+                    friction += 0.5 * ks * AREA[p] * uu
+                    y[iu] = y[iu + 1] = 0.0
                 continue
             vtx = vx_rel + wy_rel * rz - wz_rel * ry
             vty = vy_rel + wz_rel * rx - wx_rel * rz
@@ -268,13 +283,15 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats):
             CT[p] = c_t
             FX[p] = fx
             FY[p] = fy
-            CONTACT[p] = 1.0
+            contacts[start + n_in] = p
+            n_in += 1
             # the clipped joint: active if the normal force at the current velocities pushes
             active = f_el + c_n * d_dot >= 0.0
             ACTIVE[p] = 1.0 if active else 0.0
             # the joint's sums as :func:`_joint_sums` takes them, in the same pass
             sums = _add_point(sums, rx, ry, rz, f_el if active else 0.0, fx, fy, c_t,
                               (c_n if active else 0.0) - c_t)
+        n_contact[j] = n_in
         _close_joint(y, j, params, sums, mats)
         fric_slip[j] = slip / joints[j, J_AREA]
     return friction
@@ -322,16 +339,15 @@ ZERO_SUMS = (0.0,) * N_SUMS
 
 
 @njit(cache=True)
-def _joint_sums(pts, start, stop):
-    """The sums (:data:`N_SUMS`) of the points ``start`` to ``stop`` of a joint in contact: their dashpot
+def _joint_sums(pts, contacts, start, stop):
+    """The sums (:data:`N_SUMS`) of a joint's points in contact, ``contacts[start:stop]``: their dashpot
     moments and explicit forces and torques, in the points' order (point pairs next to each other, so
     that at rest a symmetric joint's moments cancel exactly)."""
     RX, RY, RZ, FEL, CN, CT = pts[Q_RX], pts[Q_RY], pts[Q_RZ], pts[Q_FEL], pts[Q_CN], pts[Q_CT]
-    FX, FY, ACTIVE, CONTACT = pts[Q_FX], pts[Q_FY], pts[Q_ACTIVE], pts[Q_CONTACT]
+    FX, FY, ACTIVE = pts[Q_FX], pts[Q_FY], pts[Q_ACTIVE]
     sums = ZERO_SUMS
-    for p in range(start, stop):
-        if CONTACT[p] == 0.0:
-            continue
+    for k in range(start, stop):
+        p = contacts[k]
         active = ACTIVE[p] > 0.0
         sums = _add_point(sums, RX[p], RY[p], RZ[p], FEL[p] if active else 0.0, FX[p], FY[p], CT[p],
                           (CN[p] if active else 0.0) - CT[p])
@@ -386,7 +402,7 @@ def _clear_loads(params):
 
 
 @njit(cache=True)
-def _joint_loads(y, params, pts, mats):
+def _joint_loads(y, params, pts, mats, contacts, n_contact):
     """Explicit joint forces on the bodies (scratch W_F, W_T) and each joint's dashpot matrix,
     from the points' scratch as it stands (:func:`_point_forces` does the same after its passes).
 
@@ -396,7 +412,8 @@ def _joint_loads(y, params, pts, mats):
     joint_start, joints = params[2], params[3]
     _clear_loads(params)
     for j in range(joints.shape[0]):
-        _close_joint(y, j, params, _joint_sums(pts, joint_start[j], joint_start[j + 1]), mats)
+        start = joint_start[j]
+        _close_joint(y, j, params, _joint_sums(pts, contacts, start, start + n_contact[j]), mats)
 
 
 @njit(cache=True)
@@ -404,9 +421,9 @@ def set_static_loads(y, h, params, s):
     """Each body's holding load set to the joints' net force and torque on it in the rest state y,
     as this integrator sums them: at rest its velocity update is then exactly zero."""
     bodies, work = params[0], params[6]
-    pts, mats, frames, motion, slip, pcols = s[0], s[1], s[10], s[11], s[8], s[12]
+    pts, mats, frames, motion, slip, pcols, contacts, n_contact = s[0], s[1], s[10], s[11], s[8], s[12], s[13], s[14]
     sk._kinematics(y, params)
-    _point_forces(y, h, params, pts, pcols, frames, motion, slip, mats)
+    _point_forces(y, h, params, pts, pcols, frames, motion, slip, mats, contacts, n_contact)
     for b in range(bodies.shape[0]):
         for k in range(6):
             bodies[b, B_HOLD + k] = work[b, W_F + k]
@@ -439,24 +456,24 @@ def _momentum(y, bodies, work, h, ax, ay, az, rhs):
 
 
 @njit(cache=True)
-def _update_active_set(params, pts, vel, motion):
-    """Relative velocities of the contact points at the new body velocities (stored in ``pts``),
+def _update_active_set(params, pts, vel, motion, contacts, n_contact):
+    """Relative velocities of the points in contact at the new body velocities (stored in ``pts``),
     and the clipped joint: points whose normal force would pull are clipped, those that push
-    are not. Returns the number of points that changed. Points out of contact are skipped (they
-    stay clipped: their elastic force and dashpot are zero).
+    are not. Returns the number of points that changed. Points out of contact are not on the
+    lists (they stay clipped: their elastic force and dashpot are zero).
     """
     joint_start, joints = params[2], params[3]
     RX, RY, RZ = pts[Q_RX], pts[Q_RY], pts[Q_RZ]
     VTX, VTY, DDOT = pts[Q_VTX], pts[Q_VTY], pts[Q_DDOT]
-    FEL, CN, ACTIVE, CONTACT = pts[Q_FEL], pts[Q_CN], pts[Q_ACTIVE], pts[Q_CONTACT]
+    FEL, CN, ACTIVE = pts[Q_FEL], pts[Q_CN], pts[Q_ACTIVE]
     changed = 0
     for j in range(joints.shape[0]):
         mo = motion[j]
         _joint_motion_of_bodies(vel, j, params, mo)
         vx_rel, vy_rel, vz_rel, wx_rel, wy_rel, wz_rel = mo[0], mo[1], mo[2], mo[3], mo[4], mo[5]  # (as above)
-        for p in range(joint_start[j], joint_start[j + 1]):
-            if CONTACT[p] == 0.0:  # stays clipped: its elastic force and dashpot are zero
-                continue
+        start = joint_start[j]
+        for k in range(start, start + n_contact[j]):
+            p = contacts[k]
             rx, ry, rz = RX[p], RY[p], RZ[p]
             d_dot = -(vz_rel + wx_rel * ry - wy_rel * rx)
             VTX[p] = vx_rel + wy_rel * rz - wz_rel * ry
@@ -518,21 +535,21 @@ def step(t, y, h, params, s):
     step (history rows and the energy budget evaluate the joint law).
     """
     bodies, points, joint_start, joints, record, dt, work, mon = params[:8]
-    pts, mats, diag, blocks, tmp66, tmp6, pattern, vel, slip, impulse, frames, motion, pcols = s
+    pts, mats, diag, blocks, tmp66, tmp6, pattern, vel, slip, impulse, frames, motion, pcols, contacts, n_contact = s
     n_bodies = bodies.shape[0]
     ax, ay, az = ground_acceleration(t, record, dt)
     sk._kinematics(y, params)
-    friction = _point_forces(y, h, params, pts, pcols, frames, motion, slip, mats)
+    friction = _point_forces(y, h, params, pts, pcols, frames, motion, slip, mats, contacts, n_contact)
     solves = 0
     while True:
         if solves > 0:  # the active set changed: the loads again
-            _joint_loads(y, params, pts, mats)
+            _joint_loads(y, params, pts, mats, contacts, n_contact)
         ls.assemble_system(y, bodies, joints, mats, h, work, pattern, diag, blocks, tmp66)
         _momentum(y, bodies, work, h, ax, ay, az, vel)
         impulse[:, :] = vel
         ls.sparse_block_solve(pattern, diag, blocks, vel, tmp6)
         solves += 1
-        changed = _update_active_set(params, pts, vel, motion)
+        changed = _update_active_set(params, pts, vel, motion, contacts, n_contact)
         if changed == 0 or solves >= MAX_PASSES:
             break
     # bookings at the new velocities, the monitor, then the shear states
@@ -541,14 +558,14 @@ def step(t, y, h, params, s):
     U, V, AREA = pcols[P_U], pcols[P_V], pcols[P_AREA]
     RX, RY, VTX, VTY, DDOT = pts[Q_RX], pts[Q_RY], pts[Q_VTX], pts[Q_VTY], pts[Q_DDOT]
     FEL, CN, CT, FX, FY = pts[Q_FEL], pts[Q_CN], pts[Q_CT], pts[Q_FX], pts[Q_FY]
-    PULLX, PULLY, S, ACTIVE, CONTACT = pts[Q_PX], pts[Q_PY], pts[Q_S], pts[Q_ACTIVE], pts[Q_CONTACT]
+    PULLX, PULLY, S, ACTIVE = pts[Q_PX], pts[Q_PY], pts[Q_S], pts[Q_ACTIVE]
     for j in range(joints.shape[0]):
         mu = joints[j, J_MU]
         F = frames[j]
         normal = normal_el = tx = ty = bx = by = cx = cy = area = 0.0
-        for p in range(joint_start[j], joint_start[j + 1]):
-            if CONTACT[p] == 0.0:
-                continue
+        start = joint_start[j]
+        for k in range(start, start + n_contact[j]):
+            p = contacts[k]
             vtx, vty, d_dot = VTX[p], VTY[p], DDOT[p]
             f_el, ct = FEL[p], CT[p]
             f_n = 0.0
@@ -637,11 +654,12 @@ def make_scratch(params, pattern):
     n_edges = pattern[2].shape[0]
     # points (one row per quantity); joint matrices; diagonal and coupling blocks of the solve;
     # scratch; the pattern; velocities; joints' plastic slips; momenta before the dashpots; joint
-    # frames and motions; the point table, one row per column (the passes over points read it so)
+    # frames and motions; the point table, one row per column (the passes over points read it so);
+    # the points in contact, listed joint by joint, and their count per joint
     return (np.zeros((N_Q, n_points)), np.zeros((n_joints, 6, 6)), np.zeros((n_bodies, 6, 6)),
             np.zeros((n_edges, 6, 6)), np.zeros((6, 6)), np.zeros(6), pattern, np.zeros((n_bodies, 6)),
             np.zeros(n_joints), np.zeros((n_bodies, 6)), np.zeros((n_joints, 12)), np.zeros((n_joints, 9)),
-            np.ascontiguousarray(params[1].T))
+            np.ascontiguousarray(params[1].T), np.zeros(n_points, dtype=np.int64), np.zeros(n_joints, dtype=np.int64))
 
 
 @njit(cache=True)
