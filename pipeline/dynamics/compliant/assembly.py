@@ -40,41 +40,45 @@ from pipeline.dynamics.compliant.layout import (
 from pipeline.dynamics.excitation import ground_acceleration
 
 @njit(cache=True)
-def rotation_matrix(qw, qx, qy, qz, out):
-    """Rotation matrix (row-major, 9) of a quaternion, normalised; exactly I at (1, 0, 0, 0)."""
+def rotation_entries(qw, qx, qy, qz):
+    """The 9 entries (row-major) of the rotation matrix of a quaternion, normalised; exactly I at
+    (1, 0, 0, 0)."""
     s = 2.0 / (qw * qw + qx * qx + qy * qy + qz * qz)
-    out[0] = 1.0 - s * (qy * qy + qz * qz)
-    out[1] = s * (qx * qy - qw * qz)
-    out[2] = s * (qx * qz + qw * qy)
-    out[3] = s * (qx * qy + qw * qz)
-    out[4] = 1.0 - s * (qx * qx + qz * qz)
-    out[5] = s * (qy * qz - qw * qx)
-    out[6] = s * (qx * qz - qw * qy)
-    out[7] = s * (qy * qz + qw * qx)
-    out[8] = 1.0 - s * (qx * qx + qy * qy)
+    return (1.0 - s * (qy * qy + qz * qz), s * (qx * qy - qw * qz), s * (qx * qz + qw * qy),
+            s * (qx * qy + qw * qz), 1.0 - s * (qx * qx + qz * qz), s * (qy * qz - qw * qx),
+            s * (qx * qz - qw * qy), s * (qy * qz + qw * qx), 1.0 - s * (qx * qx + qy * qy))
 
 
 @njit(cache=True)
-def face_frame(y, joint, work, out):
-    """The face of a joint in the ground frame: its axes (``out[0:9]``, row-major, columns the
-    face's x, y and normal) and its centre (``out[9:12]``), from its lower body's pose (the
-    rotation in ``work``) or, on the ground, as given."""
-    lower = int(joint[J_LOWER])
+def rotation_matrix(qw, qx, qy, qz, out):
+    """Rotation matrix (row-major, 9) of a quaternion, normalised, into ``out``
+    (:func:`rotation_entries`)."""
+    e = rotation_entries(qw, qx, qy, qz)
+    for k in range(9):
+        out[k] = e[k]
+
+
+@njit(cache=True)
+def face_frame(y, joints, j, work, jwork):
+    """The face of joint j in the ground frame: its axes (``jwork[j, 0:9]``, row-major, columns the
+    face's x, y and normal) and its centre (``jwork[j, 9:12]``), from its lower body's pose (the
+    rotation in ``work``) or, on the ground, as given. The tables are indexed by row, not taken
+    as row views (a view costs two calls into numba's runtime for its reference count)."""
+    lower = int(joints[j, J_LOWER])
     if lower == GROUND:
         for k in range(9):
-            out[k] = joint[J_F + k]
-        out[JW_O], out[JW_O + 1], out[JW_O + 2] = joint[J_OX], joint[J_OY], joint[J_OZ]
+            jwork[j, k] = joints[j, J_F + k]
+        jwork[j, JW_O], jwork[j, JW_O + 1], jwork[j, JW_O + 2] = joints[j, J_OX], joints[j, J_OY], joints[j, J_OZ]
         return
-    R = work[lower]
     for r in range(3):
         for c in range(3):
-            out[3 * r + c] = R[3 * r] * joint[J_F + c] + R[3 * r + 1] * joint[J_F + 3 + c] + \
-                R[3 * r + 2] * joint[J_F + 6 + c]
+            jwork[j, 3 * r + c] = work[lower, 3 * r] * joints[j, J_F + c] + \
+                work[lower, 3 * r + 1] * joints[j, J_F + 3 + c] + work[lower, 3 * r + 2] * joints[j, J_F + 6 + c]
     lo = NB * lower
-    ox, oy, oz = joint[J_OX], joint[J_OY], joint[J_OZ]
-    out[JW_O] = y[lo + X] + (R[0] * ox + R[1] * oy + R[2] * oz)
-    out[JW_O + 1] = y[lo + Y] + (R[3] * ox + R[4] * oy + R[5] * oz)
-    out[JW_O + 2] = y[lo + Z] + (R[6] * ox + R[7] * oy + R[8] * oz)
+    ox, oy, oz = joints[j, J_OX], joints[j, J_OY], joints[j, J_OZ]
+    jwork[j, JW_O] = y[lo + X] + (work[lower, 0] * ox + work[lower, 1] * oy + work[lower, 2] * oz)
+    jwork[j, JW_O + 1] = y[lo + Y] + (work[lower, 3] * ox + work[lower, 4] * oy + work[lower, 5] * oz)
+    jwork[j, JW_O + 2] = y[lo + Z] + (work[lower, 6] * ox + work[lower, 7] * oy + work[lower, 8] * oz)
 
 
 @njit(cache=True)
@@ -84,20 +88,21 @@ def _kinematics(y, params):
     bodies, points, joint_start, joints, record, dt, work, mon, jwork = params[:9]
     for b in range(bodies.shape[0]):
         o = NB * b
-        R = work[b]
-        rotation_matrix(y[o + QW], y[o + QX], y[o + QY], y[o + QZ], R)
+        e = rotation_entries(y[o + QW], y[o + QX], y[o + QY], y[o + QZ])
+        for k in range(9):
+            work[b, k] = e[k]
         wx, wy, wz = y[o + WX], y[o + WY], y[o + WZ]
-        R[W_OM] = R[0] * wx + R[1] * wy + R[2] * wz
-        R[W_OM + 1] = R[3] * wx + R[4] * wy + R[5] * wz
-        R[W_OM + 2] = R[6] * wx + R[7] * wy + R[8] * wz
+        work[b, W_OM] = e[0] * wx + e[1] * wy + e[2] * wz
+        work[b, W_OM + 1] = e[3] * wx + e[4] * wy + e[5] * wz
+        work[b, W_OM + 2] = e[6] * wx + e[7] * wy + e[8] * wz
         for k in range(6):
-            R[W_F + k] = 0.0
+            work[b, W_F + k] = 0.0
     for j in range(joints.shape[0]):
-        face_frame(y, joints[j], work, jwork[j])
+        face_frame(y, joints, j, work, jwork)
 
 
 @njit(cache=True)
-def face_overlap(xi_x, xi_y, joint):
+def face_overlap(xi_x, xi_y, joints, j):
     """Fraction of a point's patch over its joint's face, and its gradient in the face's plane.
 
     A disc runs off radially, a rectangle along each side (the product of the two overlaps);
@@ -106,17 +111,18 @@ def face_overlap(xi_x, xi_y, joint):
     Returns
     -------
     tuple of float
-        ``(s, ds/dxi_x, ds/dxi_y)``.
+        ``(s, ds/dxi_x, ds/dxi_y)``, for joint j of the table ``joints`` (indexed: a row view would
+        cost two calls into numba's runtime for its reference count).
     """
-    band = joint[J_BAND]
-    if joint[J_SHAPE] == 0.0:
+    band = joints[j, J_BAND]
+    if joints[j, J_SHAPE] == 0.0:
         rho = math.sqrt(xi_x * xi_x + xi_y * xi_y)
-        s, ds = jl.overlap(rho, joint[J_FA], band)
+        s, ds = jl.overlap(rho, joints[j, J_FA], band)
         if ds == 0.0:
             return s, 0.0, 0.0
         return s, ds * xi_x / rho, ds * xi_y / rho
-    sx, dsx = jl.overlap(abs(xi_x), joint[J_FA], band)
-    sy, dsy = jl.overlap(abs(xi_y), joint[J_FB], band)
+    sx, dsx = jl.overlap(abs(xi_x), joints[j, J_FA], band)
+    sy, dsy = jl.overlap(abs(xi_y), joints[j, J_FB], band)
     return sx * sy, dsx * math.copysign(1.0, xi_x) * sy, sx * dsy * math.copysign(1.0, xi_y)
 
 
@@ -141,7 +147,7 @@ def _penetration(y, p, j, params):
         return -xi_z, 1.0
     xi_x = F[0] * dx + F[3] * dy + F[6] * dz
     xi_y = F[1] * dx + F[4] * dy + F[7] * dz
-    return -xi_z, face_overlap(xi_x, xi_y, joints[j])[0]
+    return -xi_z, face_overlap(xi_x, xi_y, joints, j)[0]
 
 
 @njit(cache=True)
@@ -187,7 +193,7 @@ def _point_geometry(y, p, j, params):
     vlx = F[0] * gx + F[3] * gy + F[6] * gz
     vly = F[1] * gx + F[4] * gy + F[7] * gz
     vlz = F[2] * gx + F[5] * gy + F[8] * gz
-    s, sx, sy = face_overlap(xi_x, xi_y, joints[j])
+    s, sx, sy = face_overlap(xi_x, xi_y, joints, j)
     return rux, ruy, ruz, rlx, rly, rlz, xi_x, xi_y, -xi_z, vlx, vly, -vlz, s, sx, sy
 
 

@@ -29,20 +29,20 @@ __all__ = ["sparse_block_solve", "elimination", "joint_matrix", "joint_matrix_z"
 
 
 @njit(cache=True)
-def _cholesky6(a, out):
-    """Lower Cholesky factor ``out`` of the symmetric positive definite 6 x 6 matrix ``a`` (its lower
-    triangle is read; ``out`` may be ``a``)."""
+def _cholesky6(a, n):
+    """Lower Cholesky factor of the symmetric positive definite 6 x 6 matrix ``a[n]``, in place (its
+    lower triangle is read)."""
     for i in range(6):
         for j in range(i + 1):
-            s = a[i, j]
+            s = a[n, i, j]
             for k in range(j):
-                s -= out[i, k] * out[j, k]
+                s -= a[n, i, k] * a[n, j, k]
             if i == j:
-                out[i, i] = math.sqrt(s)
+                a[n, i, i] = math.sqrt(s)
             else:
-                out[i, j] = s / out[j, j]
+                a[n, i, j] = s / a[n, j, j]
         for j in range(i + 1, 6):
-            out[i, j] = 0.0
+            a[n, i, j] = 0.0
 
 
 def elimination(n_bodies, lowers, uppers, order):
@@ -144,73 +144,66 @@ def sparse_block_solve(pattern, diag, blocks, rhs, tmp):
     """
     order, position, edges, down_start, down, up_start, up, update_start, updates = pattern[:9]
     n = diag.shape[0]
+    # blocks indexed, not taken as views (a view costs two calls into numba's runtime)
     for k in range(n):
-        L = diag[k]
-        _cholesky6(L, L)
+        _cholesky6(diag, k)
         for q in range(down_start[k], down_start[k + 1]):
-            C = blocks[down[q]]
+            e = down[q]
             # C = A L^-T: row i solves L x = A[i, :]
             for i in range(6):
                 for c in range(6):
-                    s = C[i, c]
+                    s = blocks[e, i, c]
                     for m in range(c):
-                        s -= L[c, m] * C[i, m]
-                    C[i, c] = s / L[c, c]
+                        s -= diag[k, c, m] * blocks[e, i, m]
+                    blocks[e, i, c] = s / diag[k, c, c]
         for q in range(update_start[k], update_start[k + 1]):
             e1, e2, target = updates[q, 0], updates[q, 1], updates[q, 2]
-            C1 = blocks[e1]
             if target < 0:
-                D = diag[edges[e1, 0]]
+                d = edges[e1, 0]
                 for i in range(6):
                     for j in range(i + 1):
-                        s = D[i, j]
+                        s = diag[d, i, j]
                         for m in range(6):
-                            s -= C1[i, m] * C1[j, m]
-                        D[i, j] = s
-                        D[j, i] = s
+                            s -= blocks[e1, i, m] * blocks[e1, j, m]
+                        diag[d, i, j] = s
+                        diag[d, j, i] = s
             else:
-                C2 = blocks[e2]
-                A = blocks[target]
                 for i in range(6):
                     for j in range(6):
-                        s = A[i, j]
+                        s = blocks[target, i, j]
                         for m in range(6):
-                            s -= C1[i, m] * C2[j, m]
-                        A[i, j] = s
+                            s -= blocks[e1, i, m] * blocks[e2, j, m]
+                        blocks[target, i, j] = s
     for k in range(n):  # forward: L w = rhs
         b = order[k]
         for q in range(up_start[k], up_start[k + 1]):
             e = up[q]
-            C = blocks[e]
             src = order[edges[e, 1]]
             for i in range(6):
                 s = rhs[b, i]
                 for m in range(6):
-                    s -= C[i, m] * rhs[src, m]
+                    s -= blocks[e, i, m] * rhs[src, m]
                 rhs[b, i] = s
-        L = diag[k]
         for i in range(6):
             s = rhs[b, i]
             for m in range(i):
-                s -= L[i, m] * rhs[b, m]
-            rhs[b, i] = s / L[i, i]
+                s -= diag[k, i, m] * rhs[b, m]
+            rhs[b, i] = s / diag[k, i, i]
     for k in range(n - 1, -1, -1):  # backward: L^T x = w
         b = order[k]
         for q in range(down_start[k], down_start[k + 1]):
             e = down[q]
-            C = blocks[e]
             src = order[edges[e, 0]]
             for i in range(6):
                 s = rhs[b, i]
                 for m in range(6):
-                    s -= C[m, i] * rhs[src, m]
+                    s -= blocks[e, m, i] * rhs[src, m]
                 rhs[b, i] = s
-        L = diag[k]
         for i in range(5, -1, -1):
             s = rhs[b, i]
             for m in range(i + 1, 6):
-                s -= L[m, i] * rhs[b, m]
-            tmp[i] = s / L[i, i]
+                s -= diag[k, m, i] * rhs[b, m]
+            tmp[i] = s / diag[k, i, i]
             rhs[b, i] = tmp[i]
 
 
@@ -317,44 +310,46 @@ def joint_matrix_z(sa, ax, ay, az, axx, ayy, azz, axy, axz, ayz, sb, bx, by, bxx
 
 
 @njit(cache=True)
-def _row(R, i, x, y, z):
-    """Row i of the 3 x 3 matrix R (row-major) times (x, y, z)."""
-    return R[3 * i] * x + R[3 * i + 1] * y + R[3 * i + 2] * z
+def _row(R, j, i, x, y, z):
+    """Row i of the 3 x 3 matrix ``R[j, :9]`` (row-major) times (x, y, z)."""
+    return R[j, 3 * i] * x + R[j, 3 * i + 1] * y + R[j, 3 * i + 2] * z
 
 
 @njit(cache=True)
-def _turn_block(R, k00, k01, k02, k10, k11, k12, k20, k21, k22, out, r0, c0, symmetric):
-    """``out[r0:r0 + 3, c0:c0 + 3] = R K R^T`` for the 3 x 3 block K (row-major arguments), and the
-    mirror block ``out[c0:c0 + 3, r0:r0 + 3]`` its transpose. Summed as ``(R K) R^T``, each entry
-    in the order of ``_row``; a symmetric block takes its lower triangle (i >= k) for both halves."""
-    t00, t01, t02 = _row(R, 0, k00, k10, k20), _row(R, 0, k01, k11, k21), _row(R, 0, k02, k12, k22)
-    t10, t11, t12 = _row(R, 1, k00, k10, k20), _row(R, 1, k01, k11, k21), _row(R, 1, k02, k12, k22)
-    t20, t21, t22 = _row(R, 2, k00, k10, k20), _row(R, 2, k01, k11, k21), _row(R, 2, k02, k12, k22)
-    v00, v10, v20 = _row(R, 0, t00, t01, t02), _row(R, 0, t10, t11, t12), _row(R, 0, t20, t21, t22)
-    v11, v21, v22 = _row(R, 1, t10, t11, t12), _row(R, 1, t20, t21, t22), _row(R, 2, t20, t21, t22)
+def _turn_block(R, j, k00, k01, k02, k10, k11, k12, k20, k21, k22, out, r0, c0, symmetric):
+    """``out[j, r0:r0 + 3, c0:c0 + 3] = R K R^T`` for the 3 x 3 block K (row-major arguments) and
+    the rotation ``R[j, :9]``, and the mirror block ``out[j, c0:c0 + 3, r0:r0 + 3]`` its transpose.
+    Summed as ``(R K) R^T``, each entry in the order of ``_row``; a symmetric block takes its
+    lower triangle (i >= k) for both halves. Rows are indexed, not taken as views (a view costs
+    two calls into numba's runtime for its reference count)."""
+    t00, t01, t02 = _row(R, j, 0, k00, k10, k20), _row(R, j, 0, k01, k11, k21), _row(R, j, 0, k02, k12, k22)
+    t10, t11, t12 = _row(R, j, 1, k00, k10, k20), _row(R, j, 1, k01, k11, k21), _row(R, j, 1, k02, k12, k22)
+    t20, t21, t22 = _row(R, j, 2, k00, k10, k20), _row(R, j, 2, k01, k11, k21), _row(R, j, 2, k02, k12, k22)
+    v00, v10, v20 = _row(R, j, 0, t00, t01, t02), _row(R, j, 0, t10, t11, t12), _row(R, j, 0, t20, t21, t22)
+    v11, v21, v22 = _row(R, j, 1, t10, t11, t12), _row(R, j, 1, t20, t21, t22), _row(R, j, 2, t20, t21, t22)
     if symmetric:
         v01, v02, v12 = v10, v20, v21
     else:
-        v01, v02, v12 = _row(R, 1, t00, t01, t02), _row(R, 2, t00, t01, t02), _row(R, 2, t10, t11, t12)
-    out[r0, c0], out[r0, c0 + 1], out[r0, c0 + 2] = v00, v01, v02
-    out[r0 + 1, c0], out[r0 + 1, c0 + 1], out[r0 + 1, c0 + 2] = v10, v11, v12
-    out[r0 + 2, c0], out[r0 + 2, c0 + 1], out[r0 + 2, c0 + 2] = v20, v21, v22
+        v01, v02, v12 = _row(R, j, 1, t00, t01, t02), _row(R, j, 2, t00, t01, t02), _row(R, j, 2, t10, t11, t12)
+    out[j, r0, c0], out[j, r0, c0 + 1], out[j, r0, c0 + 2] = v00, v01, v02
+    out[j, r0 + 1, c0], out[j, r0 + 1, c0 + 1], out[j, r0 + 1, c0 + 2] = v10, v11, v12
+    out[j, r0 + 2, c0], out[j, r0 + 2, c0 + 1], out[j, r0 + 2, c0 + 2] = v20, v21, v22
     if not symmetric:
-        out[c0, r0], out[c0 + 1, r0], out[c0 + 2, r0] = v00, v01, v02
-        out[c0, r0 + 1], out[c0 + 1, r0 + 1], out[c0 + 2, r0 + 1] = v10, v11, v12
-        out[c0, r0 + 2], out[c0 + 1, r0 + 2], out[c0 + 2, r0 + 2] = v20, v21, v22
+        out[j, c0, r0], out[j, c0 + 1, r0], out[j, c0 + 2, r0] = v00, v01, v02
+        out[j, c0, r0 + 1], out[j, c0 + 1, r0 + 1], out[j, c0 + 2, r0 + 1] = v10, v11, v12
+        out[j, c0, r0 + 2], out[j, c0 + 1, r0 + 2], out[j, c0 + 2, r0 + 2] = v20, v21, v22
 
 
 @njit(cache=True)
-def turned_joint_matrix_z(sa, ax, ay, az, axx, ayy, azz, axy, axz, ayz, sb, bx, by, bxx, byy, bxy, R, out):
-    """:func:`joint_matrix_z` of these moments turned from the frame of the face below to the ground's:
-    ``out = T K T^T`` with T = diag(R, R), R that face's rotation (9, row-major), block by block
-    ``R K_b R^T`` (a joint on the ground takes :func:`joint_matrix_z` itself)."""
+def turned_joint_matrix_z(sa, ax, ay, az, axx, ayy, azz, axy, axz, ayz, sb, bx, by, bxx, byy, bxy, R, j, out):
+    """:func:`joint_matrix_z` of these moments turned from the frame of the face below to the ground's,
+    into ``out[j]``: ``T K T^T`` with T = diag(R, R), R that face's rotation (``R[j, :9]``,
+    row-major), block by block ``R K_b R^T`` (a joint on the ground takes :func:`joint_matrix_z` itself)."""
     (k00, k22, k04, k05, k13, k15, k23, k24, k33, k44, k55, k34, k35, k45) = _joint_matrix_z_entries(
         sa, ax, ay, az, axx, ayy, azz, axy, axz, ayz, sb, bx, by, bxx, byy, bxy)
-    _turn_block(R, k00, 0.0, 0.0, 0.0, k00, 0.0, 0.0, 0.0, k22, out, 0, 0, True)
-    _turn_block(R, 0.0, k04, k05, k13, 0.0, k15, k23, k24, 0.0, out, 0, 3, False)
-    _turn_block(R, k33, k34, k35, k34, k44, k45, k35, k45, k55, out, 3, 3, True)
+    _turn_block(R, j, k00, 0.0, 0.0, 0.0, k00, 0.0, 0.0, 0.0, k22, out, 0, 0, True)
+    _turn_block(R, j, 0.0, k04, k05, k13, 0.0, k15, k23, k24, 0.0, out, 0, 3, False)
+    _turn_block(R, j, k33, k34, k35, k34, k44, k45, k35, k45, k55, out, 3, 3, True)
 
 
 @njit(cache=True)
@@ -380,19 +375,25 @@ def add_moments(mom, alpha, beta, rx, ry, rz):
 
 
 @njit(cache=True)
-def body_inertia(bodies, b, R, out, r0):
+def _ground_inertia(bodies, b, work, i, k):
+    """Entry (i, k) of body b's inertia in the ground frame, ``R diag(I_x, I_y, I_z) R^T`` (R its
+    rotation, row-major in ``work[b]``)."""
+    return work[b, 3 * i] * bodies[b, B_IX] * work[b, 3 * k] + work[b, 3 * i + 1] * bodies[b, B_IY] * \
+        work[b, 3 * k + 1] + work[b, 3 * i + 2] * bodies[b, B_IZ] * work[b, 3 * k + 2]
+
+
+@njit(cache=True)
+def body_inertia(bodies, b, work, out, r0):
     """Body b's mass and inertia in the ground frame into ``out[r0:r0 + 6, r0:r0 + 6]``: m I, then
-    ``R diag(I_x, I_y, I_z) R^T`` (R its rotation, row-major)."""
+    :func:`_ground_inertia` (R its rotation, ``work[b]``)."""
     m = bodies[b, B_MASS]
-    inertia = (bodies[b, B_IX], bodies[b, B_IY], bodies[b, B_IZ])
     for i in range(3):
         for k in range(3):
             out[r0 + i, r0 + k] = 0.0
         out[r0 + i, r0 + i] = m
     for i in range(3):
         for k in range(i + 1):
-            s = R[3 * i] * inertia[0] * R[3 * k] + R[3 * i + 1] * inertia[1] * R[3 * k + 1] + \
-                R[3 * i + 2] * inertia[2] * R[3 * k + 2]
+            s = _ground_inertia(bodies, b, work, i, k)
             out[r0 + 3 + i, r0 + 3 + k] = s
             out[r0 + 3 + k, r0 + 3 + i] = s
     for i in range(3):
@@ -414,56 +415,66 @@ def assemble_system(y, bodies, joints, joint_matrices, h, work, pattern, diag, b
     ``scratch``: a 6 x 6 array.
     """
     order, position, joint_edge = pattern[0], pattern[1], pattern[9]
-    for k in range(diag.shape[0]):
-        body_inertia(bodies, order[k], work[order[k]], diag[k], 0)
+    # blocks indexed, not taken as views (a view costs two calls into numba's runtime)
+    for n in range(diag.shape[0]):
+        b = order[n]
+        m = bodies[b, B_MASS]
+        for i in range(6):
+            for k in range(6):
+                diag[n, i, k] = 0.0
+        for i in range(3):
+            diag[n, i, i] = m
+            for k in range(i + 1):
+                s = _ground_inertia(bodies, b, work, i, k)
+                diag[n, 3 + i, 3 + k] = s
+                diag[n, 3 + k, 3 + i] = s
     for e in range(blocks.shape[0]):
         for i in range(6):
             for k in range(6):
                 blocks[e, i, k] = 0.0
+    K = joint_matrices
     for j in range(joints.shape[0]):
-        K = joint_matrices[j]
         u = int(joints[j, J_UPPER])
         lower = int(joints[j, J_LOWER])
-        D = diag[position[u]]
+        pu = position[u]
         for i in range(6):
             for k in range(6):
-                D[i, k] += h * K[i, k]
+                diag[pu, i, k] += h * K[j, i, k]
         if lower == GROUND:
             continue
         o, lo = NB * u, NB * lower
         ex = y[o + sk.X] - y[lo + sk.X]
         ey = y[o + sk.Y] - y[lo + sk.Y]
         ez = y[o + sk.Z] - y[lo + sk.Z]
-        pu, pl = position[u], position[lower]
+        pl = position[lower]
         KE = scratch
         for i in range(6):  # h K E, rows the upper body's, columns the lower's
-            k0, k1, k2 = K[i, 0], K[i, 1], K[i, 2]
+            k0, k1, k2 = K[j, i, 0], K[j, i, 1], K[j, i, 2]
             KE[i, 0] = -h * k0
             KE[i, 1] = -h * k1
             KE[i, 2] = -h * k2
             # row of K[:, :3] [e]x, less K[:, 3:]
-            KE[i, 3] = h * (k1 * ez - k2 * ey - K[i, 3])
-            KE[i, 4] = h * (k2 * ex - k0 * ez - K[i, 4])
-            KE[i, 5] = h * (k0 * ey - k1 * ex - K[i, 5])
-        D = diag[pl]
+            KE[i, 3] = h * (k1 * ez - k2 * ey - K[j, i, 3])
+            KE[i, 4] = h * (k2 * ex - k0 * ez - K[j, i, 4])
+            KE[i, 5] = h * (k0 * ey - k1 * ex - K[j, i, 5])
         for k in range(6):
             a0, a1, a2 = KE[0, k], KE[1, k], KE[2, k]
-            D[0, k] -= a0
-            D[1, k] -= a1
-            D[2, k] -= a2
+            diag[pl, 0, k] -= a0
+            diag[pl, 1, k] -= a1
+            diag[pl, 2, k] -= a2
             # -[e]x (KE)[:3] - (KE)[3:]
-            D[3, k] -= (ey * a2 - ez * a1) + KE[3, k]
-            D[4, k] -= (ez * a0 - ex * a2) + KE[4, k]
-            D[5, k] -= (ex * a1 - ey * a0) + KE[5, k]
-        B = blocks[joint_edge[j]]  # stored with the later body's rows
+            diag[pl, 3, k] -= (ey * a2 - ez * a1) + KE[3, k]
+            diag[pl, 4, k] -= (ez * a0 - ex * a2) + KE[4, k]
+            diag[pl, 5, k] -= (ex * a1 - ey * a0) + KE[5, k]
+        e = joint_edge[j]  # stored with the later body's rows
         if pu > pl:
             for i in range(6):
                 for k in range(6):
-                    B[i, k] += KE[i, k]
+                    blocks[e, i, k] += KE[i, k]
         else:
             for i in range(6):
                 for k in range(6):
-                    B[i, k] += KE[k, i]
+                    blocks[e, i, k] += KE[k, i]
 
 
 def spring_matrices(params, y, per_joint=False):
@@ -483,7 +494,7 @@ def spring_matrices(params, y, per_joint=False):
     K_normal = np.zeros((6 * n, 6 * n))
     M = np.zeros((6 * n, 6 * n))
     for b in range(n):
-        body_inertia(bodies, b, work[b], M, 6 * b)
+        body_inertia(bodies, b, work, M, 6 * b)
     mat = np.zeros((6, 6))
     mom = np.zeros(20)
     shares = []

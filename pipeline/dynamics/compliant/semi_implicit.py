@@ -79,87 +79,85 @@ N_Q = 15
 SPENT = 1e-80
 
 
+# The helpers below index the kernel's 2D tables by row (``jwork[j, k]``) rather than taking row
+# views (``jwork[j]``): a view is an array with a reference count, taken and dropped by two calls
+# into numba's runtime each time, and on a row of 6 those calls were a sixth of the step.
+
 @njit(cache=True)
-def _joint_frame(y, j, params, frame):
+def _joint_frame(y, j, joints, work, jwork, frames):
     """Joint j's upper body seen from its face.
 
-    ``frame``: ``P = F^T R_u`` (9, row-major) and ``q`` (3), the upper centre in the face's
+    ``frames[j]``: ``P = F^T R_u`` (9, row-major) and ``q`` (3), the upper centre in the face's
     frame (origin at its centre), so a point p of the upper body (body axes) lies at
     ``xi = P p + q`` with lever arm ``r = P p`` from the upper centre (both in the face's
     frame); F is the face's axes in the ground frame (:func:`pipeline.dynamics.compliant.assembly.face_frame`).
     """
-    joints, work, jwork = params[3], params[6], params[8]
     u = int(joints[j, J_UPPER])
-    Ru = work[u]
-    Fr = jwork[j]
     o = NB * u
     for r in range(3):
         for c in range(3):
-            frame[3 * r + c] = Fr[r] * Ru[c] + Fr[3 + r] * Ru[3 + c] + Fr[6 + r] * Ru[6 + c]
-    dx = y[o + X] - Fr[JW_O]
-    dy = y[o + Y] - Fr[JW_O + 1]
-    dz = y[o + Z] - Fr[JW_O + 2]
-    frame[9] = Fr[0] * dx + Fr[3] * dy + Fr[6] * dz
-    frame[10] = Fr[1] * dx + Fr[4] * dy + Fr[7] * dz
-    frame[11] = Fr[2] * dx + Fr[5] * dy + Fr[8] * dz
+            frames[j, 3 * r + c] = (jwork[j, r] * work[u, c] + jwork[j, 3 + r] * work[u, 3 + c]
+                                    + jwork[j, 6 + r] * work[u, 6 + c])
+    dx = y[o + X] - jwork[j, JW_O]
+    dy = y[o + Y] - jwork[j, JW_O + 1]
+    dz = y[o + Z] - jwork[j, JW_O + 2]
+    frames[j, 9] = jwork[j, 0] * dx + jwork[j, 3] * dy + jwork[j, 6] * dz
+    frames[j, 10] = jwork[j, 1] * dx + jwork[j, 4] * dy + jwork[j, 7] * dz
+    frames[j, 11] = jwork[j, 2] * dx + jwork[j, 5] * dy + jwork[j, 8] * dz
 
 
 @njit(cache=True)
-def _relative_motion(Fr, vx, vy, vz, wx, wy, wz, lvx, lvy, lvz, lwx, lwy, lwz, out):
+def _relative_motion(jwork, j, vx, vy, vz, wx, wy, wz, lvx, lvy, lvz, lwx, lwy, lwz, motion):
     """(a', b') of :func:`_joint_motion_of_state` from the two bodies' velocities (ground frame)
-    and the centres' offset ``out[6:9]``, turned into the face's frame ``Fr``."""
-    ex, ey, ez = out[6], out[7], out[8]
+    and the centres' offset ``motion[j, 6:9]``, turned into the frame of joint j's face."""
+    ex, ey, ez = motion[j, 6], motion[j, 7], motion[j, 8]
     ax = vx - lvx - (lwy * ez - lwz * ey)
     ay = vy - lvy - (lwz * ex - lwx * ez)
     az = vz - lvz - (lwx * ey - lwy * ex)
     bx, by, bz = wx - lwx, wy - lwy, wz - lwz
-    out[0] = Fr[0] * ax + Fr[3] * ay + Fr[6] * az
-    out[1] = Fr[1] * ax + Fr[4] * ay + Fr[7] * az
-    out[2] = Fr[2] * ax + Fr[5] * ay + Fr[8] * az
-    out[3] = Fr[0] * bx + Fr[3] * by + Fr[6] * bz
-    out[4] = Fr[1] * bx + Fr[4] * by + Fr[7] * bz
-    out[5] = Fr[2] * bx + Fr[5] * by + Fr[8] * bz
+    motion[j, 0] = jwork[j, 0] * ax + jwork[j, 3] * ay + jwork[j, 6] * az
+    motion[j, 1] = jwork[j, 1] * ax + jwork[j, 4] * ay + jwork[j, 7] * az
+    motion[j, 2] = jwork[j, 2] * ax + jwork[j, 5] * ay + jwork[j, 8] * az
+    motion[j, 3] = jwork[j, 0] * bx + jwork[j, 3] * by + jwork[j, 6] * bz
+    motion[j, 4] = jwork[j, 1] * bx + jwork[j, 4] * by + jwork[j, 7] * bz
+    motion[j, 5] = jwork[j, 2] * bx + jwork[j, 5] * by + jwork[j, 8] * bz
 
 
 @njit(cache=True)
-def _joint_motion_of_state(y, j, params, out):
-    """Relative motion (a', b') of joint j in its face's frame, ``g' = a' + b' x r``.
+def _joint_motion_of_state(y, j, joints, work, jwork, motion):
+    """Relative motion (a', b') of joint j in its face's frame, ``g' = a' + b' x r``, into ``motion[j]``.
 
     ``a'`` is the velocity of the upper centre relative to the lower body's material point
     there, ``b'`` the relative angular velocity, both in the face's frame, at the velocities of
-    the state y (and the angular velocities of the scratch). ``out[6:9]`` keeps the centres'
-    offset for :func:`_joint_motion_of_bodies`.
+    the state y (and the angular velocities of the scratch). ``motion[j, 6:9]`` keeps the
+    centres' offset for :func:`_joint_motion_of_bodies`.
     """
-    joints, work, jwork = params[3], params[6], params[8]
     u, lower = int(joints[j, J_UPPER]), int(joints[j, J_LOWER])
-    Ru = work[u]
     o = NB * u
     vx, vy, vz = y[o + VX], y[o + VY], y[o + VZ]
-    wx, wy, wz = Ru[W_OM], Ru[W_OM + 1], Ru[W_OM + 2]
+    wx, wy, wz = work[u, W_OM], work[u, W_OM + 1], work[u, W_OM + 2]
     if lower == GROUND:
-        out[6], out[7], out[8] = 0.0, 0.0, 0.0
-        _relative_motion(jwork[j], vx, vy, vz, wx, wy, wz, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, out)
+        motion[j, 6], motion[j, 7], motion[j, 8] = 0.0, 0.0, 0.0
+        _relative_motion(jwork, j, vx, vy, vz, wx, wy, wz, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, motion)
         return
-    Rl = work[lower]
     lo = NB * lower
-    out[6] = y[o + X] - y[lo + X]
-    out[7] = y[o + Y] - y[lo + Y]
-    out[8] = y[o + Z] - y[lo + Z]
-    _relative_motion(jwork[j], vx, vy, vz, wx, wy, wz, y[lo + VX], y[lo + VY], y[lo + VZ],
-                     Rl[W_OM], Rl[W_OM + 1], Rl[W_OM + 2], out)
+    motion[j, 6] = y[o + X] - y[lo + X]
+    motion[j, 7] = y[o + Y] - y[lo + Y]
+    motion[j, 8] = y[o + Z] - y[lo + Z]
+    _relative_motion(jwork, j, vx, vy, vz, wx, wy, wz, y[lo + VX], y[lo + VY], y[lo + VZ],
+                     work[lower, W_OM], work[lower, W_OM + 1], work[lower, W_OM + 2], motion)
 
 
 @njit(cache=True)
-def _joint_motion_of_bodies(vel, j, params, out):
+def _joint_motion_of_bodies(vel, j, joints, jwork, motion):
     """(a', b') of joint j at the solved body velocities (rows of ``vel``, ground frame)."""
-    joints, jwork = params[3], params[8]
     u, lower = int(joints[j, J_UPPER]), int(joints[j, J_LOWER])
-    v = vel[u]
     if lower == GROUND:
-        _relative_motion(jwork[j], v[0], v[1], v[2], v[3], v[4], v[5], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, out)
+        _relative_motion(jwork, j, vel[u, 0], vel[u, 1], vel[u, 2], vel[u, 3], vel[u, 4], vel[u, 5],
+                         0.0, 0.0, 0.0, 0.0, 0.0, 0.0, motion)
         return
-    l = vel[lower]
-    _relative_motion(jwork[j], v[0], v[1], v[2], v[3], v[4], v[5], l[0], l[1], l[2], l[3], l[4], l[5], out)
+    _relative_motion(jwork, j, vel[u, 0], vel[u, 1], vel[u, 2], vel[u, 3], vel[u, 4], vel[u, 5],
+                     vel[lower, 0], vel[lower, 1], vel[lower, 2], vel[lower, 3], vel[lower, 4], vel[lower, 5], motion)
 
 
 @njit(cache=True)
@@ -185,7 +183,7 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, con
     points 15.5 us in lanes against 6.8 us scalar (slices and overlap checks cost more than the
     lanes save on so few points).
     """
-    bodies, joint_start, joints = params[0], params[2], params[3]
+    bodies, joint_start, joints, work, jwork = params[0], params[2], params[3], params[6], params[8]
     n_bodies = bodies.shape[0]
     _clear_loads(params)
     sh = NB * n_bodies
@@ -205,16 +203,17 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, con
         edge2 = edge_a * edge_a
         decay = math.exp(-h / tau)
         shear_dashpot = ks / kn * cn  # [per area] the normal dashpot's ratio to the stiffness
-        F = frames[j]
-        _joint_frame(y, j, params, F)
-        mo = motion[j]
-        _joint_motion_of_state(y, j, params, mo)
+        _joint_frame(y, j, joints, work, jwork, frames)
+        _joint_motion_of_state(y, j, joints, work, jwork, motion)
         start, stop = joint_start[j], joint_start[j + 1]
         # the frame and motion in locals: the stores into pts below would make the compiler read
         # them again from memory at every point
-        p00, p01, p02, p10, p11, p12, p20, p21, p22 = F[0], F[1], F[2], F[3], F[4], F[5], F[6], F[7], F[8]
-        qx, qy, qz = F[9], F[10], F[11]
-        vx_rel, vy_rel, vz_rel, wx_rel, wy_rel, wz_rel = mo[0], mo[1], mo[2], mo[3], mo[4], mo[5]
+        p00, p01, p02 = frames[j, 0], frames[j, 1], frames[j, 2]
+        p10, p11, p12 = frames[j, 3], frames[j, 4], frames[j, 5]
+        p20, p21, p22 = frames[j, 6], frames[j, 7], frames[j, 8]
+        qx, qy, qz = frames[j, 9], frames[j, 10], frames[j, 11]
+        vx_rel, vy_rel, vz_rel = motion[j, 0], motion[j, 1], motion[j, 2]
+        wx_rel, wy_rel, wz_rel = motion[j, 3], motion[j, 4], motion[j, 5]
         slip = 0.0
         sums = ZERO_SUMS
         n_in = 0
@@ -231,7 +230,7 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, con
                 RX[p], RY[p], RZ[p] = rx, ry, rz
                 xi_x, xi_y = rx + qx, ry + qy
                 if (xi_x * xi_x + xi_y * xi_y > edge2) if disc else (abs(xi_x) > edge_a or abs(xi_y) > edge_b):
-                    s, sx, sy = sk.face_overlap(xi_x, xi_y, joints[j])
+                    s, sx, sy = sk.face_overlap(xi_x, xi_y, joints, j)
             if d <= 0.0 or s <= 0.0:
                 ux, uy = y[iu], y[iu + 1]
                 uu = ux * ux + uy * uy
@@ -292,7 +291,7 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, con
             sums = _add_point(sums, rx, ry, rz, f_el if active else 0.0, fx, fy, c_t,
                               (c_n if active else 0.0) - c_t)
         n_contact[j] = n_in
-        _close_joint(y, j, params, sums, mats)
+        _close_joint(y, j, joints, work, jwork, sums, mats)
         fric_slip[j] = slip / joints[j, J_AREA]
     return friction
 
@@ -355,41 +354,39 @@ def _joint_sums(pts, contacts, start, stop):
 
 
 @njit(cache=True)
-def _close_joint(y, j, params, sums, mats):
+def _close_joint(y, j, joints, work, jwork, sums, mats):
     """Joint j's dashpot matrix (``mats[j]``, ground frame) and its force on both bodies (scratch
     W_F, W_T) from its running ``sums`` (:func:`_joint_sums`, frame of its face)."""
-    joints, work, jwork = params[3], params[6], params[8]
     (a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, b0, b1, b2, b3, b4, b5,
      sfx, sfy, sfz, stx, sty, stz) = sums
-    Fr = jwork[j]
-    ls.turned_joint_matrix_z(a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, b0, b1, b2, b3, b4, b5, Fr, mats[j])
-    Fx = Fr[0] * sfx + Fr[1] * sfy + Fr[2] * sfz
-    Fy = Fr[3] * sfx + Fr[4] * sfy + Fr[5] * sfz
-    Fz = Fr[6] * sfx + Fr[7] * sfy + Fr[8] * sfz
-    Tx = Fr[0] * stx + Fr[1] * sty + Fr[2] * stz
-    Ty = Fr[3] * stx + Fr[4] * sty + Fr[5] * stz
-    Tz = Fr[6] * stx + Fr[7] * sty + Fr[8] * stz
+    ls.turned_joint_matrix_z(a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, b0, b1, b2, b3, b4, b5, jwork, j, mats)
+    f0, f1, f2, f3, f4, f5 = jwork[j, 0], jwork[j, 1], jwork[j, 2], jwork[j, 3], jwork[j, 4], jwork[j, 5]
+    f6, f7, f8 = jwork[j, 6], jwork[j, 7], jwork[j, 8]
+    Fx = f0 * sfx + f1 * sfy + f2 * sfz
+    Fy = f3 * sfx + f4 * sfy + f5 * sfz
+    Fz = f6 * sfx + f7 * sfy + f8 * sfz
+    Tx = f0 * stx + f1 * sty + f2 * stz
+    Ty = f3 * stx + f4 * sty + f5 * stz
+    Tz = f6 * stx + f7 * sty + f8 * stz
     u, lower = int(joints[j, J_UPPER]), int(joints[j, J_LOWER])
     if lower != GROUND:
-        Rl = work[lower]
         up, lo = NB * u, NB * lower
         ex = y[up + X] - y[lo + X]
         ey = y[up + Y] - y[lo + Y]
         ez = y[up + Z] - y[lo + Z]
         # the reaction on the lower body, its moment about the lower centre
-        Rl[W_F] -= Fx
-        Rl[W_F + 1] -= Fy
-        Rl[W_F + 2] -= Fz
-        Rl[W_T] -= Tx + (ey * Fz - ez * Fy)
-        Rl[W_T + 1] -= Ty + (ez * Fx - ex * Fz)
-        Rl[W_T + 2] -= Tz + (ex * Fy - ey * Fx)
-    Ru = work[u]
-    Ru[W_F] += Fx
-    Ru[W_F + 1] += Fy
-    Ru[W_F + 2] += Fz
-    Ru[W_T] += Tx
-    Ru[W_T + 1] += Ty
-    Ru[W_T + 2] += Tz
+        work[lower, W_F] -= Fx
+        work[lower, W_F + 1] -= Fy
+        work[lower, W_F + 2] -= Fz
+        work[lower, W_T] -= Tx + (ey * Fz - ez * Fy)
+        work[lower, W_T + 1] -= Ty + (ez * Fx - ex * Fz)
+        work[lower, W_T + 2] -= Tz + (ex * Fy - ey * Fx)
+    work[u, W_F] += Fx
+    work[u, W_F + 1] += Fy
+    work[u, W_F + 2] += Fz
+    work[u, W_T] += Tx
+    work[u, W_T + 1] += Ty
+    work[u, W_T + 2] += Tz
 
 
 @njit(cache=True)
@@ -409,11 +406,11 @@ def _joint_loads(y, params, pts, mats, contacts, n_contact):
     Summed per joint in the frame of its face, point pairs next to each other, so that at rest
     the moments of a symmetric joint cancel exactly.
     """
-    joint_start, joints = params[2], params[3]
+    joint_start, joints, work, jwork = params[2], params[3], params[6], params[8]
     _clear_loads(params)
     for j in range(joints.shape[0]):
         start = joint_start[j]
-        _close_joint(y, j, params, _joint_sums(pts, contacts, start, start + n_contact[j]), mats)
+        _close_joint(y, j, joints, work, jwork, _joint_sums(pts, contacts, start, start + n_contact[j]), mats)
 
 
 @njit(cache=True)
@@ -434,25 +431,24 @@ def _momentum(y, bodies, work, h, ax, ay, az, rhs):
     """``M V_n + h (F - gyroscopic)`` per body, ground frame (after :func:`_joint_loads`)."""
     for b in range(bodies.shape[0]):
         o = NB * b
-        R = work[b]
         m = bodies[b, B_MASS]
         # the joints' sum first, then the holding load: at rest this is exactly zero (as in assembly.rhs)
-        fx = (R[W_F] - bodies[b, B_HOLD]) - m * ax
-        fy = (R[W_F + 1] - bodies[b, B_HOLD + 1]) - m * ay
-        fz = (R[W_F + 2] - bodies[b, B_HOLD + 2]) - m * az
+        fx = (work[b, W_F] - bodies[b, B_HOLD]) - m * ax
+        fy = (work[b, W_F + 1] - bodies[b, B_HOLD + 1]) - m * ay
+        fz = (work[b, W_F + 2] - bodies[b, B_HOLD + 2]) - m * az
         rhs[b, 0] = m * y[o + VX] + h * fx
         rhs[b, 1] = m * y[o + VY] + h * fy
         rhs[b, 2] = m * y[o + VZ] + h * fz
         # I_g w = R diag(I) R^T w, from the body-frame angular velocity; gyroscopic w x I_g w
-        wx, wy, wz = R[W_OM], R[W_OM + 1], R[W_OM + 2]
+        wx, wy, wz = work[b, W_OM], work[b, W_OM + 1], work[b, W_OM + 2]
         bx, by, bz = y[o + WX], y[o + WY], y[o + WZ]
         cx, cy, cz = bodies[b, B_IX] * bx, bodies[b, B_IY] * by, bodies[b, B_IZ] * bz
-        lx = R[0] * cx + R[1] * cy + R[2] * cz
-        ly = R[3] * cx + R[4] * cy + R[5] * cz
-        lz = R[6] * cx + R[7] * cy + R[8] * cz
-        rhs[b, 3] = lx + h * ((R[W_T] - bodies[b, B_HOLD + 3]) - (wy * lz - wz * ly))
-        rhs[b, 4] = ly + h * ((R[W_T + 1] - bodies[b, B_HOLD + 4]) - (wz * lx - wx * lz))
-        rhs[b, 5] = lz + h * ((R[W_T + 2] - bodies[b, B_HOLD + 5]) - (wx * ly - wy * lx))
+        lx = work[b, 0] * cx + work[b, 1] * cy + work[b, 2] * cz
+        ly = work[b, 3] * cx + work[b, 4] * cy + work[b, 5] * cz
+        lz = work[b, 6] * cx + work[b, 7] * cy + work[b, 8] * cz
+        rhs[b, 3] = lx + h * ((work[b, W_T] - bodies[b, B_HOLD + 3]) - (wy * lz - wz * ly))
+        rhs[b, 4] = ly + h * ((work[b, W_T + 1] - bodies[b, B_HOLD + 4]) - (wz * lx - wx * lz))
+        rhs[b, 5] = lz + h * ((work[b, W_T + 2] - bodies[b, B_HOLD + 5]) - (wx * ly - wy * lx))
 
 
 @njit(cache=True)
@@ -462,15 +458,15 @@ def _update_active_set(params, pts, vel, motion, contacts, n_contact):
     are not. Returns the number of points that changed. Points out of contact are not on the
     lists (they stay clipped: their elastic force and dashpot are zero).
     """
-    joint_start, joints = params[2], params[3]
+    joint_start, joints, jwork = params[2], params[3], params[8]
     RX, RY, RZ = pts[Q_RX], pts[Q_RY], pts[Q_RZ]
     VTX, VTY, DDOT = pts[Q_VTX], pts[Q_VTY], pts[Q_DDOT]
     FEL, CN, ACTIVE = pts[Q_FEL], pts[Q_CN], pts[Q_ACTIVE]
     changed = 0
     for j in range(joints.shape[0]):
-        mo = motion[j]
-        _joint_motion_of_bodies(vel, j, params, mo)
-        vx_rel, vy_rel, vz_rel, wx_rel, wy_rel, wz_rel = mo[0], mo[1], mo[2], mo[3], mo[4], mo[5]  # (as above)
+        _joint_motion_of_bodies(vel, j, joints, jwork, motion)
+        vx_rel, vy_rel, vz_rel = motion[j, 0], motion[j, 1], motion[j, 2]  # (as above)
+        wx_rel, wy_rel, wz_rel = motion[j, 3], motion[j, 4], motion[j, 5]
         start = joint_start[j]
         for k in range(start, start + n_contact[j]):
             p = contacts[k]
@@ -498,7 +494,6 @@ def _implicit_excess(bodies, work, vel, impulse):
     """
     excess = 0.0
     for b in range(bodies.shape[0]):
-        R = work[b]
         m = bodies[b, B_MASS]
         px = impulse[b, 0] - m * vel[b, 0]
         py = impulse[b, 1] - m * vel[b, 1]
@@ -506,13 +501,13 @@ def _implicit_excess(bodies, work, vel, impulse):
         excess += 0.5 * (px * px + py * py + pz * pz) / m
         # the angular impulse in body axes, R^T (impulse - I_g w), with I_g w = R diag(I) R^T w
         wx, wy, wz = vel[b, 3], vel[b, 4], vel[b, 5]
-        bx = R[0] * wx + R[3] * wy + R[6] * wz
-        by = R[1] * wx + R[4] * wy + R[7] * wz
-        bz = R[2] * wx + R[5] * wy + R[8] * wz
+        bx = work[b, 0] * wx + work[b, 3] * wy + work[b, 6] * wz
+        by = work[b, 1] * wx + work[b, 4] * wy + work[b, 7] * wz
+        bz = work[b, 2] * wx + work[b, 5] * wy + work[b, 8] * wz
         ix, iy, iz = bodies[b, B_IX], bodies[b, B_IY], bodies[b, B_IZ]
-        qx = (R[0] * impulse[b, 3] + R[3] * impulse[b, 4] + R[6] * impulse[b, 5]) - ix * bx
-        qy = (R[1] * impulse[b, 3] + R[4] * impulse[b, 4] + R[7] * impulse[b, 5]) - iy * by
-        qz = (R[2] * impulse[b, 3] + R[5] * impulse[b, 4] + R[8] * impulse[b, 5]) - iz * bz
+        qx = (work[b, 0] * impulse[b, 3] + work[b, 3] * impulse[b, 4] + work[b, 6] * impulse[b, 5]) - ix * bx
+        qy = (work[b, 1] * impulse[b, 3] + work[b, 4] * impulse[b, 4] + work[b, 7] * impulse[b, 5]) - iy * by
+        qz = (work[b, 2] * impulse[b, 3] + work[b, 5] * impulse[b, 4] + work[b, 8] * impulse[b, 5]) - iz * bz
         excess += 0.5 * (qx * qx / ix + qy * qy / iy + qz * qz / iz)
     return excess
 
@@ -561,7 +556,6 @@ def step(t, y, h, params, s):
     PULLX, PULLY, S, ACTIVE = pts[Q_PX], pts[Q_PY], pts[Q_S], pts[Q_ACTIVE]
     for j in range(joints.shape[0]):
         mu = joints[j, J_MU]
-        F = frames[j]
         normal = normal_el = tx = ty = bx = by = cx = cy = area = 0.0
         start = joint_start[j]
         for k in range(start, start + n_contact[j]):
@@ -593,8 +587,8 @@ def step(t, y, h, params, s):
             if f_n > 0.0:
                 bx += f_n * U[p]
                 by += f_n * V[p]
-                cx += f_n * (RX[p] + F[9])
-                cy += f_n * (RY[p] + F[10])
+                cx += f_n * (RX[p] + frames[j, 9])
+                cy += f_n * (RY[p] + frames[j, 10])
                 area += AREA[p] * S[p]
         if normal > 0.0:
             bx, by, cx, cy = bx / normal, by / normal, cx / normal, cy / normal
@@ -612,7 +606,6 @@ def step(t, y, h, params, s):
     power = 0.0
     for b in range(n_bodies):
         o = NB * b
-        R = work[b]
         m = bodies[b, B_MASS]
         vx, vy, vz = vel[b, 0], vel[b, 1], vel[b, 2]
         power -= m * (ax * vx + ay * vy + az * vz)
@@ -621,9 +614,9 @@ def step(t, y, h, params, s):
         y[o + Y] += h * vy
         y[o + Z] += h * vz
         # body-frame angular velocity, and the exact rotation by it over h
-        wx = R[0] * vel[b, 3] + R[3] * vel[b, 4] + R[6] * vel[b, 5]
-        wy = R[1] * vel[b, 3] + R[4] * vel[b, 4] + R[7] * vel[b, 5]
-        wz = R[2] * vel[b, 3] + R[5] * vel[b, 4] + R[8] * vel[b, 5]
+        wx = work[b, 0] * vel[b, 3] + work[b, 3] * vel[b, 4] + work[b, 6] * vel[b, 5]
+        wy = work[b, 1] * vel[b, 3] + work[b, 4] * vel[b, 4] + work[b, 7] * vel[b, 5]
+        wz = work[b, 2] * vel[b, 3] + work[b, 5] * vel[b, 4] + work[b, 8] * vel[b, 5]
         y[o + WX], y[o + WY], y[o + WZ] = wx, wy, wz
         w = math.sqrt(wx * wx + wy * wy + wz * wz)
         if w > 0.0:

@@ -78,9 +78,9 @@ def test_joint_matrix_in_the_face_frame_and_turned_is_the_sum_over_points():
     out = np.full((6, 6), np.nan)
     ls.joint_matrix_z(*kept, out)
     np.testing.assert_allclose(out, local, rtol=0, atol=1e-13 * np.abs(local).max())
-    out = np.full((6, 6), np.nan)
-    ls.turned_joint_matrix_z(*kept, R.ravel(), out)
-    np.testing.assert_allclose(out, turned, rtol=0, atol=1e-13 * np.abs(turned).max())
+    out = np.full((1, 6, 6), np.nan)
+    ls.turned_joint_matrix_z(*kept, R.reshape(1, 9), 0, out)
+    np.testing.assert_allclose(out[0], turned, rtol=0, atol=1e-13 * np.abs(turned).max())
 
 
 def _random_blocks(pattern, n, rng):
