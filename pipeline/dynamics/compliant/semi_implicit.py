@@ -401,7 +401,7 @@ def _clear_loads(params):
 @njit(cache=True)
 def _joint_loads(y, params, pts, mats, contacts, n_contact):
     """Explicit joint forces on the bodies (scratch W_F, W_T) and each joint's dashpot matrix,
-    from the points' scratch as it stands (:func:`_point_forces` does the same after its passes).
+    from the points' scratch as it stands (:func:`_point_forces` does the same in its point pass).
 
     Summed per joint in the frame of its face, point pairs next to each other, so that at rest
     the moments of a symmetric joint cancel exactly.
