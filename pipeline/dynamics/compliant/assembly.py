@@ -102,27 +102,34 @@ def _kinematics(y, params):
 
 
 @njit(cache=True)
-def face_overlap(xi_x, xi_y, joints, j):
+def face_overlap(xi_x, xi_y, shape, half_a, half_b, band):
     """Fraction of a point's patch over its joint's face, and its gradient in the face's plane.
 
     A disc runs off radially, a rectangle along each side (the product of the two overlaps);
     :func:`pipeline.dynamics.compliant.joint.overlap` is the run-off of one edge.
 
+    Parameters
+    ----------
+    xi_x, xi_y : float
+        The point's position on the face [L].
+    shape, half_a, half_b, band : float
+        The face's ``J_SHAPE``, ``J_FA``, ``J_FB`` and ``J_BAND`` (its joint's row). Numbers, not
+        the table: an array passed to a call that is not inlined costs its caller two calls into
+        numba's runtime for the array's reference count, at every contact point.
+
     Returns
     -------
     tuple of float
-        ``(s, ds/dxi_x, ds/dxi_y)``, for joint j of the table ``joints`` (indexed: a row view would
-        cost two calls into numba's runtime for its reference count).
+        ``(s, ds/dxi_x, ds/dxi_y)``.
     """
-    band = joints[j, J_BAND]
-    if joints[j, J_SHAPE] == 0.0:
+    if shape == 0.0:
         rho = math.sqrt(xi_x * xi_x + xi_y * xi_y)
-        s, ds = jl.overlap(rho, joints[j, J_FA], band)
+        s, ds = jl.overlap(rho, half_a, band)
         if ds == 0.0:
             return s, 0.0, 0.0
         return s, ds * xi_x / rho, ds * xi_y / rho
-    sx, dsx = jl.overlap(abs(xi_x), joints[j, J_FA], band)
-    sy, dsy = jl.overlap(abs(xi_y), joints[j, J_FB], band)
+    sx, dsx = jl.overlap(abs(xi_x), half_a, band)
+    sy, dsy = jl.overlap(abs(xi_y), half_b, band)
     return sx * sy, dsx * math.copysign(1.0, xi_x) * sy, sx * dsy * math.copysign(1.0, xi_y)
 
 
@@ -135,19 +142,17 @@ def _penetration(y, p, j, params):
     """
     points, joints, work, jwork = params[1], params[3], params[6], params[8]
     u = int(joints[j, J_UPPER])
-    Ru = work[u]
     o = NB * u
-    F = jwork[j]
     px, py, pz = points[p, P_X], points[p, P_Y], points[p, P_Z]
-    dx = y[o + X] + (Ru[0] * px + Ru[1] * py + Ru[2] * pz) - F[JW_O]
-    dy = y[o + Y] + (Ru[3] * px + Ru[4] * py + Ru[5] * pz) - F[JW_O + 1]
-    dz = y[o + Z] + (Ru[6] * px + Ru[7] * py + Ru[8] * pz) - F[JW_O + 2]
-    xi_z = F[2] * dx + F[5] * dy + F[8] * dz
+    dx = y[o + X] + (work[u, 0] * px + work[u, 1] * py + work[u, 2] * pz) - jwork[j, JW_O]
+    dy = y[o + Y] + (work[u, 3] * px + work[u, 4] * py + work[u, 5] * pz) - jwork[j, JW_O + 1]
+    dz = y[o + Z] + (work[u, 6] * px + work[u, 7] * py + work[u, 8] * pz) - jwork[j, JW_O + 2]
+    xi_z = jwork[j, 2] * dx + jwork[j, 5] * dy + jwork[j, 8] * dz
     if -xi_z <= 0.0:
         return -xi_z, 1.0
-    xi_x = F[0] * dx + F[3] * dy + F[6] * dz
-    xi_y = F[1] * dx + F[4] * dy + F[7] * dz
-    return -xi_z, face_overlap(xi_x, xi_y, joints, j)[0]
+    xi_x = jwork[j, 0] * dx + jwork[j, 3] * dy + jwork[j, 6] * dz
+    xi_y = jwork[j, 1] * dx + jwork[j, 4] * dy + jwork[j, 7] * dz
+    return -xi_z, face_overlap(xi_x, xi_y, joints[j, J_SHAPE], joints[j, J_FA], joints[j, J_FB], joints[j, J_BAND])[0]
 
 
 @njit(cache=True)
@@ -161,39 +166,39 @@ def _point_geometry(y, p, j, params):
     points, joints, work, jwork = params[1], params[3], params[6], params[8]
     u = int(joints[j, J_UPPER])
     lower = int(joints[j, J_LOWER])
-    Ru = work[u]
     o = NB * u
     px, py, pz = points[p, P_X], points[p, P_Y], points[p, P_Z]
-    rux = Ru[0] * px + Ru[1] * py + Ru[2] * pz
-    ruy = Ru[3] * px + Ru[4] * py + Ru[5] * pz
-    ruz = Ru[6] * px + Ru[7] * py + Ru[8] * pz
+    rux = work[u, 0] * px + work[u, 1] * py + work[u, 2] * pz
+    ruy = work[u, 3] * px + work[u, 4] * py + work[u, 5] * pz
+    ruz = work[u, 6] * px + work[u, 7] * py + work[u, 8] * pz
     xp = y[o + X] + rux
     yp = y[o + Y] + ruy
     zp = y[o + Z] + ruz
-    wx, wy, wz = Ru[W_OM], Ru[W_OM + 1], Ru[W_OM + 2]
-    gx = y[o + VX] + wy * ruz - wz * ruy
-    gy = y[o + VY] + wz * rux - wx * ruz
-    gz = y[o + VZ] + wx * ruy - wy * rux
     rlx, rly, rlz = xp, yp, zp
-    if lower != GROUND:  # less the velocity of the lower body's material point there
+    lgx, lgy, lgz = 0.0, 0.0, 0.0  # the velocity of the lower body's material point there (the ground's: 0)
+    if lower != GROUND:
         lo = NB * lower
-        Rl = work[lower]
         rlx = xp - y[lo + X]
         rly = yp - y[lo + Y]
         rlz = zp - y[lo + Z]
-        lwx, lwy, lwz = Rl[W_OM], Rl[W_OM + 1], Rl[W_OM + 2]
-        gx -= y[lo + VX] + lwy * rlz - lwz * rly
-        gy -= y[lo + VY] + lwz * rlx - lwx * rlz
-        gz -= y[lo + VZ] + lwx * rly - lwy * rlx
-    F = jwork[j]
-    dx, dy, dz = xp - F[JW_O], yp - F[JW_O + 1], zp - F[JW_O + 2]
-    xi_x = F[0] * dx + F[3] * dy + F[6] * dz
-    xi_y = F[1] * dx + F[4] * dy + F[7] * dz
-    xi_z = F[2] * dx + F[5] * dy + F[8] * dz
-    vlx = F[0] * gx + F[3] * gy + F[6] * gz
-    vly = F[1] * gx + F[4] * gy + F[7] * gz
-    vlz = F[2] * gx + F[5] * gy + F[8] * gz
-    s, sx, sy = face_overlap(xi_x, xi_y, joints, j)
+        lwx, lwy, lwz = work[lower, W_OM], work[lower, W_OM + 1], work[lower, W_OM + 2]
+        lgx = y[lo + VX] + lwy * rlz - lwz * rly
+        lgy = y[lo + VY] + lwz * rlx - lwx * rlz
+        lgz = y[lo + VZ] + lwx * rly - lwy * rlx
+    # y and work read after the branch: a table whose last use is inside it keeps numba's reference
+    # counting (8 calls into its runtime a point, most of this function's cost); x - 0.0 is x to the bit
+    wx, wy, wz = work[u, W_OM], work[u, W_OM + 1], work[u, W_OM + 2]
+    gx = (y[o + VX] + wy * ruz - wz * ruy) - lgx
+    gy = (y[o + VY] + wz * rux - wx * ruz) - lgy
+    gz = (y[o + VZ] + wx * ruy - wy * rux) - lgz
+    dx, dy, dz = xp - jwork[j, JW_O], yp - jwork[j, JW_O + 1], zp - jwork[j, JW_O + 2]
+    xi_x = jwork[j, 0] * dx + jwork[j, 3] * dy + jwork[j, 6] * dz
+    xi_y = jwork[j, 1] * dx + jwork[j, 4] * dy + jwork[j, 7] * dz
+    xi_z = jwork[j, 2] * dx + jwork[j, 5] * dy + jwork[j, 8] * dz
+    vlx = jwork[j, 0] * gx + jwork[j, 3] * gy + jwork[j, 6] * gz
+    vly = jwork[j, 1] * gx + jwork[j, 4] * gy + jwork[j, 7] * gz
+    vlz = jwork[j, 2] * gx + jwork[j, 5] * gy + jwork[j, 8] * gz
+    s, sx, sy = face_overlap(xi_x, xi_y, joints[j, J_SHAPE], joints[j, J_FA], joints[j, J_FB], joints[j, J_BAND])
     return rux, ruy, ruz, rlx, rly, rlz, xi_x, xi_y, -xi_z, vlx, vly, -vlz, s, sx, sy
 
 
@@ -223,8 +228,7 @@ def _contacts(y, params, dydt, rates, monitor):
         if monitor:
             for k in range(N_MON):
                 mon[j, k] = 0.0
-        Ru = work[int(joints[j, J_UPPER])]
-        Fr = jwork[j]
+        u = int(joints[j, J_UPPER])
         for p in range(joint_start[j], joint_start[j + 1]):
             d, s = _penetration(y, p, j, params)
             if d <= 0.0 or s <= 0.0:
@@ -277,23 +281,22 @@ def _contacts(y, params, dydt, rates, monitor):
                     mon[j, M_AREA] += area * s
                 mon[j, M_ELASTIC] += 0.5 * f_el * (d if d > 0.0 else 0.0) + e_shear
             # ground-frame force on the upper body at the point, reaction on the lower one
-            Fx = Fr[0] * fx + Fr[1] * fy + Fr[2] * f_n
-            Fy = Fr[3] * fx + Fr[4] * fy + Fr[5] * f_n
-            Fz = Fr[6] * fx + Fr[7] * fy + Fr[8] * f_n
+            Fx = jwork[j, 0] * fx + jwork[j, 1] * fy + jwork[j, 2] * f_n
+            Fy = jwork[j, 3] * fx + jwork[j, 4] * fy + jwork[j, 5] * f_n
+            Fz = jwork[j, 6] * fx + jwork[j, 7] * fy + jwork[j, 8] * f_n
             if lower != GROUND:
-                Rl = work[lower]
-                Rl[W_F] -= Fx
-                Rl[W_F + 1] -= Fy
-                Rl[W_F + 2] -= Fz
-                Rl[W_T] -= rly * Fz - rlz * Fy
-                Rl[W_T + 1] -= rlz * Fx - rlx * Fz
-                Rl[W_T + 2] -= rlx * Fy - rly * Fx
-            Ru[W_F] += Fx
-            Ru[W_F + 1] += Fy
-            Ru[W_F + 2] += Fz
-            Ru[W_T] += ruy * Fz - ruz * Fy
-            Ru[W_T + 1] += ruz * Fx - rux * Fz
-            Ru[W_T + 2] += rux * Fy - ruy * Fx
+                work[lower, W_F] -= Fx
+                work[lower, W_F + 1] -= Fy
+                work[lower, W_F + 2] -= Fz
+                work[lower, W_T] -= rly * Fz - rlz * Fy
+                work[lower, W_T + 1] -= rlz * Fx - rlx * Fz
+                work[lower, W_T + 2] -= rlx * Fy - rly * Fx
+            work[u, W_F] += Fx
+            work[u, W_F + 1] += Fy
+            work[u, W_F + 2] += Fz
+            work[u, W_T] += ruy * Fz - ruz * Fy
+            work[u, W_T + 1] += ruz * Fx - rux * Fz
+            work[u, W_T + 2] += rux * Fy - ruy * Fx
         if rates:
             dydt[slip + j] = slip_rate / joints[j, J_AREA]
         if monitor and mon[j, M_NORMAL] > 0.0:
@@ -305,15 +308,15 @@ def _contacts(y, params, dydt, rates, monitor):
 
 
 @njit(cache=True)
-def body_rates(y, b, bodies, R, ax, ay, az, dydt):
-    """Body b's rates from the joints' force and torque on it (``R``: its scratch row); returns the
-    power of the field ``-m a_g`` on it. The joints' sum first, then the holding load: at rest
-    this is exactly zero."""
+def body_rates(y, b, bodies, work, ax, ay, az, dydt):
+    """Body b's rates from the joints' force and torque on it (its scratch row ``work[b]``); returns
+    the power of the field ``-m a_g`` on it. The joints' sum first, then the holding load: at rest
+    this is exactly zero. The tables are indexed, not taken as row views (:func:`face_frame`)."""
     o = NB * b
     m = bodies[b, B_MASS]
-    fx = (R[W_F] - bodies[b, B_HOLD]) - m * ax
-    fy = (R[W_F + 1] - bodies[b, B_HOLD + 1]) - m * ay
-    fz = (R[W_F + 2] - bodies[b, B_HOLD + 2]) - m * az
+    fx = (work[b, W_F] - bodies[b, B_HOLD]) - m * ax
+    fy = (work[b, W_F + 1] - bodies[b, B_HOLD + 1]) - m * ay
+    fz = (work[b, W_F + 2] - bodies[b, B_HOLD + 2]) - m * az
     vx, vy, vz = y[o + VX], y[o + VY], y[o + VZ]
     dydt[o + X] = vx
     dydt[o + Y] = vy
@@ -327,12 +330,12 @@ def body_rates(y, b, bodies, R, ax, ay, az, dydt):
     dydt[o + QX] = 0.5 * (qw * wx + qy * wz - qz * wy)
     dydt[o + QY] = 0.5 * (qw * wy + qz * wx - qx * wz)
     dydt[o + QZ] = 0.5 * (qw * wz + qx * wy - qy * wx)
-    tx = R[W_T] - bodies[b, B_HOLD + 3]
-    ty = R[W_T + 1] - bodies[b, B_HOLD + 4]
-    tz = R[W_T + 2] - bodies[b, B_HOLD + 5]
-    bx = R[0] * tx + R[3] * ty + R[6] * tz  # torque in body axes
-    by = R[1] * tx + R[4] * ty + R[7] * tz
-    bz = R[2] * tx + R[5] * ty + R[8] * tz
+    tx = work[b, W_T] - bodies[b, B_HOLD + 3]
+    ty = work[b, W_T + 1] - bodies[b, B_HOLD + 4]
+    tz = work[b, W_T + 2] - bodies[b, B_HOLD + 5]
+    bx = work[b, 0] * tx + work[b, 3] * ty + work[b, 6] * tz  # torque in body axes
+    by = work[b, 1] * tx + work[b, 4] * ty + work[b, 7] * tz
+    bz = work[b, 2] * tx + work[b, 5] * ty + work[b, 8] * tz
     ix, iy, iz = bodies[b, B_IX], bodies[b, B_IY], bodies[b, B_IZ]
     # Euler's equations in principal axes
     dydt[o + WX] = (bx + (iy - iz) * wy * wz) / ix
@@ -353,7 +356,7 @@ def rhs(t, y, params, dydt):
     acc = NB * n_bodies + 2 * points.shape[0]
     power = 0.0
     for b in range(n_bodies):
-        power += body_rates(y, b, bodies, work[b], ax, ay, az, dydt)
+        power += body_rates(y, b, bodies, work, ax, ay, az, dydt)
     dydt[acc + A_WORK] = power
     dydt[acc + A_FRICTION] = d_fric
     dydt[acc + A_DAMPING] = d_damp

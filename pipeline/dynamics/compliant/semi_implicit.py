@@ -52,7 +52,7 @@ from pipeline.dynamics.compliant import joint as jl
 from pipeline.dynamics.compliant import linear_system as ls
 from pipeline.dynamics.compliant import statistics as st
 from pipeline.dynamics.compliant.layout import (
-    A_DAMPING, A_FRICTION, A_WORK, B_HOLD, B_IX, B_IY, B_IZ, B_MASS, GROUND, JW_O, J_AREA, J_CN, J_DELTA,
+    A_DAMPING, A_FRICTION, A_WORK, B_HOLD, B_IX, B_IY, B_IZ, B_MASS, GROUND, JW_O, J_AREA, J_BAND, J_CN, J_DELTA,
     J_FA, J_FB, J_KN, J_KS, J_LOWER, J_MU, J_SHAPE, J_TAU, J_UPPER, M_AREA, M_COP_BX, M_COP_BY, M_COP_X, M_COP_Y,
     M_ELASTIC, M_NORMAL, M_NORMAL_EL, M_TX, M_TY, NB, N_ACC, P_AREA, P_U, P_V, P_X, P_Y, P_Z, QW, QX, QY, QZ,
     SHAPE_DISC, STATUS_COLLAPSED, S_END_TIME, S_NFEV, S_OVERTURN_BODY, S_OVERTURN_TIME, S_STATUS, S_STEPS, VX, VY,
@@ -230,7 +230,8 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, con
                 RX[p], RY[p], RZ[p] = rx, ry, rz
                 xi_x, xi_y = rx + qx, ry + qy
                 if (xi_x * xi_x + xi_y * xi_y > edge2) if disc else (abs(xi_x) > edge_a or abs(xi_y) > edge_b):
-                    s, sx, sy = sk.face_overlap(xi_x, xi_y, joints, j)
+                    s, sx, sy = sk.face_overlap(xi_x, xi_y, joints[j, J_SHAPE], joints[j, J_FA], joints[j, J_FB],
+                                                   joints[j, J_BAND])
             if d <= 0.0 or s <= 0.0:
                 ux, uy = y[iu], y[iu + 1]
                 uu = ux * ux + uy * uy
