@@ -49,7 +49,7 @@ def rotation_entries(qw, qx, qy, qz):
             s * (qx * qz - qw * qy), s * (qy * qz + qw * qx), 1.0 - s * (qx * qx + qy * qy))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def rotation_matrix(qw, qx, qy, qz, out):
     """Rotation matrix (row-major, 9) of a quaternion, normalised, into ``out``
     (:func:`rotation_entries`)."""
@@ -58,7 +58,7 @@ def rotation_matrix(qw, qx, qy, qz, out):
         out[k] = e[k]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def face_frame(y, joints, j, work, jwork):
     """The face of joint j in the ground frame: its axes (``jwork[j, 0:9]``, row-major, columns the
     face's x, y and normal) and its centre (``jwork[j, 9:12]``), from its lower body's pose (the
@@ -449,7 +449,7 @@ def joint_loads(y, params, out):
             out[b, k] = work[b, W_F + k]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def tilt_and_rotation(y, b):
     """Tilt of body b's axis from the vertical [rad] and its rotation about the vertical [rad].
 

@@ -28,7 +28,7 @@ __all__ = ["sparse_block_solve", "elimination", "joint_matrix", "joint_matrix_z"
            "add_moments", "assemble_system", "stiffest_frequency", "stiffest_mode", "spring_matrices"]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _cholesky6(a, n):
     """Lower Cholesky factor of the symmetric positive definite 6 x 6 matrix ``a[n]``, in place (its
     lower triangle is read)."""
@@ -309,13 +309,13 @@ def joint_matrix_z(sa, ax, ay, az, axx, ayy, azz, axy, axz, ayz, sb, bx, by, bxx
     out[4, 5] = out[5, 4] = k45
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _row(R, j, i, x, y, z):
     """Row i of the 3 x 3 matrix ``R[j, :9]`` (row-major) times (x, y, z)."""
     return R[j, 3 * i] * x + R[j, 3 * i + 1] * y + R[j, 3 * i + 2] * z
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _turn_block(R, j, k00, k01, k02, k10, k11, k12, k20, k21, k22, out, r0, c0, symmetric):
     """``out[j, r0:r0 + 3, c0:c0 + 3] = R K R^T`` for the 3 x 3 block K (row-major arguments) and
     the rotation ``R[j, :9]``, and the mirror block ``out[j, c0:c0 + 3, r0:r0 + 3]`` its transpose.
@@ -340,7 +340,7 @@ def _turn_block(R, j, k00, k01, k02, k10, k11, k12, k20, k21, k22, out, r0, c0, 
         out[j, c0, r0 + 2], out[j, c0 + 1, r0 + 2], out[j, c0 + 2, r0 + 2] = v20, v21, v22
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def turned_joint_matrix_z(sa, ax, ay, az, axx, ayy, azz, axy, axz, ayz, sb, bx, by, bxx, byy, bxy, R, j, out):
     """:func:`joint_matrix_z` of these moments turned from the frame of the face below to the ground's,
     into ``out[j]``: ``T K T^T`` with T = diag(R, R), R that face's rotation (``R[j, :9]``,
@@ -374,7 +374,7 @@ def add_moments(mom, alpha, beta, rx, ry, rz):
     _weighted_moments(mom, 10, beta, rx, ry, rz)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _ground_inertia(bodies, b, work, i, k):
     """Entry (i, k) of body b's inertia in the ground frame, ``R diag(I_x, I_y, I_z) R^T`` (R its
     rotation, row-major in ``work[b]``)."""
