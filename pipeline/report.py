@@ -36,6 +36,7 @@ from pipeline import fragility as F
 from pipeline import models as MD
 from pipeline.models import planar_pair
 from pipeline import plotting_fragility as P
+from pipeline import report_angles as A
 from pipeline.atomic import atomic_folder, atomic_open
 from pipeline.dataset import write_netcdf
 from pipeline.errors import InputError
@@ -386,6 +387,8 @@ CAPTIONS = (
     ("fragility_states", "Probability of reaching each damage state: the peak tilt reaching a quarter, half or all "
      "of the tipping angle theta_crit, and overturning."),
     ("fragility_all_columns", "The overturning curves of all columns side by side."),
+    ("median_by_angle", "Median PGA of overturning of each column fitted at each incidence angle on its own, with "
+     "its bootstrap band over the records: a colonnade weaker across its row than along it stands lower at 90 deg."),
     ("median_pga_grid", "Median PGA of overturning (50 % chance) for each column shape; higher means the column "
      "needs stronger shaking to fall."),
     ("probability_grid", "Probability of overturning at one stated PGA for each column shape."),
@@ -548,6 +551,9 @@ def _write_report_into(results, out_dir, pga_levels_g, states, bootstrap, seed, 
     if planar and results.sizes["angle"] > 1:
         figs += P.plot_angle_polar(results, os.path.join(fig_dir, f"angle_polar_{columns[0]}"), columns[0],
                                    model=planar[0])[:1]
+    by_angle = A.fragility_by_angle(results, bootstrap=bootstrap, seed=seed, confidence=confidence)
+    if by_angle is not None:
+        figs += A.plot_angle_medians(by_angle, os.path.join(fig_dir, "median_by_angle"))[:1]
     comparison = model_comparison(results, frag, pga_levels_g)
     if comparison:
         figs += P.plot_model_comparison(frag, os.path.join(fig_dir, "median_2d_vs_3d"))[:1]
@@ -579,7 +585,8 @@ def _write_report_into(results, out_dir, pga_levels_g, states, bootstrap, seed, 
     csv_path = os.path.join(out_dir, "summary.csv")
     _write_csv(rows, csv_path)
     geo_path = _write_geojson(rows, os.path.join(out_dir, "columns.geojson"))
-    args = (results, frag, rows, comparison, pga_levels_g, figs, out_dir, title, notes, geo_path, stripe_tables_max)
+    args = (results, frag, rows, comparison, pga_levels_g, figs, out_dir, title, notes, geo_path, stripe_tables_max,
+            by_angle)
     md_path = os.path.join(out_dir, "report.md")
     with _atomic_text(md_path) as fh:
         fh.write(_markdown(*args, risk=(risk, hazard), versus=versus) + f"\n<!-- {mark_text()} -->\n")
@@ -791,7 +798,7 @@ def _caveats(rows):
 
 
 def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, title, notes, geo_path,
-              stripe_tables_max=4, image=None, risk=(None, None), versus=None):
+              stripe_tables_max=4, by_angle=None, image=None, risk=(None, None), versus=None):
     """The report as Markdown; ``image(path)`` gives a figure's link (default: its path relative to the report)."""
     image = image or (lambda path: os.path.relpath(path, out_dir))
     n = results.sizes
@@ -914,6 +921,7 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
                  "by PGA (all stood below, all overturned above): the step is placed between the two.")
     lines.append("")
     lines += _caveats(rows)
+    lines += A.angle_section(results, by_angle, _fmt)
     lines += _epistyle_section(results)
     if risk[0] is not None:
         lines += _risk_section(risk[0], risk[1], frag)
