@@ -807,7 +807,8 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
     quakes = sorted(set(_values(results, "earthquake"))) if "earthquake" in results.variables else []
     valid = F._valid(results)
     n_total = int(valid.size)
-    n_failed = int((~valid).sum())
+    n_failed = int((~F._ok(results)).sum())
+    n_undecided = int((F._ok(results) & ~valid).sum())  # computed, but neither stood nor fell
     lines = [f"# {title or results.attrs.get('title', 'Study report')}", ""]
     if results.attrs.get("summary"):
         lines += [str(results.attrs["summary"]), ""]
@@ -862,7 +863,10 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
             f"{_fmt(float(results['bed_restitution'].sel(column=c)), 4)}" for c in results["column"].values)
             + f" ({results['bed_damping'].attrs.get('comment', 'calibrated')}; the restitution they reach is "
             "given to every model).")
-    lines.append(f"- {n_total} simulations in the dataset, {n_failed} failed and left out.")
+    lines.append(f"- {n_total} simulations in the dataset, {n_failed} failed and left out"
+                 + (f"; {n_undecided} undecided, also left out of the fits: the structure was still moving and "
+                    "able to fall when the run reached its settle limit (`settle_limit`), so it neither stood nor "
+                    "fell" if n_undecided else "") + ".")
     for flag in ("sliding_onset", "lift_off"):  # each model says what its flag counts (its registry entry)
         if flag in results.variables:
             for m in models:

@@ -47,8 +47,18 @@ def test_each_angle_is_fitted_on_its_own_runs_for_the_3d_models_that_feel_it():
 
 def test_the_report_tables_each_angle_with_its_stripes_and_draws_the_medians(tmp_path):
     results = _results(columns=("paper",))
+    # a few runs of the planar model failed (status 1) or were undecided (settle limit, still moving): the report
+    # counts each for what it is (the undecided ones were once called failed)
+    assert list(results["model"].values) == list(MODELS) and results["status"].dims[-1] == "model"
+    status, undecided = results["status"].values.copy(), np.zeros(results["status"].shape, np.int8)
+    status[..., 1].flat[:3] = 1  # three runs of the 2d model failed
+    undecided[..., 1].flat[3:7] = 1  # four others were undecided
+    results["status"] = (results["status"].dims, status)
+    results["undecided"] = (results["status"].dims, undecided)
     written = write_report(results, tmp_path / "report", bootstrap=20, seed=5)
     text = open(written["report"], encoding="utf-8").read()
+    assert ("- 480 simulations in the dataset, 3 failed and left out; 4 undecided, also left out of the fits"
+            in text)
     section = text.split("## Probability of overturning by incidence angle")[1].split("\n## ")[0]
     by = A.fragility_by_angle(results, bootstrap=20, seed=5)
     rows = [[x.strip() for x in line.strip("|").split("|")] for line in section.splitlines()
