@@ -18,7 +18,8 @@ docs/model.md, "The compliant-contact model", says what it models and how it is 
 from pipeline.compliant.barriers import overturning_barriers
 from pipeline.compliant.calibration import calibrated_damping, critical_damping, planar_restitution
 from pipeline.compliant.integrate import fixed_step, integrate
-from pipeline.compliant.parts import as_stack, layout_of, lying_tilt, outline_of
+from pipeline.compliant.layouts import layout_of, outline_of
+from pipeline.compliant.parts import as_stack, lying_tilt
 from pipeline.compliant.rest import released_state, rest_state
 from pipeline.compliant.run import simulate_compliant, turned_record
 from pipeline.compliant.summary import dislocation_ratio, joint_dislocations

@@ -14,7 +14,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from pipeline.compliant.integrate import integrate
-from pipeline.compliant.parts import outline_of
+from pipeline.compliant.layouts import outline_of
 from pipeline.compliant.rest import released_state
 from pipeline.compliant.tables import assemble
 from pipeline.dynamics.compliant.layout import H_TILT

@@ -25,7 +25,7 @@ from pipeline.errors import InputError
 from pipeline.structures.column import Column
 from pipeline.structures.drums import DrumColumn
 
-__all__ = ["Part", "Contact", "Layout", "as_stack", "layout_of", "lying_tilt"]
+__all__ = ["Part", "Contact", "Layout", "as_stack", "stack_layout", "lying_tilt"]
 
 # Drawing codes of a body's shape (pipeline.dataset's drum_kind).
 KIND_DRUM, KIND_CAPITAL, KIND_BLOCK = 0, 1, 2
@@ -261,26 +261,3 @@ def stack_layout(column, settings):
     parts, contacts = column_layout(stack, 0.0, 0, 0, settings)
     n = len(parts)
     return Layout(tuple(parts), tuple(contacts), (n - 1,), tuple(range(n)), stack.column.R)
-
-
-def outline_of(structure, whole=False):
-    """The column of a structure (a colonnade's: each of its columns): its shaft's outline as one
-    :class:`Column` with its density, or with ``whole`` the :class:`DrumColumn` itself."""
-    from pipeline.compliant.colonnade import is_colonnade
-
-    stack = structure.column if is_colonnade(structure) else as_stack(structure)
-    if whole:
-        return stack
-    return Column(stack.column.R, stack.column.r, stack.column.h, density=stack.density)
-
-
-def layout_of(structure, settings):
-    """The :class:`Layout` of a structure: a Column, a DrumColumn or a Colonnade (a Layout is its own:
-    any bodies on any joints, as the tests build them)."""
-    from pipeline.compliant.colonnade import colonnade_layout, is_colonnade
-
-    if isinstance(structure, Layout):
-        return structure
-    if is_colonnade(structure):
-        return colonnade_layout(structure, settings)
-    return stack_layout(structure, settings)

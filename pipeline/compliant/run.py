@@ -13,7 +13,7 @@ import numpy as np
 from pipeline.compliant.calibration import calibrated_damping
 from pipeline.compliant.histories import histories as run_histories
 from pipeline.compliant.integrate import fixed_step, integrate
-from pipeline.compliant.parts import outline_of
+from pipeline.compliant.layouts import outline_of
 from pipeline.compliant.rest import laid_state, rest_state
 from pipeline.compliant.summary import summary as run_summary
 from pipeline.compliant.tables import assemble

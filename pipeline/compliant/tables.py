@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pipeline.compliant.parts import layout_of
+from pipeline.compliant.layouts import layout_of
 from pipeline.dynamics.compliant import assembly as sk
 from pipeline.dynamics.compliant import linear_system as ls
 from pipeline.dynamics.compliant.layout import (
