@@ -327,6 +327,11 @@ def _require(results, name, why):
     return results[name]
 
 
+def in_stripes(results):
+    """Whether the study scaled every record to stated PGAs (its scales are in m s-2, not factors)."""
+    return results["scale"].attrs.get("units", "1") == "m s-2"
+
+
 def _valid(results):
     """Runs to use: status 0 (ok), where a status variable exists, and decided: a run whose column
     could still overturn when it reached its settle limit (``undecided``) neither stood nor fell."""
@@ -814,6 +819,7 @@ __all__ = [
     "open_results",
     "exceedance",
     "intensity",
+    "in_stripes",
     "fragility",
     "state_labels",
     "ida",

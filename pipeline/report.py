@@ -930,7 +930,7 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
     if risk[0] is not None:
         lines += _risk_section(risk[0], risk[1], frag)
 
-    targets = results["scale"].attrs.get("units", "1") == "m s-2"  # every record scaled to the stripe's PGA
+    targets = F.in_stripes(results)  # every record scaled to the stripe's PGA
     if comparison:
         lines += ["## 2D against 3D", ""]
         lines.append("A 2D (planar rocking) analysis is *unconservative* where it predicts a lower probability of "

@@ -77,9 +77,7 @@ def fragility_by_angle(results, bootstrap=0, seed=0, confidence=F.DEFAULT_CONFID
 
 
 def _stripe_counts(results, column, model, angle):
-    """Overturned runs at each stripe of a study whose records are scaled to stated PGAs, else None."""
-    if results["scale"].attrs.get("units", "1") != "m s-2":
-        return None
+    """Overturned runs of a cell at each stripe of a study in stripes (:func:`pipeline.fragility.in_stripes`)."""
     cell = dict(column=column, model=model, angle=angle)
     valid = F._valid(results).sel(cell)
     over = (results["overturned"].sel(cell) > 0) & valid
@@ -111,8 +109,7 @@ def angle_section(results, by_angle, fmt):
     """
     if by_angle is None:
         return []
-    stripes = _stripe_counts(results, results["column"].values[0], str(by_angle["model"].values[0]),
-                             results["angle"].values[0]) is not None
+    stripes = F.in_stripes(results)
     band = (f", {100 * by_angle.attrs['confidence_level']:g} % bootstrap band over the records "
             f"({by_angle.attrs['bootstrap_replicates']} replicates)") if by_angle.attrs["bootstrap_replicates"] else ""
     lines = ["## Probability of overturning by incidence angle", "",

@@ -84,23 +84,35 @@ def _run(args):
     return drums, record_id, stripe, bool(s["overturned"]), bool(s.get("undecided", False))
 
 
+def _run_variants(variants, workers, stripes=STRIPES):
+    """The runs of each variant ``{name: (model, bed options[, angle, columns])}`` of the 4-drum frame over
+    ``stripes`` [g] x :data:`RECORDS`, on a pool: ``{name: [run, ...]}`` (:func:`_run`'s tuples) and the
+    wall time [s]."""
+    jobs = [(4, r, s, *v) for v in variants.values() for s in stripes for r in RECORDS]
+    t0 = time.time()
+    with ProcessPoolExecutor(workers) as pool:
+        runs = list(pool.map(_run, jobs))
+    per = len(stripes) * len(RECORDS)
+    return {name: runs[i * per:(i + 1) * per] for i, name in enumerate(variants)}, time.time() - t0
+
+
+def _counts(runs):
+    """Overturnings of ``runs`` at each stripe of :data:`STRIPES`."""
+    return [sum(o for _, _, s, o, _ in runs if s == stripe) for stripe in STRIPES]
+
+
 def _one_component(workers):
     """The column alone and the frame of two, each driven by one component along and across the row: a table."""
     variants = {f"{name}, {where}": ("3d-compliant", {}, angle, columns)
                 for name, columns in (("alone", 1), ("frame of 2", 2))
                 for where, angle in (("along the row (0 deg)", 0.0), ("across it (90 deg)", 90.0))}
-    jobs = [(4, r, s, *v) for v in variants.values() for s in STRIPES for r in RECORDS]
-    t0 = time.time()
-    with ProcessPoolExecutor(workers) as pool:
-        runs = list(pool.map(_run, jobs))
-    per = len(STRIPES) * len(RECORDS)
-    print(f"Overturnings of 22 records at each stripe, the x component of each pair alone ({len(jobs)} runs, "
-          f"{time.time() - t0:.0f} s on {workers} workers).\n")
+    outcome, seconds = _run_variants(variants, workers)
+    print(f"Overturnings of 22 records at each stripe, the x component of each pair alone "
+          f"({len(variants) * len(STRIPES) * len(RECORDS)} runs, {seconds:.0f} s on {workers} workers).\n")
     print("| structure, drive | " + " | ".join(f"{s:g} g" for s in STRIPES) + " | all | undecided |")
     print("|---|" + "---|" * (len(STRIPES) + 2))
-    for i, name in enumerate(variants):
-        rows = runs[i * per:(i + 1) * per]
-        counts = [sum(o for _, _, s, o, _ in rows if s == st) for st in STRIPES]
+    for name, rows in outcome.items():
+        counts = _counts(rows)
         print(f"| {name} | " + " | ".join(map(str, counts)) + f" | {sum(counts)} | {sum(u for *_, u in rows)} |")
 
 
@@ -108,39 +120,33 @@ def _bed_band(stiffnesses, workers):
     """The drum frame and the rigid planar frame in plane on beds of each normal stiffness [Pa/m]: a table."""
     from pipeline.models import REGISTRY
 
-    variants = {}
+    variants, compliant_of = {}, {}  # compliant_of: a rigid frame's variant -> the compliant frame on its bed
     for k in stiffnesses:
         damping, reached = REGISTRY["3d-compliant"].calibrate(_frame(4), _settings(normal_stiffness=k))
-        variants[f"{k:.0e} Pa/m, compliant frame (c_n {damping:.3g} Pa s/m, e {reached:.3f})"] = \
-            ("3d-compliant", dict(normal_stiffness=k))
-        variants[f"{k:.0e} Pa/m, 2d-frame at e {reached:.3f}, its own patch damping"] = \
-            ("2d-frame", dict(normal_stiffness=k, restitution=reached))
+        compliant = f"{k:.0e} Pa/m, compliant frame (c_n {damping:.3g} Pa s/m, e {reached:.3f})"
+        variants[compliant] = ("3d-compliant", dict(normal_stiffness=k))
+        own = f"{k:.0e} Pa/m, 2d-frame at e {reached:.3f}, its own patch damping"
+        variants[own] = ("2d-frame", dict(normal_stiffness=k, restitution=reached))
         # the study's one bed ([calibration] bed in frame.toml): the dashpots too
-        variants[f"{k:.0e} Pa/m, 2d-frame at e {reached:.3f} and the bed's c_n"] = \
-            ("2d-frame", dict(normal_stiffness=k, restitution=reached, contact_damping=damping))
+        bed = f"{k:.0e} Pa/m, 2d-frame at e {reached:.3f} and the bed's c_n"
+        variants[bed] = ("2d-frame", dict(normal_stiffness=k, restitution=reached, contact_damping=damping))
+        compliant_of.update({own: compliant, bed: compliant})
     variants["rigid ground, 2d-frame at its own restitution"] = \
         ("2d-frame", dict(normal_stiffness=float("inf"), friction=float("inf")))
-    jobs = [(4, r, s, *v) for v in variants.values() for s in STRIPES for r in RECORDS]
-    t0 = time.time()
-    with ProcessPoolExecutor(workers) as pool:
-        runs = list(pool.map(_run, jobs))
-    per = len(STRIPES) * len(RECORDS)
-    outcome = {name: runs[i * per:(i + 1) * per] for i, name in enumerate(variants)}
-    print(f"Overturnings of 22 records at each stripe, in plane ({len(jobs)} runs, {time.time() - t0:.0f} s on "
-          f"{workers} workers); 'alike': cells where the bed's two models agree (undecided runs left out).\n")
+    outcome, seconds = _run_variants(variants, workers)
+    print(f"Overturnings of 22 records at each stripe, in plane ({len(variants) * len(STRIPES) * len(RECORDS)} "
+          f"runs, {seconds:.0f} s on {workers} workers); 'alike': cells where the bed's two models agree "
+          "(undecided runs left out).\n")
     print("| bed, model | " + " | ".join(f"{s:g} g" for s in STRIPES) + " | all | undecided | alike |")
     print("|---|" + "---|" * (len(STRIPES) + 3))
-    names = list(variants)
-    for i, name in enumerate(names):
-        rows = outcome[name]
-        counts = [sum(o for _, _, s, o, _ in rows if s == st) for st in STRIPES]
-        undecided = sum(u for *_, u in rows)
+    for name, rows in outcome.items():
+        counts = _counts(rows)
         alike = ""
-        if name.startswith(tuple(f"{k:.0e}" for k in stiffnesses)) and "2d-frame" in name:
-            compliant = next(n for n in reversed(names[:i]) if "compliant" in n)  # the bed's compliant frame
-            pairs = [(a, b) for a, b in zip(outcome[compliant], rows) if not (a[4] or b[4])]
+        if name in compliant_of:
+            pairs = [(a, b) for a, b in zip(outcome[compliant_of[name]], rows) if not (a[4] or b[4])]
             alike = f"{sum(a[3] == b[3] for a, b in pairs)} of {len(pairs)}"
-        print(f"| {name} | " + " | ".join(map(str, counts)) + f" | {sum(counts)} | {undecided} | {alike} |")
+        print(f"| {name} | " + " | ".join(map(str, counts)) + f" | {sum(counts)} | {sum(u for *_, u in rows)} "
+              f"| {alike} |")
 
 
 def _study_counts(path, model):
@@ -175,7 +181,7 @@ def main(argv=None):
     print("| frame | drive | " + " | ".join(f"{s:g} g" for s in STRIPES) + " | all |")
     print("|---|---|" + "---|" * (len(STRIPES) + 1))
     for name, drums in FRAMES.items():
-        counts = [sum(o for d, _, s, o, _ in runs if d == drums and s == st) for st in STRIPES]
+        counts = _counts([run for run in runs if run[0] == drums])
         undecided = sum(u for d, _, _, _, u in runs if d == drums)
         study = [both[drums][round(s, 3)] for s in STRIPES]
         print(f"| {name} | both components (study) | " + " | ".join(map(str, study)) + f" | {sum(study)} |")

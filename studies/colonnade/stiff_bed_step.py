@@ -10,8 +10,6 @@ stability limit (``step_safety`` 0.25) beside the default half, and prints each 
 
 import os
 import sys
-import time
-from concurrent.futures import ProcessPoolExecutor
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
@@ -22,17 +20,12 @@ STRIPE = 0.8  # g
 
 
 def main():
-    jobs = [(4, r, STRIPE, "3d-compliant", dict(normal_stiffness=1e11, numerics=(("step_safety", f),)))
-            for f in SAFETIES for r in in_plane.RECORDS]
-    t0 = time.time()
-    with ProcessPoolExecutor(2) as pool:
-        runs = list(pool.map(in_plane._run, jobs))
-    n = len(in_plane.RECORDS)
-    for i, f in enumerate(SAFETIES):
-        rows = runs[i * n:(i + 1) * n]
-        print(f"step_safety {f}: overturned {sum(r[3] for r in rows)} of {n}, undecided {sum(r[4] for r in rows)}: "
-              + "".join("X" if r[3] else ("?" if r[4] else ".") for r in rows))
-    print(f"{len(jobs)} runs in {time.time() - t0:.0f} s")
+    variants = {f: ("3d-compliant", dict(normal_stiffness=1e11, numerics=(("step_safety", f),))) for f in SAFETIES}
+    outcome, seconds = in_plane._run_variants(variants, 2, stripes=(STRIPE,))
+    for f, rows in outcome.items():
+        print(f"step_safety {f}: overturned {sum(r[3] for r in rows)} of {len(rows)}, "
+              f"undecided {sum(r[4] for r in rows)}: " + "".join("X" if r[3] else ("?" if r[4] else ".") for r in rows))
+    print(f"{len(variants) * len(in_plane.RECORDS)} runs in {seconds:.0f} s")
 
 
 if __name__ == "__main__":
