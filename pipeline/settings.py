@@ -127,8 +127,8 @@ class ModelSettings:
     numerics : tuple of (str, float)
         Overrides of the numerical choices the model declares (``Model.numerics`` of its
         registry entry: the rigid kernels' thresholds ``landing_margin``, ``min_rebound``,
-        ``slave_time``, ``look_ahead``, ``slaved_turn``; the compliant model's ``edge_band``
-        and ``step_safety``), for studies that show what they move; e.g.
+        ``slave_time``, ``look_ahead``, ``slaved_turn``; the compliant model's ``edge_band``,
+        ``step_safety`` and ``springs``), for studies that show what they move; e.g.
         ``(("slave_time", 1e-5),)``.
     tail : float
         Free motion after the record ends [s].
@@ -143,18 +143,19 @@ class ModelSettings:
         Sampling interval of the time histories [s].
     integrator : {"semi-implicit", "dopri5", "dop853"}
         Integrator of the compliant-contact model: fixed steps of the
-        semi-implicit scheme of DEM codes (default; springs explicit,
-        dashpots implicit, friction by return to the Coulomb cone:
+        semi-implicit scheme of DEM codes (default; springs and dashpots at
+        the step's end, friction by return to the Coulomb cone:
         :mod:`pipeline.dynamics.compliant.semi_implicit`), or the adaptive DOPRI5 it
         is checked against (``rtol``, ``atol``), or DOP853 before it
         (:mod:`pipeline.dynamics.integrators.dopri5`). The rigid models always use DOP853.
     step : float or None
         Fixed step of the semi-implicit integrator [s]; None: ``step_safety``
-        (``numerics``, default 0.5) times the stability limit ``2 / omega_max``
-        of the stiffest joint mode (its statistics are taken at every step,
-        its history rows interpolated between steps; ``monitor_step`` is the
-        adaptive integrators' sampling).
-        A step above the stability limit is refused before computing.
+        (``numerics``, default 1) times the stability limit ``2 / omega_max``
+        of the stiffest joint mode with explicit springs (its statistics are
+        taken at every step, its history rows interpolated between steps;
+        ``monitor_step`` is the adaptive integrators' sampling). With
+        ``numerics`` ``springs = "explicit"`` a step at or above that limit is
+        refused before computing.
     joint_stiffness, stiffness_ratio, contact_rings, contact_sectors, joint_friction, \
 anathyrosis, base_anathyrosis, monitor_step
         Options of the compliant-contact model ``"3d-compliant"`` (there

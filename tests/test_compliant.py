@@ -123,17 +123,18 @@ def test_the_rigid_reference_is_the_rigid_model(shape):
 
 
 def test_restitution_calibrated_to_a_reachable_target_holds_within_two_percent():
-    """The damping found for e = 0.97 (released at 0.3 theta_crit) gives it at other amplitudes.
+    """The damping found for e = 0.96 (released at 0.3 theta_crit) gives it at other amplitudes.
 
-    The compliant restitution varies with the release tilt by ~0.3 % from 0.1 to 0.6
-    theta_crit (measured), well inside the 2 % asked.
+    Reachable at the default step: undamped the monolith lands with 0.967, critically damped with
+    0.950 (measured). The compliant restitution varies with the release tilt by ~0.4 % from 0.15
+    to 0.6 theta_crit (measured 0.964 and 0.960), well inside the 2 % asked.
     """
     settings = compliant()
-    damping, reached = calibrated_damping(PAPER, settings, 0.97)
-    assert reached == pytest.approx(0.97, abs=1e-4)  # Brent's tolerance on the damping ratio
+    damping, reached = calibrated_damping(PAPER, settings, 0.96)
+    assert reached == pytest.approx(0.96, abs=1e-4)  # Brent's tolerance on the damping ratio
     assert 0 < damping < critical_damping(PAPER, settings)
     for amplitude in (0.15, 0.6):
-        assert planar_restitution(PAPER, settings, damping, amplitude) == pytest.approx(0.97, rel=0.02)
+        assert planar_restitution(PAPER, settings, damping, amplitude) == pytest.approx(0.96, rel=0.02)
 
 
 def test_a_flat_base_cannot_lose_what_the_rigid_point_impulse_loses():
@@ -142,16 +143,19 @@ def test_a_flat_base_cannot_lose_what_the_rigid_point_impulse_loses():
     A column landing flat on a disc of contact points is caught by the whole landing side,
     not by the opposite rim point alone as the rigid impact law assumes: even at critical
     damping it keeps e = 0.96 (the impulse acts about half-way out, not at the rim; 0.934
-    with contact on the rim alone). The default calibration then takes the most dissipative
-    damping it considers and reports the restitution it reached.
+    with contact on the rim alone): measured 0.960 at fine steps, 0.950 at the default step
+    (the springs at the step's end damp the landing a little themselves). The default
+    calibration then takes the most dissipative damping it considers and reports the
+    restitution it reached.
     """
     settings = compliant()
     damping, reached = calibrated_damping(PAPER, settings)  # target: housner_restitution
     assert damping == pytest.approx(critical_damping(PAPER, settings))
-    assert 0.95 < reached < 0.97 and reached > housner_restitution(PAPER) + 0.05
-    # damping does lower it, monotonically, from nearly elastic
+    assert 0.94 < reached < 0.97 and reached > housner_restitution(PAPER) + 0.04
+    # damping does lower it, monotonically, from nearly elastic (undamped 0.967 and at 0.3 of
+    # critical 0.958 at the default step; 0.994 undamped with the springs at the step's start)
     e = [planar_restitution(PAPER, settings, z * critical_damping(PAPER, settings)) for z in (0.0, 0.3)]
-    assert e[0] > 0.99 and e[0] > e[1] > reached
+    assert e[0] > 0.96 and e[0] > e[1] > reached
 
 
 def test_flat_sliding_of_a_squat_cylinder():
@@ -268,10 +272,13 @@ def test_energy_budget_balances_under_a_far_field_record(fema1, scale):
         s["work_ground"] - s["energy_dissipated"], abs=1e-6 * s["work_ground"])
 
 
+EXPLICIT = (("springs", "explicit"), ("step_safety", 0.5))  # the fixed-step scheme before issue 37's speed work
+
+
 @pytest.mark.parametrize("scale", [1.0, 2.0])
 def test_fixed_step_energy_budget_is_first_order_in_the_step(fema1, scale):
-    """The semi-implicit default books its energy with the discrete scheme; what is left is the
-    scheme's first-order error: measured -2.14e-2 and -2.44e-2 of the work at the default step
+    """The semi-implicit integrator with the springs at the step's start books its energy with the
+    discrete scheme; what is left is the scheme's first-order error: measured -2.14e-2 and -2.44e-2 of the work at the default step
     (0.701 ms here: 0.5 of the 1.40 ms limit), -1.06e-2 and -1.36e-2 at half of it, -5.6e-3 and
     -7.9e-3 at a quarter. Asserted: within 3 % of the work at the default step (a guard on the
     measured values, not a physical bound), and halving the step multiplies it by 0.35 to 0.7
@@ -282,7 +289,7 @@ def test_fixed_step_energy_budget_is_first_order_in_the_step(fema1, scale):
     errors = []
     step = None
     for _ in range(2):
-        s = simulate(PAPER, fema1, Excitation(angle=17.0, scale=scale), compliant(step=step),
+        s = simulate(PAPER, fema1, Excitation(angle=17.0, scale=scale), compliant(step=step, numerics=EXPLICIT),
                      histories=False).summary
         assert s["overturned"] == (scale == 2.0)
         assert s["rejected_steps"] == 0 and s["steps"] > 0
@@ -290,6 +297,25 @@ def test_fixed_step_energy_budget_is_first_order_in_the_step(fema1, scale):
         step = 0.5 * s["step"]
     assert abs(errors[0]) < 0.03
     assert 0.35 < errors[1] / errors[0] < 0.7
+
+
+@pytest.mark.parametrize("scale", [1.0, 2.0])
+def test_energy_budget_with_the_springs_at_the_step_end_is_first_order(fema1, scale):
+    """The default scheme books the springs' share of the solve with the dashpots (backward Euler's
+    average dissipation); the budget's error is again the scheme's, first order in the step, about
+    the explicit scheme's at the same step: measured -1.90e-2 and -3.27e-2 of the work at the
+    default step (0.70 ms), -6.4e-3 and -8.3e-3 at a quarter of it (ratios 0.34 and 0.26; first
+    order 0.25, none 1). Asserted: within 5 % of the work at the default step (a guard on the
+    measured values), and the quarter step's error 0.1-0.6 of it."""
+    errors = []
+    step = None
+    for _ in range(2):
+        s = simulate(PAPER, fema1, Excitation(angle=17.0, scale=scale), compliant(step=step), histories=False).summary
+        assert s["overturned"] == (scale == 2.0)
+        errors.append(s["energy_balance_error"] / s["work_ground"])
+        step = 0.25 * s["step"]
+    assert abs(errors[0]) < 0.05
+    assert 0.1 < errors[1] / errors[0] < 0.6
 
 
 def test_a_column_left_alone_stays_exactly_still():

@@ -18,13 +18,26 @@ from pipeline.dynamics.compliant import linear_system
 from pipeline.dynamics.compliant import semi_implicit as si
 from pipeline.dynamics.compliant import statistics
 from pipeline.dynamics.compliant.layout import (
-    J_KN, N_BODY_STATS, N_DIAG, N_HBODY, N_JOINT_STATS, N_SUMMARY, S_END_TIME, S_ENERGY_END, S_ENERGY_START,
-    S_OVERTURN_TIME, S_STATUS, S_UNDECIDED, kept_size,
+    GROUND, J_DELTA, J_KN, J_LOWER, N_BODY_STATS, N_DIAG, N_HBODY, N_JOINT_STATS, N_SUMMARY, S_END_TIME,
+    S_ENERGY_END, S_ENERGY_START, S_OVERTURN_TIME, S_STATUS, S_UNDECIDED, kept_size,
 )
 from pipeline.errors import InputError
 from pipeline.units import G
 
-__all__ = ["Raw", "fixed_step", "check_fixed_step", "integrate"]
+__all__ = ["Raw", "fixed_step", "check_fixed_step", "integrate", "BOUNCE_STEP", "MAX_STEP_OVER_LIMIT"]
+
+# The default step with the springs at the step's end is at most this fraction of 2 / omega_b, omega_b the
+# bounce of the most lightly loaded base on its bed (sqrt(g / delta), delta its static sinking): backward
+# Euler's own damping of that mode, about h omega_b / 2, is then at most 0.375 of critical. The bounce is the
+# mode a rocking landing excites, and the restitution a column reaches depends on it: the paper's column as a
+# monolith on 1e10 Pa/m, critically damped, lands with e = 0.960 at fine steps, 0.953 at 0.70 ms and 0.947 at
+# its explicit limit 1.40 ms (undamped 0.989, 0.969, 0.957): the fraction binds on single bodies, whose
+# stiffest mode is that bounce; a column of drums or a colonnade has stiffer modes, and its step is smaller.
+BOUNCE_STEP = 0.375
+# A given step with the springs at the step's end may be up to this many times the explicit springs' limit:
+# stable at any step, the scheme damps the joint modes by h k more as the step grows, and its energy budget
+# misses +0.12 to +0.17 of the work at 1.5 times the limit already (docs/model.md); step_safety's range ends here.
+MAX_STEP_OVER_LIMIT = 2.0
 
 
 @dataclass
@@ -49,49 +62,68 @@ def fixed_step(asm, params, y, settings):
     """The semi-implicit integrator's step for a structure [s], and its stability limit [s].
 
     The limit is ``2 / omega_max`` of the stiffest joint mode in the state y
-    (:func:`pipeline.dynamics.compliant.linear_system.stiffest_mode`); the step is
-    ``settings.step`` if given (refused if above the limit, naming the joint whose springs hold
-    most of that mode's energy and their stiffness), else ``step_safety`` times the limit.
+    (:func:`pipeline.dynamics.compliant.linear_system.stiffest_mode`), the bound of the springs
+    taken at the step's start (numerics ``springs = "explicit"``); the step is ``settings.step``
+    if given, else ``step_safety`` times the limit. With the springs at the step's end (the
+    default) no step is unstable and the limit is the yardstick of the default step, which is
+    also at most :data:`BOUNCE_STEP` of the bases' bounce period over pi; with them at
+    its start a step at or above the limit is refused, naming the joint whose springs hold most
+    of that mode's energy and their stiffness.
 
     Raises
     ------
     InputError
-        A given step above the stability limit, before anything is computed.
+        Explicit springs and a given step at or above the stability limit, or ``step_safety`` >= 1;
+        the springs at the step's end and a given step above :data:`MAX_STEP_OVER_LIMIT` times the
+        limit; before anything is computed.
     """
     omega, shares = linear_system.stiffest_mode(params, y)
     limit = 2.0 / omega * asm.time
-    if settings.step is not None:
-        if settings.step > limit:
-            j = int(np.argmax(shares))
-            contact = asm.layout.contacts[j]
-            stiffness = asm.joints[j, J_KN] * asm.mass * G / asm.length ** 3
-            option = "normal_stiffness" if contact.kind == "base" else "joint_stiffness"
-            raise InputError(
-                f"step = {settings.step:g} s is above the stability limit {limit:.3g} s of the semi-implicit "
-                f"integrator for this structure (2 / omega of its stiffest joint mode, "
-                f"{100 * shares[j]:.0f} % of it in {joint_labels(asm.layout)[j]}, k_n = {stiffness:.3g} Pa/m, "
-                f"{option}): give a step of at most {limit:.3g} s, or omit step for "
-                f"{numerics(settings)['step_safety']:g} of the limit")
-        return float(settings.step), limit
-    return numerics(settings)["step_safety"] * limit, limit
+    choices = numerics(settings)
+    step = float(settings.step) if settings.step is not None else choices["step_safety"] * limit
+    if settings.step is None and choices["springs"] == "implicit":
+        delta = float(asm.joints[asm.joints[:, J_LOWER] == GROUND, J_DELTA].min())
+        step = min(step, BOUNCE_STEP * 2.0 * math.sqrt(delta) * asm.time)
+    if choices["springs"] == "implicit" and step > MAX_STEP_OVER_LIMIT * limit:
+        raise InputError(
+            f"step = {step:g} s is above twice the stability limit {limit:.3g} s of explicit springs for this "
+            f"structure (2 / omega of its stiffest joint mode, {100 * shares[int(np.argmax(shares))]:.0f} % of it in "
+            f"{joint_labels(asm.layout)[int(np.argmax(shares))]}): the springs at the step's end are stable there, "
+            f"but their own damping of the joint modes grows with the step; give a step of at most "
+            f"{MAX_STEP_OVER_LIMIT * limit:.3g} s, or omit step for the default")
+    if choices["springs"] == "explicit" and step >= limit:
+        j = int(np.argmax(shares))
+        contact = asm.layout.contacts[j]
+        stiffness = asm.joints[j, J_KN] * asm.mass * G / asm.length ** 3
+        option = "normal_stiffness" if contact.kind == "base" else "joint_stiffness"
+        given = (f"step = {settings.step:g} s" if settings.step is not None else
+                 f"step_safety = {choices['step_safety']:g} ({step:.3g} s)")
+        raise InputError(
+            f"{given} is at or above the stability limit {limit:.3g} s of the semi-implicit integrator with "
+            f"springs = explicit for this structure (2 / omega of its stiffest joint mode, {100 * shares[j]:.0f} % "
+            f"of it in {joint_labels(asm.layout)[j]}, k_n = {stiffness:.3g} Pa/m, {option}): give a step below "
+            f"{limit:.3g} s or step_safety below 1 (0.5 was this scheme's default), or springs = implicit")
+    return step, limit
 
 
 def check_fixed_step(structure, settings):
-    """Refuse a given fixed step above the stability limit of a structure, as its run would.
+    """Refuse a fixed step that a structure's run would refuse (:func:`fixed_step`), as its run would.
 
     The registry's check of the compliant model (``Model.checker``): a study calls it for every
     column (monolith, drums, colonnade) a model runs, so that a step its runs would refuse is
     refused by ``frustum study check`` and before ``frustum study run`` computes, with the words
-    of ``frustum simulate``. Nothing is checked (nor assembled) without a given step, or with an
-    adaptive integrator: the default step is a fraction ``step_safety`` < 1 of the limit. The
-    joints' dashpots do not enter the limit (they are implicit in the fixed-step scheme).
+    of ``frustum simulate``. Nothing is checked (nor assembled) without a given step, unless the springs
+    are at the step's start and ``step_safety`` is 1 or more, or with an adaptive integrator.
+    The joints' dashpots do not enter the limit (they are implicit in the fixed-step scheme).
 
     Raises
     ------
     pipeline.errors.InputError
-        ``step = ... s is above the stability limit ... s ...`` (:func:`fixed_step`).
+        ``step = ... s is at or above the stability limit ... s ...`` (:func:`fixed_step`).
     """
-    if settings.step is None or settings.integrator != "semi-implicit":
+    choices = numerics(settings)
+    if settings.integrator != "semi-implicit" or (
+            settings.step is None and (choices["springs"] == "implicit" or choices["step_safety"] < 1.0)):
         return
     from pipeline.compliant.rest import laid_state
 

@@ -22,8 +22,8 @@ from pipeline.dynamics.compliant import assembly as sk
 from pipeline.dynamics.compliant import linear_system as ls
 from pipeline.dynamics.compliant.layout import (
     B_COS_LIE, B_HEIGHT, B_HOLD, B_IX, B_IY, B_IZ, B_MASS, B_SUPPORT, B_ZC, B_Z_FALL, GROUND, J_AREA, J_BAND, J_CN,
-    J_DELTA, J_F, J_FA, J_FB, J_G, J_KN, J_KS, J_LAND, J_LOWER, J_MU, J_OX, J_RIM, J_SHAPE, J_TAU, J_UFLOOR, J_UPPER, J_UX,
-    N_BODY_COLS, N_JOINT_COLS, N_POINT_COLS, SHAPE_DISC,
+    J_DELTA, J_F, J_FA, J_FB, J_G, J_IMPLICIT, J_KN, J_KS, J_LAND, J_LOWER, J_MU, J_OX, J_RIM, J_SHAPE, J_TAU,
+    J_UFLOOR, J_UPPER, J_UX, N_BODY_COLS, N_JOINT_COLS, N_POINT_COLS, SHAPE_DISC,
 )
 from pipeline.errors import InputError
 from pipeline.units import G
@@ -139,6 +139,7 @@ def assemble(structure, settings, damping):
 
     layout = layout_of(structure, settings)
     edge_band = numerics(settings)["edge_band"]
+    implicit = numerics(settings)["springs"] == "implicit"
     parts, contacts = layout.parts, layout.contacts
     L = layout.length
     M = sum(p.mass for p in parts)
@@ -175,6 +176,7 @@ def assemble(structure, settings, damping):
         row[J_SHAPE] = c.shape
         row[J_FA], row[J_FB] = c.half[0] / L, c.half[1] / L
         row[J_KN], row[J_KS], row[J_MU], row[J_CN] = kn, ks, mu, cn
+        row[J_IMPLICIT] = 1.0 if implicit else 0.0
         # returns to the friction cone on the time scale of the joint's own shear vibration
         row[J_TAU] = math.sqrt(load / (ks * area))
         # the rim patch runs off the face below over edge_band spacings of the outer rings (or rows)

@@ -13,14 +13,24 @@ __all__ = ["COMPLIANT_DRUMS"]
 # edge_band: width of the band past a face's edge over which a point's support runs off
 # (pipeline.dynamics.compliant.joint.overlap), in spacings of the two outer rings of contact points;
 # step_safety: the fixed step as a fraction of the stability limit 2 / omega_max of the
-# stiffest joint mode (pipeline.dynamics.compliant.semi_implicit): about 4 % frequency error on that
-# mode, far above the rocking ones
+# stiffest joint mode with its springs explicit (pipeline.dynamics.compliant.semi_implicit);
+# springs: "implicit" takes the pressed points' springs at the step's end (backward Euler, stable
+# at any step: the step is then chosen for accuracy, step_safety 1 by default, docs/model.md "The
+# springs at the step's end"), "explicit" at its start (symplectic Euler, stable below the limit
+# only: step_safety < 1, 0.5 before issue 37's speed work, about 4 % frequency error on the
+# stiffest mode)
 NUMERICS = declared(
     Option("edge_band", 0.5, "1", "number",
            "width of the band past a face's edge, in spacings of the outer rings of contact points", 0.05, 5.0),
-    Option("step_safety", 0.5, "1", "number",
-           "fixed step as a fraction of the stability limit of the stiffest joint", 0.01, 0.9,
+    Option("step_safety", 1.0, "1", "number",
+           "fixed step as a fraction of the stability limit of the stiffest joint with explicit springs", 0.01, 2.0,
+           note="below 1 with springs = explicit",
            read_with=(("step", (None,)), ("integrator", INTEGRATORS[:1]))),  # a given step is used as it is
+    Option("springs", "implicit", "1", "choice",
+           "the fixed-step integrator's joint springs: at the step's end or at its start",
+           choices=("implicit", "explicit"),
+           note="implicit: backward Euler, stable at any step; explicit: symplectic Euler, step below the limit",
+           read_with=(("integrator", INTEGRATORS[:1]),)),
 )
 
 # Each body's block of the assembly's state vector (pipeline.dynamics.compliant.layout): centre of mass,

@@ -235,11 +235,11 @@ OPTIONS = declared(
            read_with=(("integrator", _INTEGRATORS[1:]),)),  # the fixed-step one takes them at every step
     Option("integrator", "semi-implicit", "1", "choice", "integrator of the compliant model",
            choices=_INTEGRATORS,
-           note="semi-implicit takes fixed steps, springs explicit and dashpots implicit (fast); dopri5 is the "
+           note="semi-implicit takes fixed steps, springs and dashpots at the step's end (fast); dopri5 is the "
            "adaptive reference (rtol, atol; drum stacks take minutes), dop853 the one before it"),
     Option("step", None, "s", "number", "fixed step of the semi-implicit integrator", 1e-7, 0.01,
-           none="step_safety (numerics) times the stability limit of the stiffest joint; a step above the limit "
-           "is refused", metavar="S"),
+           none="step_safety (numerics) times the stability limit of the stiffest joint with explicit springs; "
+           "with numerics springs = explicit a step at or above the limit is refused", metavar="S"),
 )
 
 #: The compliant model's integrators, the default first (its registry entry's).

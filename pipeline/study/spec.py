@@ -61,7 +61,7 @@ class ModelVariant:
     def describe(self):
         """What makes it a variant, in words (``"body = outline; numerics edge_band = 1"``), or ""."""
         parts = [f"body = {self.body}"] if self.body else []
-        parts += [f"numerics {k} = {v:g}" for k, v in self.numerics]
+        parts += [f"numerics {k} = {v:g}" if isinstance(v, float) else f"numerics {k} = {v}" for k, v in self.numerics]
         parts += [f"options {k} = {v:g}" if isinstance(v, (int, float)) else f"options {k} = {v}"
                   for k, v in self.options]
         return "; ".join(parts)

@@ -413,6 +413,15 @@ def _models(value, ck):
     return models, ()
 
 
+def _numeric(ck, option, value, field):
+    """One numerical choice of a variant: a number, or one of its words (``springs = "explicit"``)."""
+    if option.kind != "choice":
+        return ck.number(value, field)
+    if value not in option.choices:
+        ck.fail(field, f"{value!r} is unknown; choose one of {', '.join(map(repr, option.choices))} ({option.note})")
+    return value
+
+
 def _variant(name, entry, ck):
     """One ``[models.NAME]`` table: a registry model with its own options, numerics and body."""
     field = f"models.{name}"
@@ -435,7 +444,8 @@ def _variant(name, entry, ck):
                     "or give it to a variant of a model that reads it")
     options = _options(ck, given, f"{field}.options", set(model.options))
     numerics = ck.table(entry.get("numerics", {}), f"{field}.numerics", set(model.numerics))
-    numerics = tuple(sorted((k, ck.number(v, f"{field}.numerics.{k}")) for k, v in numerics.items()))
+    numerics = tuple(sorted((k, _numeric(ck, model.numeric_options[k], v, f"{field}.numerics.{k}"))
+                            for k, v in numerics.items()))
     body = entry.get("body", "")
     if body != "" and body not in BODIES:
         ck.fail(f"{field}.body", f"{body!r} is not a body; give body = {' or '.join(map(repr, BODIES))} (the "

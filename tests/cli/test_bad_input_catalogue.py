@@ -134,12 +134,17 @@ CATALOGUE = [
      ["all 1 cells of the study failed", "the first: record ricker:", "found no rebound peak"]),
     # a study is refused before computing whatever the command line would refuse (issue 38, item 1)
     ("study-check-step-above-the-stability-limit", ["study", "check", "{study_step}"], 2,
-     ["field options.step: column 'paper', model 3d-compliant: step = 0.01 s is above the stability limit",
+     ["field options.step: column 'paper', model 3d-compliant: step = 0.01 s is above twice the stability limit",
       "give a step of at most"]),
     ("study-run-step-above-the-stability-limit", ["study", "run", "{study_step}", "--serial", "--quiet"], 2,
-     ["field options.step: column 'paper', model 3d-compliant: step = 0.01 s is above the stability limit"]),
+     ["field options.step: column 'paper', model 3d-compliant: step = 0.01 s is above twice the stability limit"]),
     ("study-check-variant-step-above-the-stability-limit", ["study", "check", "{study_variant_step}"], 2,
-     ["field models.a.options.step: column 'paper', model a: step = 0.005 s is above the stability limit"]),
+     ["field models.a.options.step: column 'paper', model a: step = 0.005 s is above twice the stability limit"]),
+    ("study-explicit-springs-at-their-limit", ["study", "check", "{study_explicit_limit}"], 2,
+     ["field models.a: column 'paper', model a: step_safety = 1", "at or above the stability limit",
+      "springs = explicit", "give a step below", "or springs = implicit"]),
+    ("study-springs-unknown", ["study", "check", "{study_springs_unknown}"], 2,
+     ["field models.a.numerics.springs: 'backward' is unknown; choose one of 'implicit', 'explicit'"]),
     ("study-option-no-model-reads", ["study", "check", "{study_rigid_step}"], 2,
      ["field options.step: no model of the study reads step (3d does not read it)",
       "it is an option of 3d-compliant: remove it, or run a model that reads it"]),
@@ -202,6 +207,9 @@ STUDIES = {
     "study_step_safety": ('models = ["3d"]', '[models.a]\nmodel = "3d-compliant"\noptions = {step = 0.001}\n'
                           'numerics = {step_safety = 0.3}'),
     "study_named_2d": ('models = ["3d"]', '[models.2d]\nmodel = "3d"'),
+    "study_explicit_limit": ('models = ["3d"]', '[models.a]\nmodel = "3d-compliant"\n'
+                             'numerics = {springs = "explicit", step_safety = 1.0}'),
+    "study_springs_unknown": ('models = ["3d"]', '[models.a]\nmodel = "3d-compliant"\nnumerics = {springs = "backward"}'),
 }
 
 #: Hazard files of the issue 38 entries: the committed engine export, edited as a spreadsheet or a hand would.

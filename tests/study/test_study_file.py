@@ -231,17 +231,36 @@ def _error_line(err):
     return lines[0][len("frustum: error: "):]
 
 
+_EXPLICIT = ('[models.3d]\nmodel = "3d"\n\n[models.3d-compliant]\nmodel = "3d-compliant"\n'
+             'numerics = { springs = "explicit" }')
+
+
 def test_a_step_above_the_stability_limit_is_refused_in_the_words_of_simulate(write_study, tmp_path, capsys):
-    """``frustum simulate --step 0.01`` refuses at once; the study check says the same of the same column."""
+    """``frustum simulate --step 0.01`` refuses at once (above twice the limit, where the springs at the
+    step's end would damp too much); the study check says the same of the same column; with the springs
+    at the step's start the limit itself is refused, in the words of ``simulate()``."""
     path = write_study(_checks((_TAIL, _TAIL + "\nstep = 0.01")))
     assert main(["study", "check", str(path)]) == 2
     study = _error_line(capsys.readouterr().err)
     assert main(["simulate", "--column", "0.5,0.4,4", "--record", "SYN-RICKER", "--model", "3d-compliant",
                  "--step", "0.01", "--out", str(tmp_path / "h.nc")]) == 2
     simulate = _error_line(capsys.readouterr().err)
-    assert simulate.startswith("step = 0.01 s is above the stability limit")
+    assert simulate.startswith("step = 0.01 s is above twice the stability limit")
     assert study == f"{path}: field options.step: column 'mono', model 3d-compliant: {simulate}"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["study.toml"]  # nothing written by either
+    path = write_study(_checks((_TAIL, _TAIL + "\nstep = 0.0015"), (_MODELS, _EXPLICIT)))
+    assert main(["study", "check", str(path)]) == 2
+    study = _error_line(capsys.readouterr().err)
+    from pipeline.groundmotion import load
+    from pipeline.settings import Excitation, ModelSettings
+    from pipeline.simulate import simulate as run
+    from pipeline.structures.column import Column
+
+    with pytest.raises(InputError) as refused:
+        run(Column(0.5, 0.4, 4.0), load("SYN-RICKER"), Excitation(),
+            ModelSettings(model="3d-compliant", step=0.0015, tail=0.5, numerics=(("springs", "explicit"),)))
+    assert str(refused.value).startswith("step = 0.0015 s is at or above the stability limit")
+    assert study == f"{path}: field options.step: column 'mono', model 3d-compliant: {refused.value}"
 
 
 def test_the_stability_limit_is_checked_for_every_column_as_each_model_runs_it(write_study):
@@ -263,15 +282,16 @@ def test_the_stability_limit_is_checked_for_every_column_as_each_model_runs_it(w
     assert low < 0.7 * high  # the premise of the test
     step = (low * high) ** 0.5
     drums = '[[columns]]\nname = "four"\nR = 0.5\nr = 0.4\nh = 4.0\ndrums = 4\n\n[records]'
-    variants = ('[models.rigid]\nmodel = "3d"\n\n[models.stack]\nmodel = "3d-compliant"\n\n'
-                '[models.outline]\nmodel = "3d-compliant"\nbody = "outline"')
+    variants = ('[models.rigid]\nmodel = "3d"\n\n[models.stack]\nmodel = "3d-compliant"\n'
+                'numerics = { springs = "explicit" }\n\n'
+                '[models.outline]\nmodel = "3d-compliant"\nnumerics = { springs = "explicit" }\nbody = "outline"')
     text = _checks((_TAIL, f"{_TAIL}\nstep = {step!r}"), ("[records]", drums), (_MODELS, variants))
     with pytest.raises(InputError, match=rf"field options\.step: column 'four', model stack: step = {step:g} s is "
-                       rf"above the stability limit {low:.3g} s"):
+                       rf"at or above the stability limit {low:.3g} s"):
         load_study(write_study(text), load_records=False)
     # the stack at a step of its own below its limit: the outline's step is checked on the monolith alone
-    own = f'[models.stack]\nmodel = "3d-compliant"\noptions = {{step = {0.9 * low!r}}}\n'
-    study = load_study(write_study(text.replace('[models.stack]\nmodel = "3d-compliant"\n', own)), load_records=False)
+    own = f'[models.stack]\nmodel = "3d-compliant"\nnumerics = {{ springs = "explicit" }}\noptions = {{step = {0.9 * low!r}}}\n'
+    study = load_study(write_study(text.replace('[models.stack]\nmodel = "3d-compliant"\nnumerics = { springs = "explicit" }\n', own)), load_records=False)
     assert study.settings("outline").step == step and study.settings("stack").step == 0.9 * low
 
 

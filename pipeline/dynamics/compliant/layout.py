@@ -53,13 +53,16 @@ N_POINT_COLS = 6
 # joint's dislocation is measured between the two).
 # J_RIM: the centre of pressure's distance (u, v) beyond which the joint rocks on its rim, and
 # J_LAND back inside which it has landed; J_RIM < 0: no rim statistics (a rectangle, a head joint).
+# J_IMPLICIT: 1 if the fixed-step integrator takes the joint's springs at the step's end (backward
+# Euler, numerics ``springs = "implicit"``), 0 if at its start (symplectic Euler); the adaptive
+# integrators do not read it.
 (J_LOWER, J_UPPER, J_OX, J_OY, J_OZ) = range(5)
 J_F = 5
 J_UX, J_UY, J_UZ = range(J_F + 9, J_F + 12)
 J_G = J_F + 12
 (J_SHAPE, J_FA, J_FB, J_KN, J_KS, J_MU, J_CN, J_TAU, J_BAND, J_AREA, J_RIM, J_DELTA, J_UFLOOR,
- J_LAND) = range(J_G + 9, J_G + 23)
-N_JOINT_COLS = J_G + 23
+ J_LAND, J_IMPLICIT) = range(J_G + 9, J_G + 24)
+N_JOINT_COLS = J_G + 24
 SHAPE_DISC, SHAPE_RECT = 0, 1
 GROUND = -1
 

@@ -27,16 +27,29 @@ whose state layout, tables, monitor and statistics it shares. One step of size h
    ``u += h v_t`` (the relative tangential velocity in the frame of the face below); a spring
    without normal force relaxes by ``exp(-h / tau)`` until it is spent (:data:`SPENT`).
 
-The step is bounded by the springs alone: symplectic Euler is stable for ``h omega < 2`` on
-the stiffest undamped mode. :func:`pipeline.dynamics.compliant.linear_system.stiffest_frequency` finds it (the generalised eigenvalue
-of the joints' springs, every point pressed, against the bodies' masses), and the default step
-is ``step_safety`` (0.5, a numerical choice of the model: :mod:`pipeline.models.compliant`) times
-that limit (``pipeline.compliant``).
+**The springs at the step's end** (joint column J_IMPLICIT, numerics ``springs = "implicit"``, the
+default): the spring force a pressed point will have at the step's end, ``k (d + h d')`` with d'
+at the new velocities, is the one of step 1 plus a dashpot ``h k``; so the solve of step 2 takes
+``c_n -> c_n + h k_n`` (normal, every pressed point) and ``c_s -> c_s + h k_s`` (shear, a sticking
+point, within the share that keeps the cone). That is backward Euler on the springs, linearised
+about the step's lever arms: stable at any step on the linear joint, where the explicit springs
+(symplectic Euler, ``springs = "explicit"``) are stable for ``h omega < 2`` on the stiffest undamped
+mode only. Its price is the scheme's own damping of the joint modes, ``h k`` against the dashpot c
+(on the paper's bed ``c / k`` = 1.9 ms against a step of 0.2-0.5 ms: the dashpots there are critical
+or more already), and a point is now clipped when its spring would pull at the step's end
+(``f_el + c_n d' < 0`` with the spring's share in c_n).
+
+The step: :func:`pipeline.dynamics.compliant.linear_system.stiffest_frequency` finds the explicit
+springs' limit ``2 / omega_max`` (the generalised eigenvalue of the joints' springs, every point
+pressed, against the bodies' masses), and the default step is ``step_safety`` times it
+(``pipeline.compliant``): 1 with the springs at the step's end (chosen for accuracy: the fragility
+against the explicit scheme, studies/colonnade/springs.toml), below 1 (0.5) with them at its start.
 
 Energy is booked with the discrete scheme: work of the field ``-m a_g . v_{n+1} h``, damping
 ``h V^T C V`` at the new velocities (plus the elastic energy a clipped point releases without
-work), friction as the spring energy lost in each return to the cone and in the relaxation
-of unloaded springs. What remains of the budget is the scheme's error (first order in h; the
+work; the springs' share ``h k`` of C with it: backward Euler takes ``h^2 k d'^2`` a step out of a
+vibration on average, the share's power), friction as the spring energy lost in each return to
+the cone and in the relaxation of unloaded springs. What remains of the budget is the scheme's error (first order in h; the
 summary states it).
 
 Kernel layer: dimensionless floats and arrays as in :mod:`pipeline.dynamics.compliant.layout`.
@@ -53,8 +66,8 @@ from pipeline.dynamics.compliant import linear_system as ls
 from pipeline.dynamics.compliant import statistics as st
 from pipeline.dynamics.compliant.layout import (
     A_DAMPING, A_FRICTION, A_WORK, B_HOLD, B_IX, B_IY, B_IZ, B_MASS, GROUND, JW_O, J_AREA, J_BAND, J_CN, J_DELTA,
-    J_FA, J_FB, J_KN, J_KS, J_LOWER, J_MU, J_SHAPE, J_TAU, J_UPPER, M_AREA, M_COP_BX, M_COP_BY, M_COP_X, M_COP_Y,
-    M_ELASTIC, M_NORMAL, M_NORMAL_EL, M_TX, M_TY, NB, N_ACC, P_AREA, P_U, P_V, P_X, P_Y, P_Z, QW, QX, QY, QZ,
+    J_FA, J_FB, J_IMPLICIT, J_KN, J_KS, J_LOWER, J_MU, J_SHAPE, J_TAU, J_UPPER, M_AREA, M_COP_BX, M_COP_BY, M_COP_X,
+    M_COP_Y, M_ELASTIC, M_NORMAL, M_NORMAL_EL, M_TX, M_TY, NB, N_ACC, P_AREA, P_U, P_V, P_X, P_Y, P_Z, QW, QX, QY, QZ,
     SHAPE_DISC, STATUS_COLLAPSED, S_END_TIME, S_NFEV, S_OVERTURN_BODY, S_OVERTURN_TIME, S_STATUS, S_STEPS, VX, VY,
     VZ, W_F, W_OM, W_T, WX, WY, WZ, X, Y, Z,
 )
@@ -199,6 +212,8 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, con
     for j in range(joints.shape[0]):
         kn, ks, mu, cn, tau = joints[j, J_KN], joints[j, J_KS], joints[j, J_MU], joints[j, J_CN], joints[j, J_TAU]
         delta = joints[j, J_DELTA]
+        # [time] the springs at the step's end: k (d + h d') = k d + (h k) d', a dashpot h k in the solve
+        lag = h * joints[j, J_IMPLICIT]
         disc = joints[j, J_SHAPE] == SHAPE_DISC
         # within it a point is over the face (s = 1): the disc's radius squared, the rectangle's half sides
         edge_a = joints[j, J_FA] * (1.0 + jl.EDGE_TOL)
@@ -253,7 +268,9 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, con
             area = AREA[p]
             f_el = area * s * kn * d
             engage = min(1.0, d / delta)
-            c_n = area * s * cn * engage
+            # the dashpot first, as it was before the springs' share: with lag 0 the sum adds an exact 0 and
+            # the explicit scheme's runs stay the same to the bit
+            c_n = area * s * cn * engage + area * s * lag * kn
             k_area = ks * area
             cap = mu * f_el
             ux, uy = y[iu], y[iu + 1]
@@ -272,7 +289,7 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, con
                 y[iu] = ux
                 y[iu + 1] = uy
             else:  # sticking: the shear dashpot, with the share that keeps it within the cone
-                c_full = shear_dashpot * area * s * engage
+                c_full = shear_dashpot * area * s * engage + lag * k_area
                 c_t = c_full * jl._viscous_share(k_area * ux, k_area * uy, c_full * vtx, c_full * vty, cap)
             pull_x = pull_y = 0.0
             if sx != 0.0 or sy != 0.0:  # the pull of a patch running off the edge of the face
@@ -567,6 +584,8 @@ def step(t, y, h, params, s):
             vtx, vty, d_dot = VTX[p], VTY[p], DDOT[p]
             f_el, ct = FEL[p], CT[p]
             f_n = 0.0
+            # the springs' share of the dashpots (h k, springs at the step's end) is booked with them: it is
+            # backward Euler's dissipation, h^2 k d'^2 a step on average over a vibration (module doc)
             if ACTIVE[p] > 0.0:
                 damping += h * CN[p] * d_dot * d_dot
                 f_n = f_el + CN[p] * d_dot
