@@ -84,25 +84,23 @@ def fixed_step(asm, params, y, settings):
     if settings.step is None and choices["springs"] == "implicit":
         delta = float(asm.joints[asm.joints[:, J_LOWER] == GROUND, J_DELTA].min())
         step = min(step, BOUNCE_STEP * 2.0 * math.sqrt(delta) * asm.time)
+    j = int(np.argmax(shares))  # the joint whose springs hold most of the stiffest mode's energy
+    mode = f"2 / omega of its stiffest joint mode, {100 * shares[j]:.0f} % of it in {joint_labels(asm.layout)[j]}"
     if choices["springs"] == "implicit" and step > MAX_STEP_OVER_LIMIT * limit:
         raise InputError(
             f"step = {step:g} s is above twice the stability limit {limit:.3g} s of explicit springs for this "
-            f"structure (2 / omega of its stiffest joint mode, {100 * shares[int(np.argmax(shares))]:.0f} % of it in "
-            f"{joint_labels(asm.layout)[int(np.argmax(shares))]}): the springs at the step's end are stable there, "
-            f"but their own damping of the joint modes grows with the step; give a step of at most "
-            f"{MAX_STEP_OVER_LIMIT * limit:.3g} s, or omit step for the default")
+            f"structure ({mode}): the springs at the step's end are stable there, but their own damping of the "
+            f"joint modes grows with the step; give a step of at most {MAX_STEP_OVER_LIMIT * limit:.3g} s, or omit "
+            "step for the default")
     if choices["springs"] == "explicit" and step >= limit:
-        j = int(np.argmax(shares))
-        contact = asm.layout.contacts[j]
         stiffness = asm.joints[j, J_KN] * asm.mass * G / asm.length ** 3
-        option = "normal_stiffness" if contact.kind == "base" else "joint_stiffness"
+        option = "normal_stiffness" if asm.layout.contacts[j].kind == "base" else "joint_stiffness"
         given = (f"step = {settings.step:g} s" if settings.step is not None else
                  f"step_safety = {choices['step_safety']:g} ({step:.3g} s)")
         raise InputError(
             f"{given} is at or above the stability limit {limit:.3g} s of the semi-implicit integrator with "
-            f"springs = explicit for this structure (2 / omega of its stiffest joint mode, {100 * shares[j]:.0f} % "
-            f"of it in {joint_labels(asm.layout)[j]}, k_n = {stiffness:.3g} Pa/m, {option}): give a step below "
-            f"{limit:.3g} s or step_safety below 1 (0.5 was this scheme's default), or springs = implicit")
+            f"springs = explicit for this structure ({mode}, k_n = {stiffness:.3g} Pa/m, {option}): give a step "
+            f"below {limit:.3g} s or step_safety below 1 (0.5 was this scheme's default), or springs = implicit")
     return step, limit
 
 
