@@ -54,6 +54,7 @@ from pipeline import dataset
 from pipeline.dataset import annotate, append_history, write_netcdf
 from pipeline.errors import InputError
 from pipeline.models import DEFAULT, of_results
+from pipeline.undecided import DEFAULT_UNDECIDED, UNDECIDED_CHOICES
 
 DEFAULT_STATES = (0.25, 0.5, 1.0)
 
@@ -332,11 +333,49 @@ def in_stripes(results):
     return results["scale"].attrs.get("units", "1") == "m s-2"
 
 
+def undecided_choice(results):
+    """How ``results`` count their undecided runs (:data:`UNDECIDED_CHOICES`): the ``undecided_runs``
+    attribute :func:`resolve_undecided` sets, else :data:`DEFAULT_UNDECIDED`."""
+    return results.attrs.get("undecided_runs", DEFAULT_UNDECIDED)
+
+
+def resolve_undecided(results, choice=DEFAULT_UNDECIDED):
+    """The results with their undecided runs counted as ``choice`` (a stated choice, never silent).
+
+    Parameters
+    ----------
+    results : xarray.Dataset
+        Study results (an ``undecided`` flag per run, where the model reports it).
+    choice : str
+        ``"standing"``: an undecided run counts as a run that stood, with the peaks it reached (its
+        ``overturned`` flag cleared);
+        ``"overturned"``: as one that overturned (its ``overturned`` flag set, so it also reaches
+        every other damage state); ``"excluded"``: left out of every fit and count.
+
+    Returns
+    -------
+    xarray.Dataset
+        A copy; its attribute ``undecided_runs`` names the choice (fits, reports and comparisons
+        read it through :func:`_valid` and :func:`undecided_choice`).
+    """
+    if choice not in UNDECIDED_CHOICES:
+        raise InputError(f"undecided = {choice!r}: count the runs still able to fall at their settle limit as "
+                         f"one of {', '.join(UNDECIDED_CHOICES)}")
+    out = results.copy()
+    out.attrs["undecided_runs"] = choice
+    if choice != "excluded" and "undecided" in out.variables and "overturned" in out.variables:
+        undecided = _ok(out) & (out["undecided"].fillna(0) > 0)
+        flag = out["overturned"]
+        out["overturned"] = flag.where(~undecided, int(choice == "overturned")).astype(flag.dtype)
+        out["overturned"].attrs = dict(flag.attrs)
+    return out
+
+
 def _valid(results):
-    """Runs to use: status 0 (ok), where a status variable exists, and decided: a run whose column
-    could still overturn when it reached its settle limit (``undecided``) neither stood nor fell."""
+    """Runs to use: status 0 (ok), where a status variable exists; undecided runs (able to fall at their
+    settle limit) too, unless the results leave them out (:func:`resolve_undecided`)."""
     ok = _ok(results)
-    if "undecided" in results.variables:
+    if "undecided" in results.variables and undecided_choice(results) == "excluded":
         ok = ok & (results["undecided"].fillna(0) == 0)
     return ok
 
@@ -473,7 +512,7 @@ def _per_record(results, im, labels):
 
 
 def _undecided_runs(results):
-    """Runs left out of the fits because undecided, counted as the fits count runs: (column, model)."""
+    """Runs undecided at their settle limit, counted as the fits count runs: (column, model)."""
     if "undecided" not in results.variables:
         return np.zeros((results.sizes["column"], results.sizes["model"]), np.int32)
     like = results[_first_response(results)].transpose(*RESULT_DIMS)
@@ -501,15 +540,15 @@ def _im_grid(x, weight, n=121):
 
 
 def fragility(results, im="pga", states=DEFAULT_STATES, bootstrap=0, seed=0, confidence=DEFAULT_CONFIDENCE,
-              dislocations=None):
+              dislocations=None, undecided=None):
     """Fit lognormal fragility curves to every column, model and damage state of a study.
 
     Parameters
     ----------
     results : xarray.Dataset
         Study results (dims column, record, angle, scale, model; see
-        :func:`open_results`). Runs with ``status != 0`` are left out, and
-        undecided ones (counted in ``n_undecided``); 3D
+        :func:`open_results`). Runs with ``status != 0`` are left out;
+        undecided ones count as ``undecided`` says (counted in ``n_undecided``); 3D
         runs are counted once per record and scale (the angle changes no
         number in the 3D model).
     im : str
@@ -528,6 +567,9 @@ def fragility(results, im="pga", states=DEFAULT_STATES, bootstrap=0, seed=0, con
         Dislocation damage states: thresholds on the largest residual slip of a bed joint over
         its diameter [1], fitted after the others. Default :data:`DISLOCATION_STATES` when the
         results hold ``dislocation_ratio`` (a study with the compliant model), else none.
+    undecided : str, optional
+        How runs still able to fall at their settle limit count (:func:`resolve_undecided`);
+        default: as the results say (:func:`undecided_choice`, ``"standing"`` unless resolved).
 
     Returns
     -------
@@ -545,6 +587,7 @@ def fragility(results, im="pga", states=DEFAULT_STATES, bootstrap=0, seed=0, con
         is the dispersion here).
     """
     results = _normalise(results, _where(results))
+    results = resolve_undecided(results, undecided_choice(results) if undecided is None else undecided)
     try:
         states = tuple(sorted(float(s) for s in states))
     except (TypeError, ValueError):
@@ -627,8 +670,8 @@ def fragility(results, im="pga", states=DEFAULT_STATES, bootstrap=0, seed=0, con
             }),
             "n_runs": (dims3, n_runs, {"units": "1", "long_name": "number of runs in the fit"}),
             "n_undecided": (("column", "model"), _undecided_runs(results), {
-                "units": "1", "long_name": "number of runs left out of the fit: the column could still overturn "
-                "when the run reached its settle limit (undecided)"}),
+                "units": "1", "long_name": "number of runs still able to fall when they reached their settle "
+                "limit (undecided), counted in the fits as the attribute undecided_runs says"}),
             "n_exceed": (dims3, n_exc, {"units": "1", "long_name": "number of runs that reached the damage state"}),
             "n_records": (("column", "model"), n_records, {"units": "1", "long_name": "number of records with valid runs"}),
             "probability": (dims3 + ("im_level",), curve, {
@@ -681,6 +724,9 @@ def fragility(results, im="pga", states=DEFAULT_STATES, bootstrap=0, seed=0, con
         intensity_measure_units=im_units,
         **({"intensity_measure_period": float(im_da.attrs["period"])} if "period" in im_da.attrs else {}),
         confidence_level=float(confidence),
+        undecided_runs=f"{undecided_choice(results)}: runs still able to fall when they reached their settle limit "
+                       "(n_undecided) count as runs that stood (standing), as runs that overturned (overturned) or "
+                       "are left out (excluded)",
         bootstrap_replicates=bootstrap,
         bootstrap_seed=int(seed),
         bootstrap_method="records resampled with replacement (all angles and scales of a record together); "
@@ -811,6 +857,10 @@ def write(ds, path):
 __all__ = [
     "DEFAULT_STATES",
     "DISLOCATION_STATES",
+    "UNDECIDED_CHOICES",
+    "DEFAULT_UNDECIDED",
+    "resolve_undecided",
+    "undecided_choice",
     "parse_state",
     "FIT_STATUS",
     "LognormalFit",

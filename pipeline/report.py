@@ -33,6 +33,7 @@ import numpy as np
 
 from pipeline import comparison as C
 from pipeline import fragility as F
+from pipeline.report_undecided import undecided_lines
 from pipeline import models as MD
 from pipeline.models import planar_pair
 from pipeline import plotting_fragility as P
@@ -418,13 +419,21 @@ CAPTION_MODEL_NOTES = {
 }
 
 
+def _options(results):
+    """The model options the study runner recorded (JSON), or none."""
+    try:
+        return json.loads(results.attrs.get("model_options", "{}"))
+    except (TypeError, ValueError):
+        return {}
+
+
 def _values(results, name):
     return [str(v) for v in np.asarray(results[name].values).ravel()] if name in results.variables else []
 
 
 def write_report(results, out_dir, pga_levels_g=DEFAULT_PGA_LEVELS_G, states=F.DEFAULT_STATES, bootstrap=200,
                  seed=0, confidence=F.DEFAULT_CONFIDENCE, title=None, trajectories=None, notes=None, focus=None,
-                 stripe_tables_max=4, hazard=None, years=50.0, reference=None):
+                 stripe_tables_max=4, hazard=None, years=50.0, reference=None, undecided=F.DEFAULT_UNDECIDED):
     """Write the report folder of a study.
 
     Parameters
@@ -462,6 +471,9 @@ def write_report(results, out_dir, pga_levels_g=DEFAULT_PGA_LEVELS_G, states=F.D
         With several models, the one every other is compared with ("Model against model",
         ``comparison.csv``, ``comparison.nc``; :func:`pipeline.comparison.compare_models`);
         default the study's first model.
+    undecided : str
+        How runs still able to fall at their settle limit count in every fit, count and comparison
+        (:func:`pipeline.fragility.resolve_undecided`); the report also states what the other way moves.
 
     Returns
     -------
@@ -471,8 +483,9 @@ def write_report(results, out_dir, pga_levels_g=DEFAULT_PGA_LEVELS_G, states=F.D
     """
     dest = os.fspath(out_dir)
     with atomic_folder(dest) as tmp:
-        out = _write_report_into(results, tmp, pga_levels_g, states, bootstrap, seed, confidence, title,
-                                 trajectories, notes, focus, stripe_tables_max, hazard, years, reference)
+        out = _write_report_into(F.resolve_undecided(results, undecided), tmp, pga_levels_g, states, bootstrap, seed,
+                                 confidence, title, trajectories, notes, focus, stripe_tables_max, hazard, years,
+                                 reference)
 
     def moved(path):
         return None if path is None else os.path.join(dest, os.path.relpath(path, tmp))
@@ -808,7 +821,6 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
     valid = F._valid(results)
     n_total = int(valid.size)
     n_failed = int((~F._ok(results)).sum())
-    n_undecided = int((F._ok(results) & ~valid).sum())  # computed, but neither stood nor fell
     lines = [f"# {title or results.attrs.get('title', 'Study report')}", ""]
     if results.attrs.get("summary"):
         lines += [str(results.attrs["summary"]), ""]
@@ -863,10 +875,8 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
             f"{_fmt(float(results['bed_restitution'].sel(column=c)), 4)}" for c in results["column"].values)
             + f" ({results['bed_damping'].attrs.get('comment', 'calibrated')}; the restitution they reach is "
             "given to every model).")
-    lines.append(f"- {n_total} simulations in the dataset, {n_failed} failed and left out"
-                 + (f"; {n_undecided} undecided, also left out of the fits: the structure was still moving and "
-                    "able to fall when the run reached its settle limit (`settle_limit`), so it neither stood nor "
-                    "fell" if n_undecided else "") + ".")
+    lines.append(f"- {n_total} simulations in the dataset, {n_failed} failed and left out.")
+    lines += undecided_lines(results, _options(results).get("settle_limit"))
     for flag in ("sliding_onset", "lift_off"):  # each model says what its flag counts (its registry entry)
         if flag in results.variables:
             for m in models:
@@ -877,10 +887,7 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
                 count = int(((one[flag] > 0) & ok).sum())
                 lines.append(f"- {m.upper()}: in {count} of {int(ok.sum())} runs {getattr(MD.describe(MD.base_of(results, m)), flag)}.")
     lines += ["", "## Assumptions of the models" if len(models) > 1 else "## Assumptions of the model", ""]
-    try:  # the study runner records the model options as JSON
-        options = json.loads(results.attrs.get("model_options", "{}"))
-    except (TypeError, ValueError):
-        options = {}
+    options = _options(results)
     bases = list(dict.fromkeys(MD.base_of(results, m) for m in models))
     lines.append(assumptions([m for m in bases if m in MD.REGISTRY],
                              vertical=results.attrs.get("vertical_component", "used") != "ignored", options=options))

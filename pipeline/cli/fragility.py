@@ -3,6 +3,7 @@
 import argparse
 
 from pipeline.errors import InputError
+from pipeline.undecided import DEFAULT_UNDECIDED, UNDECIDED_CHOICES
 
 _EXAMPLES = """\
 examples:
@@ -41,7 +42,16 @@ def register(subparsers):
     p.add_argument("--seed", type=int, default=0, help="seed of the bootstrap (default 0)")
     p.add_argument("--confidence", type=float, default=0.9,
                    help="confidence level of the bounds, between 0 and 1 (default 0.9)")
+    add_undecided_option(p)
     p.set_defaults(handler=run)
+
+
+def add_undecided_option(p):
+    """``--undecided``: how runs still able to fall at their settle limit count (fragility and report)."""
+    p.add_argument("--undecided", choices=UNDECIDED_CHOICES, default=DEFAULT_UNDECIDED,
+                   help="runs still able to fall when they reached their settle limit (the cap of simulated time "
+                   "after the record) count as runs that stood (standing, the default), as runs that overturned, "
+                   "or are left out (excluded); the report states what the other way moves")
 
 
 def parse_states(text):
@@ -86,14 +96,16 @@ def run(args):
     results = F.open_results(args.results)
     frag = F.fragility(results, im=args.im, states=parse_states(args.states), bootstrap=args.bootstrap,
                        seed=args.seed, confidence=args.confidence,
-                       dislocations=parse_dislocations(args.dislocations))
+                       dislocations=parse_dislocations(args.dislocations), undecided=args.undecided)
     F.write(frag, args.out)
     units = frag["median"].attrs["units"]
     for c in frag["column"].values:
         for m in frag["model"].values:
             cell = frag.sel(state="overturning", column=c, model=m)
             status = F.FIT_STATUS[int(cell["fit_status"])]
+            undecided = int(frag["n_undecided"].sel(column=c, model=m))
             print(f"{c} {m}: overturning median {args.im} = {float(cell['median']):.4g} {units}, "
-                  f"beta = {float(cell['beta']):.3g} ({status}; {int(cell['n_exceed'])}/{int(cell['n_runs'])} runs)")
+                  f"beta = {float(cell['beta']):.3g} ({status}; {int(cell['n_exceed'])}/{int(cell['n_runs'])} runs"
+                  + (f", {undecided} undecided counted as {args.undecided}" if undecided else "") + ")")
     print(f"wrote {args.out}")
     return 0

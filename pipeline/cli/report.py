@@ -3,6 +3,7 @@
 import argparse
 import math
 
+from pipeline.cli.fragility import add_undecided_option
 from pipeline.errors import InputError
 
 #: The files a report writes in its folder, checked against the inputs and the user's files before computing
@@ -61,6 +62,7 @@ def register(subparsers):
     p.add_argument("--reference", default=None, metavar="MODEL",
                    help="with several models: the one every other is compared with in 'Model against model', "
                    "comparison.csv and comparison.nc (default: the study's first model)")
+    add_undecided_option(p)
     p.set_defaults(handler=run)
 
 
@@ -102,7 +104,7 @@ def run(args):
     reference_model(results, args.reference, "--reference")  # before the fitting, which takes long
     out = write_report(results, args.out, pga_levels_g=levels, states=parse_states(args.states),
                        bootstrap=args.bootstrap, seed=args.seed, title=args.title, hazard=hazard, years=args.years,
-                       reference=args.reference)
+                       reference=args.reference, undecided=args.undecided)
     print(f"wrote {out['report']}, {out['html']}, {out['csv']}" + (f", {out['geojson']}" if out["geojson"] else "")
           + (f", {out['risk_nc']}, {out['risk_csv']}" if out.get("risk_nc") else "")
           + (f", {out['comparison_nc']}, {out['comparison_csv']}" if out.get("comparison_nc") else "")

@@ -140,7 +140,7 @@ def integrate(asm, params, y0, duration, monitor, stride, settings, histories, t
     ``progress(done, total)`` [s], if given, is called as the run goes on (the fixed-step
     integrator runs in pieces for it; the result is the same).
 
-    If the column could still fall at ``duration`` (:func:`pipeline.dynamics.compliant.stack.stands_for_good`),
+    If the column could still fall at ``duration`` (:func:`pipeline.dynamics.compliant.statistics.stands_for_good`),
     the run goes on (the ground still after the record) until it stands for good or falls, at
     most ``settle_limit`` [s] more (then ``S_UNDECIDED``); the histories end with the run.
     """
@@ -170,6 +170,8 @@ def integrate(asm, params, y0, duration, monitor, stride, settings, histories, t
         # after the record and its tail, pieces of the same length between checks of the outcome
         second = max(1, int(round(1.0 / monitor)))
         piece = second if progress is not None else m
+        peaked = np.zeros(len(asm.layout.watched), dtype=bool)  # _stands_for_good's memory
+        decided = False
         k = 0
         while k < m:
             stop = min(k_decide + 1, max(k, 1) + piece) if k <= k_decide else min(m, k + second)
@@ -178,9 +180,11 @@ def integrate(asm, params, y0, duration, monitor, stride, settings, histories, t
                        raw.joint_committed, y0, between, scratch)
             if progress is not None and k <= k_decide + 1:  # the record and its tail (after them: deciding)
                 progress(min(k - 1, k_decide) * monitor, k_decide * monitor)
-            if k > k_decide and _stands_for_good(asm, params, y, raw):
+            if k > k_decide and _stands_for_good(asm, params, y, raw, peaked):
+                decided = True
                 break
-        if math.isnan(raw.summary[S_OVERTURN_TIME]) and not _stands_for_good(asm, params, y, raw):
+        if math.isnan(raw.summary[S_OVERTURN_TIME]) and not decided and \
+                not _stands_for_good(asm, params, y, raw, peaked):
             raw.summary[S_UNDECIDED] = 1.0
         raw.summary[S_ENERGY_END] = sk.energy(y, params)
         raw.y_end[:] = y
@@ -199,8 +203,8 @@ def integrate(asm, params, y0, duration, monitor, stride, settings, histories, t
     return _trimmed(raw, k_decide)
 
 
-def _stands_for_good(asm, params, y, raw):
-    return statistics.stands_for_good(y, params, raw.summary[S_ENERGY_START], asm.barrier, asm.critical)
+def _stands_for_good(asm, params, y, raw, peaked):
+    return statistics.stands_for_good(y, params, raw.summary[S_ENERGY_START], asm.barrier, asm.critical, peaked)
 
 
 def _trimmed(raw, k_decide):

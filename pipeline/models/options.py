@@ -208,7 +208,8 @@ OPTIONS = declared(
     Option("settle_limit", 60.0, "s", "number", "longest free motion after the tail to decide the outcome", 0.0,
            3600.0, note="a column that could still overturn when the tail ends runs on with the ground still until "
            "its energy is below the lowest overturning barrier with its swing past its peak, it rests or it falls; "
-           "one still undecided then is reported undecided (fragility leaves it out and counts it)", metavar="S"),
+           "one still undecided then is reported undecided (fragility and reports count it as standing by "
+           "default: --undecided)", metavar="S"),
     Option("rtol", 1e-9, "1", "number", "relative tolerance of the adaptive integrators", *RTOL_RANGE,
            note="below 1e-14 the integrator's steps shrink to nothing"),
     Option("atol", 1e-12, "1", "number", "absolute tolerance of the adaptive integrators (dimensionless state)",

@@ -46,25 +46,39 @@ def test_failed_runs_excluded():
     assert int(frag["n_exceed"].sel(state="overturning").item()) == int((clean["overturned"] == 1).sum())
 
 
-def test_undecided_runs_left_out_and_counted():
-    """Issue 38, item 0: a run that could still overturn at its settle limit neither stood nor fell.
-    The fits leave it out (as if it had not run) and ``n_undecided`` counts it, once per record and
-    scale for the angle-invariant 3D model as the fits count its runs."""
-    ds, _ = make_results(n_records=10, angles=(0, 90), scales=(1, 2), seed=5)
+def test_undecided_runs_count_as_the_stated_choice():
+    """Issue 47, item 5: a run that could still overturn at its settle limit enters the fits as a stated
+    choice: as a run that stood (the default), as one that overturned, or left out (the former rule, issue 38);
+    ``n_undecided`` counts it, once per record and scale for the angle-invariant 3D model as the fits count its
+    runs, and the file says how it counted."""
+    scales = (0.25, 0.5, 1.0, 1.5, 2.0, 3.0)  # the fits have medians (runs overturn from 0.5 to 3 g)
+    ds, _ = make_results(n_records=10, angles=(0, 90), scales=scales, seed=5)
     undecided = np.zeros(ds["overturned"].shape, np.int8)
-    undecided[0, :3, :, 1, :] = 1  # column paper: 3 records at scale 2, every angle, both models
+    undecided[0, :3, :, 2, :] = 1  # column paper: 3 records at scale 1, every angle, both models
     ds["undecided"] = (ds["overturned"].dims, undecided)
-    ds["overturned"] = ds["overturned"].where(ds["undecided"] == 0, 1)  # must not count either way
-    frag = F.fragility(ds)
-    assert int(frag["n_undecided"].sel(column="paper", model="3d")) == 3
-    assert int(frag["n_undecided"].sel(column="paper", model="2d")) == 3 * 2
-    assert int(frag["n_undecided"].sel(column="slender", model="2d")) == 0
+    ds["overturned"] = ds["overturned"].where(ds["undecided"] == 0, 1)  # garbage: the choice decides, not the flag
     decided = ds.where(ds["undecided"] == 0)
-    for m, per_record in (("3d", 1), ("2d", 2)):
-        cell = frag.sel(state="overturning", column="paper", model=m)
-        assert int(cell["n_runs"]) == 10 * 2 * per_record - 3 * per_record
-        one = decided.sel(column="paper", model=m).isel(angle=slice(0, per_record))
-        assert int(cell["n_exceed"]) == int((one["overturned"] == 1).sum())
+    counts = {}
+    for choice in ("standing", "overturned", "excluded"):
+        frag = F.fragility(ds, undecided=choice)
+        assert frag.attrs["undecided_runs"].startswith(choice + ":")
+        assert int(frag["n_undecided"].sel(column="paper", model="3d")) == 3
+        assert int(frag["n_undecided"].sel(column="paper", model="2d")) == 3 * 2
+        assert int(frag["n_undecided"].sel(column="slender", model="2d")) == 0
+        for m, per_record in (("3d", 1), ("2d", 2)):
+            cell = frag.sel(state="overturning", column="paper", model=m)
+            one = decided.sel(column="paper", model=m).isel(angle=slice(0, per_record))
+            exceed_decided = int((one["overturned"] == 1).sum())
+            left_out = 3 * per_record if choice == "excluded" else 0
+            assert int(cell["n_runs"]) == 10 * len(scales) * per_record - left_out
+            assert int(cell["n_exceed"]) == exceed_decided + (3 * per_record if choice == "overturned" else 0)
+            counts[choice, m] = float(cell["median"])
+    # counted as overturned, the undecided runs pull the median down; as standing, up (against leaving them out)
+    for m in ("3d", "2d"):
+        assert counts["overturned", m] < counts["excluded", m] < counts["standing", m]
+    assert F.fragility(ds)["n_exceed"].equals(F.fragility(ds, undecided="standing")["n_exceed"])  # the default
+    with pytest.raises(InputError, match="undecided = 'fell': count the runs still able to fall"):
+        F.fragility(ds, undecided="fell")
 
 
 def test_damage_state_medians_scale_with_threshold():

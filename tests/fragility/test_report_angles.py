@@ -57,8 +57,9 @@ def test_the_report_tables_each_angle_with_its_stripes_and_draws_the_medians(tmp
     results["undecided"] = (results["status"].dims, undecided)
     written = write_report(results, tmp_path / "report", bootstrap=20, seed=5)
     text = open(written["report"], encoding="utf-8").read()
-    assert ("- 480 simulations in the dataset, 3 failed and left out; 4 undecided, also left out of the fits"
-            in text)
+    assert "- 480 simulations in the dataset, 3 failed and left out.\n" in text
+    assert ("- **4 run(s) undecided**: still able to fall when they reached their settle limit. They count as "
+            "**standing** in every fit and count below" in text)
     section = text.split("## Probability of overturning by incidence angle")[1].split("\n## ")[0]
     by = A.fragility_by_angle(results, bootstrap=20, seed=5)
     rows = [[x.strip() for x in line.strip("|").split("|")] for line in section.splitlines()

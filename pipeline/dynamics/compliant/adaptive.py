@@ -96,6 +96,8 @@ def run(params, y0, t_mon, stride, t_breaks, rtol, atol, max_step, event_directi
     start_statistics(t_mon[0], y, params, theta_commit, hist_y, hist_diag, hist_body, summary, body_stats,
                      joint_stats, joint_committed)
     scratch = np.empty((CHUNK, n))
+    peaked = np.zeros(params[9].shape[0], dtype=np.bool_)  # stands_for_good's watched bodies past a peak
+    decided = False
     t = t_mon[0]
     h = 0.0
     i = 1
@@ -143,10 +145,11 @@ def run(params, y0, t_mon, stride, t_breaks, rtol, atol, max_step, event_directi
                     _history_row(t_mon[k], y, params, k // stride, hist_y, hist_diag, hist_body,
                                  body_stats, y0)
             break
-        if i > k_decide and stands_for_good(y, params, summary[S_ENERGY_START], barrier, critical):
+        if i > k_decide and stands_for_good(y, params, summary[S_ENERGY_START], barrier, critical, peaked):
+            decided = True
             break
-    if (summary[S_STATUS] >= 0 and math.isnan(summary[S_OVERTURN_TIME])
-            and not stands_for_good(y, params, summary[S_ENERGY_START], barrier, critical)):
+    if (summary[S_STATUS] >= 0 and math.isnan(summary[S_OVERTURN_TIME]) and not decided
+            and not stands_for_good(y, params, summary[S_ENERGY_START], barrier, critical, peaked)):
         summary[S_UNDECIDED] = 1.0
     summary[S_END_TIME] = t
     summary[S_ENERGY_END] = energy(y, params)

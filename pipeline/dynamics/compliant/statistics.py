@@ -24,15 +24,14 @@ from pipeline.dynamics.excitation import ground_acceleration
 
 
 @njit(cache=True)
-def stands_for_good(y, params, energy_rest, barrier, critical):
-    """Whether a structure on still ground can no longer fall, its swing under way past its peak.
+def can_fall(y, params, energy_rest, barrier, critical):
+    """Whether a structure on still ground could still fall: a body past the tilt over which its part
+    tips, or the energy above the rest state at or above ``barrier``.
 
-    The compliant counterpart of :func:`pipeline.dynamics.rigid.loop.stands_for_good`. With the
-    ground still the energy (kinetic, weights, joints' springs) can only fall. Every body b is
-    on the near side of the hill of the part of the structure that tips with it about its
-    joint's rim (its tilt below ``critical[b]``), and the energy above the rest state is below
-    ``barrier``, the lowest rise of the weights over which any such part tips. The watched
-    bodies' tilts (a column's top) must not be rising: the swing's peak is then booked.
+    With the ground still the energy (kinetic, weights, joints' springs) can only fall; every body
+    below ``critical[b]`` and the energy below the lowest rise over which any part tips, none can
+    ever tip. Leaves each body's rotation and angular velocity in the scratch when it says False
+    (:func:`stands_for_good` reads the watched bodies' there).
 
     Parameters
     ----------
@@ -50,18 +49,44 @@ def stands_for_good(y, params, energy_rest, barrier, critical):
     n_bodies = params[0].shape[0]
     for b in range(n_bodies):
         if tilt_and_rotation(y, b)[0] >= critical[b]:
-            return False
-    if energy(y, params) - energy_rest >= barrier:
+            return True
+    return energy(y, params) - energy_rest >= barrier
+
+
+@njit(cache=True)
+def stands_for_good(y, params, energy_rest, barrier, critical, peaked):
+    """Whether a structure on still ground can no longer fall, each watched body's swing past its peak.
+
+    The compliant counterpart of :func:`pipeline.dynamics.rigid.loop.stands_for_good`, called at
+    checks along a run's end. The structure must not be able to fall (:func:`can_fall`), and each
+    watched body (a column's top) must have been seen with its tilt not rising at some check since
+    it last could: the swing each was in has then peaked, and the peak is booked (the statistics
+    run at every step or sample). The watched bodies need not fall at the same check: two columns
+    under an epistyle, dislocated by a record, may swing on in antiphase for minutes on still
+    ground, one top always rising (docs/model.md, "The end of a run").
+
+    Parameters
+    ----------
+    y, params, energy_rest, barrier, critical
+        As :func:`can_fall`.
+    peaked : bool[n_watched]
+        Whether each watched body has been seen not rising since the structure last could fall:
+        all False at a run's start, updated here.
+    """
+    if can_fall(y, params, energy_rest, barrier, critical):
+        peaked[:] = False
         return False
     # a watched body's axis a = R e_z turns at omega x a (ground frame): its tilt rises while a_z
     # falls, a_z' = -sin(theta) theta', sin(theta) = |(a_x, a_y)|; rising: theta' above the floor
     work, watched = params[6], params[9]
+    done = True
     for w in range(watched.shape[0]):
         R = work[watched[w]]  # the rotation and angular velocity energy() left in the scratch
         falls = R[W_OM] * R[5] - R[W_OM + 1] * R[2]
-        if falls < -RISE_FLOOR * math.sqrt(R[2] * R[2] + R[5] * R[5]):
-            return False
-    return True
+        if falls >= -RISE_FLOOR * math.sqrt(R[2] * R[2] + R[5] * R[5]):
+            peaked[w] = True
+        done = done and peaked[w]
+    return done
 
 
 @njit(cache=True)
