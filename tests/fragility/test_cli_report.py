@@ -48,6 +48,32 @@ def test_fragility_cli_options(study_file, tmp_path):
         assert list(back["state"].values) == ["overturning", "theta_ratio_0.3"]
 
 
+def test_fragility_cli_counts_undecided_runs_as_asked(study_file, tmp_path, capsys):
+    """Issue 47, item 5: ``--undecided`` says how runs still able to fall at their settle limit count; the
+    console says how many there were and how they counted, the file says the choice."""
+    _, ds = study_file
+    ds = ds.copy()
+    undecided = np.zeros(ds["overturned"].shape, np.int8)
+    undecided[0, :2, :, 2, :] = 1  # paper: 2 records at scale 1
+    ds["undecided"] = (ds["overturned"].dims, undecided)
+    ds["overturned"] = ds["overturned"].where(undecided == 0, 0)  # an undecided run has not overturned
+    path = tmp_path / "results.nc"
+    ds.to_netcdf(path)
+    medians = {}
+    for choice in ("standing", "overturned"):
+        out = tmp_path / f"{choice}.nc"
+        assert main(["fragility", str(path), "--out", str(out), "--undecided", choice]) == 0
+        assert f"2 undecided counted as {choice})" in capsys.readouterr().out
+        with xr.open_dataset(out) as back:
+            assert back.attrs["undecided_runs"].startswith(choice)
+            medians[choice] = float(back["median"].sel(state="overturning", column="paper", model="3d"))
+    assert medians["overturned"] < medians["standing"]
+    with pytest.raises(SystemExit) as refused:
+        main(["fragility", str(path), "--out", str(tmp_path / "x.nc"), "--undecided", "fell"])
+    assert refused.value.code == 2
+    assert "--undecided: invalid choice: 'fell'" in capsys.readouterr().err
+
+
 @pytest.mark.parametrize("argv, message", [
     (["--im", "sa"], "intensity measure 'sa' is not in the dataset"),
     (["--states", "a,b"], "--states"),

@@ -60,6 +60,12 @@ def test_the_report_tables_each_angle_with_its_stripes_and_draws_the_medians(tmp
     assert "- 480 simulations in the dataset, 3 failed and left out.\n" in text
     assert ("- **4 run(s) undecided**: still able to fall when they reached their settle limit. They count as "
             "**standing** in every fit and count below" in text)
+    from pipeline.report_undecided import undecided_effect
+
+    effect = undecided_effect(results)  # the medians both ways, beside the count
+    both = [float(effect[k].sel(column="paper", model="2d")) / G for k in ("standing", "overturned")]
+    assert both[1] < both[0]  # four more overturnings lower the median
+    assert f"| paper | 2d | 4 | {both[0]:.3g} | {both[1]:.3g} |" in text
     section = text.split("## Probability of overturning by incidence angle")[1].split("\n## ")[0]
     by = A.fragility_by_angle(results, bootstrap=20, seed=5)
     rows = [[x.strip() for x in line.strip("|").split("|")] for line in section.splitlines()
