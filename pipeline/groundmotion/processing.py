@@ -18,7 +18,8 @@ from pipeline.errors import InputError
 from pipeline.groundmotion import intensity as im
 from pipeline.groundmotion.provenance import log_step
 
-__all__ = ["baseline_correct", "taper", "bandpass", "resample", "trim_arias", "rotate", "scale", "scale_to", "apply", "STEPS"]
+__all__ = ["baseline_correct", "taper", "bandpass", "resample", "trim_arias", "rotate", "one_component", "scale",
+           "scale_to", "apply", "STEPS"]
 
 
 def baseline_correct(gm, type="linear", order=None):
@@ -109,6 +110,11 @@ def rotate(gm, angle):
     return gm.rotated(angle)
 
 
+def one_component(gm, keep="x"):
+    """Keep one horizontal component, the other set to zero (see GroundMotion.one_component)."""
+    return gm.one_component(keep)
+
+
 def scale(gm, factor):
     """Multiply all components by ``factor`` [1]."""
     return gm.scaled(factor)
@@ -187,6 +193,7 @@ STEPS = {
     "resample": resample,
     "trim_arias": trim_arias,
     "rotate": rotate,
+    "one_component": one_component,
     "scale": scale,
     "scale_to": scale_to,
 }

@@ -221,6 +221,22 @@ class GroundMotion:
             log_step(tr, f"rotated(angle={angle!r} deg)")
         return self.with_stream(st)
 
+    def one_component(self, keep="x"):
+        """The motion with one horizontal component only: the other set to zero (the vertical unchanged).
+
+        A drive in one direction (a shake table's, or a record's component turned along or across a
+        colonnade by the incidence angle) from a pair: ``keep`` is ``"x"`` or ``"y"``, the component
+        kept in its own place.
+        """
+        if keep not in ("x", "y"):
+            raise InputError(f"{self._record_id}: one_component keep = {keep!r}; keep 'x' or 'y'")
+        st = self._stream.copy()
+        other = st[1] if keep == "x" else st[0]
+        other.data = np.zeros_like(other.data)
+        for tr in st:
+            log_step(tr, f"one_component(keep={keep!r}): the {'y' if keep == 'x' else 'x'} component set to zero")
+        return self.with_stream(st)
+
     def scaled(self, factor):
         """All components multiplied by ``factor`` [1]."""
         factor = float(factor)

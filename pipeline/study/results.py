@@ -148,6 +148,8 @@ def assemble(study, motions, measures, factors, arrays):
         "study_sha256": study.digest,
         "model_options": json.dumps(dict(study.options), sort_keys=True),
         "vertical_component": "used" if study.vertical else "ignored",
+        "horizontal_components": "the records' horizontal pair" if study.components == "pair" else
+        "the x component of each record alone (y set to zero before scaling), turned by the incidence angle",
         "energy_units": "energies and work per unit weight, E/(m g) [m]",
     })
     return ds

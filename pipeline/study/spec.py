@@ -253,6 +253,9 @@ class Study:
         with the restitution they reach, to every model (``[calibration] bed``).
     vertical : bool
         Use the records' vertical components.
+    components : str
+        ``"pair"``: the records' horizontal pair as recorded; ``"x"``: the x component alone (y set
+        to zero before the records are scaled, so the stripes are its peaks), turned by the angles.
     sa_period : float or None
         Period [s] of the reported spectral acceleration.
     options : tuple of (str, object)
@@ -278,6 +281,7 @@ class Study:
     block_columns: int | None
     variants: tuple = ()
     calibration: str | None = None
+    components: str = "pair"
 
     @property
     def levels(self):

@@ -102,7 +102,10 @@ _GRID = {"R", "slenderness", "beta"}
 _GRID_OPTIONAL = {"drums"}  # a grid axis of drum counts (equal drums, no capital)
 _RECORDS = {"ids", "sets", "files", "synthetic"}
 _FILE = {"path", "units", "id", "components", "missing_y", "dt", "processing"}
-_EXCITATION = {"angles", "scales", "intensity", "vertical", "sa_period"}
+_EXCITATION = {"angles", "scales", "intensity", "vertical", "sa_period", "components"}
+#: ``[excitation] components``: the records' horizontal pair as recorded, or its x component alone (a drive in
+#: one direction, turned by the angle: 0 along x, 90 across), the y set to zero before the record is scaled.
+HORIZONTAL_COMPONENTS = ("pair", "x")
 _INTENSITY = {"measure", "values", "units"}
 # [options] may set what any model reads (each reads its own: Model.options); a variant only its model's
 _OPTIONS = set().union(*(m.options for m in REGISTRY.values()))
@@ -151,7 +154,7 @@ def load_study(path, load_records=True):
 
 
 def load_motions(study):
-    """Load every record of a study, in order.
+    """Load every record of a study, in order (with ``components = "x"``, its x component alone).
 
     Returns
     -------
@@ -165,7 +168,8 @@ def load_motions(study):
     motions = []
     for spec in study.records:
         try:
-            motions.append(spec.load())
+            motion = spec.load()
+            motions.append(motion.one_component("x") if study.components == "x" else motion)
         except Exception as exc:  # noqa: BLE001 - any loader failure is a bad field
             text = str(exc) if isinstance(exc, InputError) else f"{type(exc).__name__}: {exc}"
             raise InputError(f"{study.path}: field {spec.field}: record {spec.id!r} cannot be loaded: {text}") from None
@@ -248,7 +252,7 @@ def parse_study(data, path="<study>", digest=""):
     models, variants = _models(data.get("models", [DEFAULT]), ck)
     columns = _columns(data, ck)
     records = _records(data.get("records"), ck, path)
-    angles, scales, intensity, vertical, sa_period = _excitation(data.get("excitation"), ck)
+    angles, scales, intensity, vertical, sa_period, components = _excitation(data.get("excitation"), ck)
     options = _options(ck, data.get("options", {}), "options", _OPTIONS)
     named = {v.name: v for v in variants}  # empty for a list of registry names
     for m in models:
@@ -265,6 +269,7 @@ def parse_study(data, path="<study>", digest=""):
     study = Study(
         path=str(path), digest=digest, title=title, summary=summary, output=output, columns=columns,
         records=records, angles=angles, scales=scales, intensity=intensity, models=models, vertical=vertical,
+        components=components,
         sa_period=sa_period, options=options, block_columns=block, variants=variants, calibration=calibration,
     )
     _refuse_unread(ck, data, study)
@@ -798,4 +803,8 @@ def _excitation(section, ck):
     sa_period = section.get("sa_period")
     if sa_period is not None:
         sa_period = ck.number(sa_period, "excitation.sa_period", positive=True)
-    return angles, scales, intensity, vertical, sa_period
+    components = section.get("components", "pair")
+    if components not in HORIZONTAL_COMPONENTS:
+        ck.fail("excitation.components", f"{components!r}: give \"pair\" (both horizontal components, as recorded) "
+                "or \"x\" (the x component alone, turned by the angles: a drive in one direction)")
+    return angles, scales, intensity, vertical, sa_period, components

@@ -58,6 +58,8 @@ BAD = {
                                     "records.synthetic[0].amplitude"),
     "unknown record set": (_broken("[records]", '[records]\nsets = ["FEMA-XX"]'), "records.sets[0]"),
     "block_columns": (_broken("block_columns = 2", "block_columns = 0"), "execution.block_columns"),
+    "unknown horizontal components": (_broken("scales = [0.5, 1.0, 2.0]", 'scales = [0.5, 1.0, 2.0]\ncomponents = "y"'),
+                                      "excitation.components"),
     "duplicate column label": (_broken('name = "squat"', 'name = "paper"'), "columns"),
     "duplicate record id": (_broken('id = "kt-1"', 'id = "ricker"'), "records"),
     "intensity without units": (_broken("scales = [0.5, 1.0, 2.0]", 'intensity = {measure = "pga", values = [0.3]}'),
@@ -365,3 +367,24 @@ READ = {  # (replacements of CHECKS, what the study then holds)
 @pytest.mark.parametrize("case", sorted(READ))
 def test_what_some_model_reads_is_taken(write_study, case):
     load_study(write_study(_checks(*READ[case])), load_records=False)
+
+
+def test_one_component_drives_with_the_x_component_alone(write_study):
+    """Issue 48: a drive in one direction, as a shake table gives it (Mouzakis et al. 2002): ``[excitation]
+    components = "x"`` keeps each record's x component, its y set to zero before the records are scaled (so a
+    stripe is that component's own peak), and the angles turn it (0 along x, 90 across). The processing log
+    says so; the pair as recorded is the default."""
+    import numpy as np
+
+    from pipeline.study.grid import record_intensity
+    from pipeline.study.studyfile import load_motions
+
+    pair = load_study(write_study())
+    one = load_study(write_study(_broken("scales = [0.5, 1.0, 2.0]", 'scales = [0.5, 1.0, 2.0]\ncomponents = "x"')))
+    assert pair.components == "pair" and one.components == "x"
+    assert np.any(load_motions(pair)[1].acc_y)  # kt-1 shakes both ways as recorded
+    for a, b in zip(load_motions(pair), load_motions(one)):
+        np.testing.assert_array_equal(b.acc_x, a.acc_x)
+        assert not np.any(b.acc_y)
+        assert any("one_component(keep='x')" in line for line in b.processing)
+        assert record_intensity(b, None)["pga"] == pytest.approx(np.max(np.abs(a.acc_x)), rel=1e-15)
