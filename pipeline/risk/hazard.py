@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pipeline.errors import InputError
-from pipeline.risk.integral import _pieces
+from pipeline.risk.integral import _pieces, ln_rate
 from pipeline.units import G
 
 
@@ -64,15 +64,22 @@ class HazardCurve:
     poe : numpy.ndarray or None
         The file's probabilities of exceedance in ``investigation_time`` [1], shape (S, L).
     source : str
-        The file read.
+        The file read, or the code values given (``"code values 475:0.16"``).
     format : str
-        ``"openquake"`` or ``"plain"``.
+        ``"openquake"``, ``"plain"`` or ``"code"`` (:mod:`pipeline.risk.hazard_code`).
     imt : str
         The intensity measure as the file names it (``"PGA"``, ``"SA(1.0)"``).
     file_units : str
         Unit of the levels in the file (``"g"``).
     kind : str
         OpenQuake's ``kind`` (``"mean"``, ``"quantile-0.5"``, ``"rlz-000"``) or ``""``.
+    slope_below, slope_beyond : float or None
+        Slopes k = -d ln H / d ln a [1] of the power laws that extend the curve below its first
+        and beyond its last level; None: the end segments' own (a file's curve).
+    description : str
+        The source in words, for provenance (code values: the points and the slopes); ``""`` for a file.
+    extrapolated : str
+        Where the curve is extrapolated, in words (code values); ``""`` for a file, whose ends say it.
     """
 
     im: str
@@ -91,10 +98,19 @@ class HazardCurve:
     file_units: str
     kind: str = ""
     notes: tuple = field(default=())
+    slope_below: float | None = None
+    slope_beyond: float | None = None
+    description: str = ""
+    extrapolated: str = ""
 
     def describe(self):
         """The intensity measure in words: ``"PGA"``, ``"Sa(T = 1 s)"``."""
         return describe_im(self.im, self.period)
+
+    @property
+    def tails(self):
+        """(slope below the first level, slope beyond the last) [1]; None where the end segment's own."""
+        return self.slope_below, self.slope_beyond
 
 
 def describe_im(im, period=None):
@@ -137,6 +153,20 @@ def parse_imt(text, where=""):
     return name.lower(), None
 
 
+def check_reachable(levels, im, names, where, unit, factor, fix):
+    """Refuse levels [SI] beyond :data:`MAX_LEVEL`, naming the first (``names``: its column, line or value).
+
+    ``unit`` and ``factor`` (to SI) are those the levels were given in; ``fix`` ends the message.
+    """
+    beyond = np.nonzero(levels > MAX_LEVEL[im])[0]
+    if not beyond.size:
+        return
+    i = int(beyond[0])
+    bound = MAX_LEVEL[im] / factor
+    raise InputError(f"{where}{names[i]}: a level of {levels[i] / factor:g} {unit} is beyond any ground motion (the "
+                     f"strongest recorded: {_STRONGEST[im]}; levels up to {bound:g} {unit} are accepted); {fix}")
+
+
 def usable_curve(hazard, site_index):
     """(levels [SI], rates [1/yr]) of one site: the levels with a finite positive rate.
 
@@ -155,7 +185,7 @@ def usable_curve(hazard, site_index):
                          f"{rate[i + 1]:.4g} /yr between levels {i + 1} and {i + 2}; a hazard curve never rises "
                          "with the level (is the file sorted?)")
     keep = np.isfinite(rate) & (rate > 0)
-    if keep.sum() < 2:
+    if keep.sum() < (1 if None not in hazard.tails else 2):  # one level and its slopes: a power law
         raise InputError(f"{hazard.source}: site {site}: fewer than two levels with a probability of exceedance "
                          "between 0 and 1; no curve to integrate")
     return levels[keep], rate[keep]
@@ -164,10 +194,8 @@ def usable_curve(hazard, site_index):
 def hazard_rate_at(hazard, site_index, intensity):
     """Annual rate of exceedance [1/yr] of a site's curve at ``intensity`` [SI], log-log interpolated.
 
-    Beyond the curve's ends its end segments' power laws are extended (as in :func:`risk_integral`).
+    Beyond the curve's ends its end segments' power laws are extended, or those of the curve's own
+    ``tails`` (as in :func:`pipeline.risk.integral.risk_integral`).
     """
     levels, rates = usable_curve(hazard, site_index)
-    x, ln_h, k = _pieces(levels, rates)
-    g = np.log(np.asarray(intensity, float))
-    seg = np.clip(np.searchsorted(x, g, side="right") - 1, 0, len(k) - 1)
-    return np.exp(ln_h[seg] - k[seg] * (g - x[seg]))
+    return np.exp(ln_rate(*_pieces(levels, rates, hazard.tails), np.log(np.asarray(intensity, float)))[0])

@@ -18,16 +18,13 @@ the checks of the text both share (separators, empty column names, trailing comm
 Several sites in one file give a ``site`` dimension. Every level is converted to SI on reading (m/s^2
 for PGA and Sa, m/s for PGV). Refused by name: fields separated by ``;`` or tabs, an engine export
 without its ``#`` metadata row, an empty column name (a trailing comma), and a level no ground motion
-reaches (beyond :data:`pipeline.risk.hazard.MAX_LEVEL`, 30 g).
+reaches (beyond :data:`pipeline.risk.hazard.MAX_LEVEL`, 30 g; :func:`pipeline.risk.hazard.check_reachable`).
 """
 
 import os
 import re
 
-import numpy as np
-
 from pipeline.errors import InputError
-from pipeline.risk.hazard import _STRONGEST, MAX_LEVEL
 
 
 def read_hazard_curve(path):
@@ -111,17 +108,6 @@ def _check_trailing(row, width, line_no, where):
     if len(row) > width and not any(c.strip() for c in row[width:]):
         raise InputError(f"{where}line {line_no} ends in {len(row) - width} empty field(s) beyond the {width} of "
                          "the header (a trailing comma?); remove the trailing comma")
-
-
-def _check_reachable(levels, im, names, where, unit, factor, fix):
-    """Refuse levels [SI] beyond :data:`MAX_LEVEL`, naming the first (``names``: its column or line)."""
-    beyond = np.nonzero(levels > MAX_LEVEL[im])[0]
-    if not beyond.size:
-        return
-    i = int(beyond[0])
-    bound = MAX_LEVEL[im] / factor
-    raise InputError(f"{where}{names[i]}: a level of {levels[i] / factor:g} {unit} is beyond any ground motion (the "
-                     f"strongest recorded: {_STRONGEST[im]}; levels up to {bound:g} {unit} are accepted); {fix}")
 
 
 def _is_number(text):

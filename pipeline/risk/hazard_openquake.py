@@ -9,9 +9,9 @@ import re
 import numpy as np
 
 from pipeline.errors import InputError
-from pipeline.risk.hazard import OPENQUAKE_UNITS, HazardCurve, annual_rate, parse_imt
-from pipeline.risk.hazard_csv import (_check_names, _check_reachable, _check_separator, _check_trailing,
-                                      _header_index, _is_number, _is_openquake_header, _lines)
+from pipeline.risk.hazard import OPENQUAKE_UNITS, HazardCurve, annual_rate, check_reachable, parse_imt
+from pipeline.risk.hazard_csv import (_check_names, _check_separator, _check_trailing, _header_index, _is_number,
+                                      _is_openquake_header, _lines)
 
 
 def _meta(comment, key):
@@ -95,7 +95,7 @@ def read_openquake_csv(path):
         raise InputError(f"{where}the levels poe-<IML> must be positive and increasing; found "
                          f"{', '.join(f'{v:g}' for v in iml)}")
     unit, factor = OPENQUAKE_UNITS[im]
-    _check_reachable(iml * factor, im, [f"column {header[i]!r}" for i in poe_cols], where, unit, factor,
+    check_reachable(iml * factor, im, [f"column {header[i]!r}" for i in poe_cols], where, unit, factor,
                      f"give each level in {unit}, as the OpenQuake engine writes it (poe-0.5000000 for 0.5 {unit})")
     rows = list(csv.reader(lines[at + 1:]))
     sites, lon, lat, depth, poe = [], [], [], [], []

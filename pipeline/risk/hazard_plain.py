@@ -8,8 +8,8 @@ import re
 import numpy as np
 
 from pipeline.errors import InputError
-from pipeline.risk.hazard import _VELOCITY_UNITS, LEVEL_UNITS, HazardCurve, annual_rate, parse_imt
-from pipeline.risk.hazard_csv import _check_names, _check_reachable, _check_separator, _check_trailing, _is_number, _lines
+from pipeline.risk.hazard import _VELOCITY_UNITS, LEVEL_UNITS, HazardCurve, annual_rate, check_reachable, parse_imt
+from pipeline.risk.hazard_csv import _check_names, _check_separator, _check_trailing, _is_number, _lines
 
 
 _LEVEL_HEADER = re.compile(r"^\s*(?P<imt>PGA|PGV|S[Aa]\s*\([^)]*\))\s*(?:\[(?P<u1>[^\]]+)\]|\((?P<u2>[^)]+)\)|"
@@ -82,7 +82,7 @@ def read_plain_csv(path):
     levels, values = np.array(levels), np.array(values)
     if not (np.all(np.isfinite(levels)) and np.all(levels > 0) and np.all(np.diff(levels) > 0)):
         raise InputError(f"{where}the levels must be positive and increasing, one per line")
-    _check_reachable(levels * LEVEL_UNITS[key], im, [f"line {n}" for n, _ in rows[1:]], where, unit, LEVEL_UNITS[key],
+    check_reachable(levels * LEVEL_UNITS[key], im, [f"line {n}" for n, _ in rows[1:]], where, unit, LEVEL_UNITS[key],
                      f"give the levels in the unit the header names ({unit})")
     if T is None:
         if np.any(~np.isfinite(values) | (values < 0)):

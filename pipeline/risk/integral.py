@@ -36,9 +36,12 @@ RISK_SHARES = (0.05, 0.5, 0.95)
 
 
 def probability_in(rate, years):
-    """Probability of at least one occurrence in ``years`` of a Poisson process of ``rate`` [1/yr]: 1 - exp(-rate T)."""
+    """Probability of at least one occurrence in ``years`` of a Poisson process of ``rate`` [1/yr]: 1 - exp(-rate T).
+
+    ``rate`` and ``years`` broadcast together.
+    """
     with np.errstate(over="ignore"):  # rate T beyond the largest float is inf, and the probability 1
-        return -np.expm1(-np.asarray(rate, float) * float(years))
+        return -np.expm1(-np.asarray(rate, float) * np.asarray(years, float))
 
 
 def return_period(annual_frequency):
@@ -152,14 +155,32 @@ class RiskParts:
     p_last: np.ndarray
 
 
-def _pieces(levels, rates):
+def _pieces(levels, rates, tails=(None, None)):
+    """ln a and ln H at a curve's L levels, and the slopes k = -d ln H / d ln a [1] of its L + 1 pieces.
+
+    Piece 0 lies below the first level, piece i between levels i - 1 and i, piece L beyond the last.
+    The two outer pieces take the slopes ``tails`` = (below, beyond) where given, else the end
+    segments' own (a curve of one level needs both).
+    """
     x = np.log(np.asarray(levels, float))
     ln_h = np.log(np.asarray(rates, float))
     k = np.maximum(-np.diff(ln_h) / np.diff(x), 0.0)
-    return x, ln_h, k
+    below, beyond = tails
+    if k.size == 0 and (below is None or beyond is None):
+        raise ValueError("a hazard curve of one level needs its slopes below and beyond it (tails)")
+    below = k[0] if below is None else float(below)
+    beyond = k[-1] if beyond is None else float(beyond)
+    return x, ln_h, np.concatenate([[below], k, [beyond]])
 
 
-def risk_integral(levels, rates, median, beta):
+def ln_rate(x, ln_h, k, g):
+    """ln H [ln(1/yr)] at ln intensities ``g`` on the pieces of :func:`_pieces`, and the piece of each."""
+    piece = np.searchsorted(x, g, side="right")
+    at = np.maximum(piece - 1, 0)  # the level each piece's power law is anchored at
+    return ln_h[at] - k[piece] * (g - x[at]), piece
+
+
+def risk_integral(levels, rates, median, beta, tails=(None, None)):
     """Mean annual frequency of a damage state: the risk integral over a tabulated hazard curve.
 
     Parameters
@@ -172,6 +193,9 @@ def risk_integral(levels, rates, median, beta):
     median, beta : array_like
         Lognormal fragility: median [units of ``levels``] (``inf``: never reached, ``0``:
         always) and dispersion [1] (0: a step). Broadcast together.
+    tails : (float or None, float or None)
+        Slopes k [1] of the power laws below the first and beyond the last level; None: the end
+        segment's own (a code-value curve gives its own, :mod:`pipeline.risk.hazard_code`).
 
     Returns
     -------
@@ -179,12 +203,12 @@ def risk_integral(levels, rates, median, beta):
         ``central`` = below + inside + beyond; ``lower`` = inside + P(a_L) H(a_L); ``upper`` =
         below + inside + H(a_L).
     """
-    x, ln_h, k = _pieces(levels, rates)
+    x, ln_h, k = _pieces(levels, rates, tails)
     median, beta = np.broadcast_arrays(np.asarray(median, float), np.asarray(beta, float))
     shape = median.shape
     m = median[..., None]
     b = beta[..., None]
-    inside = segment_integral(x[:-1], x[1:], x[:-1], ln_h[:-1], k, m, b).sum(axis=-1)
+    inside = segment_integral(x[:-1], x[1:], x[:-1], ln_h[:-1], k[1:-1], m, b).sum(axis=-1)
     below = segment_integral(-np.inf, x[0], x[0], ln_h[0], k[0], median, beta)
     beyond = segment_integral(x[-1], np.inf, x[-1], ln_h[-1], k[-1], median, beta)
     h_last = float(np.exp(ln_h[-1]))
@@ -209,20 +233,18 @@ def _log_probability(im, median, beta):
     return out
 
 
-def _integrand(grid, levels, rates, median, beta):
+def _integrand(grid, levels, rates, median, beta, tails=(None, None)):
     """P(DS | a) |dH/d ln a| on ``grid`` [1/yr per unit ln a], and H(a) on it (curve extended by its end segments).
 
     The product is taken in logs: where the first segment, extended below the curve, gives a rate
     beyond the largest float, P there is far below the smallest, and their product may be either.
     """
-    x, ln_h, k = _pieces(levels, rates)
-    g = np.log(grid)
-    seg = np.clip(np.searchsorted(x, g, side="right") - 1, 0, len(k) - 1)
-    ln_hg = ln_h[seg] - k[seg] * (g - x[seg])
+    x, ln_h, k = _pieces(levels, rates, tails)
+    ln_hg, piece = ln_rate(x, ln_h, k, np.log(grid))
     b = np.where(np.isfinite(median) & (median > 0), beta, 1.0)[..., None]
     p = F.probability(grid, median[..., None], b)
     with np.errstate(divide="ignore"):  # a flat segment (k = 0) adds nothing: ln k = -inf
-        ln_k = np.log(k[seg])
+        ln_k = np.log(k[piece])
     with np.errstate(over="ignore"):  # beyond the largest float the value is inf (risk_flag integral_overflows)
         return np.exp(_log_probability(grid, median[..., None], b) + ln_k + ln_hg), np.exp(ln_hg), p
 
