@@ -8,7 +8,7 @@ import os
 from pipeline import fragility as F
 from pipeline.dataset import write_netcdf
 from pipeline.risk.integral import RISK_SHARES
-from pipeline.risk.risk_dataset import RISK_FLAGS
+from pipeline.risk.risk_dataset import RISK_FLAGS, in_period, periods
 from pipeline.units import G
 
 
@@ -17,11 +17,16 @@ CSV_DIGITS = 4
 
 
 def risk_rows(risk):
-    """One dict per site, column, model and damage state: the spreadsheet's rows (units in the keys)."""
+    """One dict per site, column, model and damage state: the spreadsheet's rows (units in the keys).
+
+    A probability per period (``probability_in_50_yr``, ``probability_in_2100_yr``, ...); a hazard curve
+    from code values adds the share of the risk below its smallest PGA, the values and where the
+    curve is extrapolated.
+    """
     im = risk.attrs.get("intensity_measure", "pga")
     acc = im in ("pga", "sa")
+    code = risk.attrs.get("hazard_format") == "code"
     rows = []
-    years = float(risk["years"])
     for site in risk["site"].values:
         for c in risk["column"].values:
             for m in risk["model"].values:
@@ -45,13 +50,20 @@ def risk_rows(risk):
                     row["annual_frequency_band_lower_per_yr"] = v("annual_frequency_band_lower")
                     row["annual_frequency_band_upper_per_yr"] = v("annual_frequency_band_upper")
                     row["return_period_yr"] = v("return_period")
-                    for name in ("", "_lower", "_upper", "_band_lower", "_band_upper"):
-                        row[f"probability_in_{years:g}_yr{name}"] = v(f"probability_in_period{name}")
+                    for years in periods(risk):
+                        for name in ("", "_lower", "_upper", "_band_lower", "_band_upper"):
+                            row[f"probability_in_{years:g}_yr{name}"] = in_period(cell, f"probability_in_period{name}",
+                                                                                  years)
+                    if code:
+                        row["share_below_first_level"] = v("share_below_first_level")
                     row["share_beyond_last_level"] = v("share_beyond_last_level")
                     for share in RISK_SHARES:
                         key = f"intensity_risk_{round(100 * share):02d}"
                         row[f"{key}_{'g' if acc else 'm_s'}"] = v(key) / (G if acc else 1.0)
                     row["risk_flag"] = RISK_FLAGS[int(cell["risk_flag"])]
+                    if code:
+                        row["hazard_code_values"] = risk.attrs["hazard_code_values"]
+                        row["hazard_extrapolated"] = risk.attrs["hazard_extrapolated"]
                     rows.append(row)
     return rows
 

@@ -78,8 +78,9 @@ def site_risk(frag, hazard, years=DEFAULT_YEARS, n_grid=301):
         ``median_bootstrap``/``beta_bootstrap`` (the replicates).
     hazard : HazardCurve
         Same intensity measure as the fragility (:func:`check_im`), levels in SI.
-    years : float
-        Period of the probability stated [yr] (``probability_in_period``).
+    years : float or sequence of float
+        Period of the probability stated [yr] (``probability_in_period``); a sequence (``[50, 2100]``)
+        gives ``probability_in_period`` a dimension ``years``, a number a scalar coordinate.
     n_grid : int
         Points of the intensity grid of the integrand (for plots and the shares).
 
@@ -93,11 +94,10 @@ def site_risk(frag, hazard, years=DEFAULT_YEARS, n_grid=301):
         first and beyond the last level [1]; ``intensity_risk_05/50/95`` [IM units];
         ``risk_flag``; ``risk_integrand`` [1/yr per unit ln IM], ``fragility_probability`` [1] and
         ``hazard_rate_interpolated`` [1/yr] on ``intensity``; the curve as read, ``hazard_rate``
-        [1/yr] (and ``hazard_poe``) on ``hazard_level``.
+        [1/yr] (and ``hazard_poe``) on ``hazard_level``. A hazard curve from code values
+        (:mod:`pipeline.risk.hazard_code`) is recorded in the attributes, with where it is extrapolated.
     """
-    years = float(years)
-    if not (math.isfinite(years) and years > 0):
-        raise InputError(f"years = {years!r}: give a positive number of years, e.g. 50")
+    years = check_years(years)
     check_im(frag, hazard)
     im, period, units = fragility_im(frag)
     status = frag["fit_status"].transpose("state", "column", "model").values.astype(int)
@@ -125,7 +125,7 @@ def site_risk(frag, hazard, years=DEFAULT_YEARS, n_grid=301):
     for s in range(nS):
         levels, rates = usable_curve(hazard, s)
         curve_end[s] = levels[-1]
-        parts = risk_integral(levels, rates, median, beta)
+        parts = risk_integral(levels, rates, median, beta, hazard.tails)
         # a usable fit whose integral is no number: beyond the largest float (risk_flag integral_overflows)
         overflow[s] = usable & ~np.isfinite(parts.central)
         central = np.where(overflow[s], np.nan, parts.central)
@@ -136,12 +136,12 @@ def site_risk(frag, hazard, years=DEFAULT_YEARS, n_grid=301):
             out["share_below_first_level"][s] = parts.below / central
             out["share_beyond_last_level"][s] = (central - parts.below - parts.inside) / central
         beyond_curve[s] = np.isfinite(median) & (median > levels[-1])
-        dens, hg, _ = _integrand(grid, levels, rates, median, beta)
+        dens, hg, _ = _integrand(grid, levels, rates, median, beta, hazard.tails)
         integrand[s] = dens
         h_grid[s] = hg
         shares[s] = _shares(grid, dens, parts.below, central)
         if replicates:
-            lam = risk_integral(levels, rates, med_b, bet_b).central  # (bootstrap, state, column, model)
+            lam = risk_integral(levels, rates, med_b, bet_b, hazard.tails).central  # (bootstrap, state, column, model)
             lo, hi = _band(lam, confidence)
             out["annual_frequency_band_lower"][s] = np.where(usable, lo, np.nan)
             out["annual_frequency_band_upper"][s] = np.where(usable, hi, np.nan)
@@ -154,7 +154,9 @@ def site_risk(frag, hazard, years=DEFAULT_YEARS, n_grid=301):
     for name, values in out.items():
         ds[name] = (dims, values)
     for name in ("", "_lower", "_upper", "_band_lower", "_band_upper"):
-        ds[f"probability_in_period{name}"] = (dims, probability_in(out[f"annual_frequency{name}"], years))
+        lam = out[f"annual_frequency{name}"]
+        ds[f"probability_in_period{name}"] = ((dims, probability_in(lam, years)) if np.ndim(years) == 0 else
+                                              (dims + ("years",), probability_in(lam[..., None], years)))
     ds["return_period"] = (dims, return_period(out["annual_frequency"]))
     for j, share in enumerate(RISK_SHARES):
         ds[f"intensity_risk_{round(100 * share):02d}"] = (dims, shares[..., j], {"units": units})
@@ -164,7 +166,8 @@ def site_risk(frag, hazard, years=DEFAULT_YEARS, n_grid=301):
                                    F.probability(grid, median[..., None],
                                                  np.where(np.isfinite(median) & (median > 0), beta, 1.0)[..., None]))
     ds["hazard_rate_interpolated"] = (("site", "intensity"), h_grid)
-    ds["hazard_rate"] = (("site", "hazard_level"), np.asarray(hazard.rate, float))
+    ds["hazard_rate"] = (("site", "hazard_level"), np.asarray(hazard.rate, float),
+                         {"comment": "1 / return period of the code values"} if hazard.format == "code" else {})
     if hazard.poe is not None:
         ds["hazard_poe"] = (("site", "hazard_level"), np.asarray(hazard.poe, float),
                             {"comment": f"in the investigation time, {hazard.investigation_time:g} years"})
@@ -193,25 +196,62 @@ def site_risk(frag, hazard, years=DEFAULT_YEARS, n_grid=301):
         intensity_measure_units=units,
         **({"intensity_measure_period": period} if period is not None else {}),
         years=years,
-        hazard_file=os.path.basename(hazard.source),
-        hazard_format=hazard.format,
-        hazard_imt=hazard.imt,
-        hazard_level_units_in_file=hazard.file_units,
-        hazard_kind=hazard.kind,
-        **({"hazard_investigation_time": hazard.investigation_time} if hazard.investigation_time else {}),
+        **_hazard_attrs(hazard),
         fragility_file=os.path.basename(str(frag.attrs.get("source_file", ""))),
         confidence_level=confidence,
         bootstrap_replicates=int(frag.sizes.get("bootstrap", 0)) if replicates else 0,
         method="Cornell C.A. (1968) Engineering seismic risk analysis, BSSA 58(5); closed form per power-law "
                "segment (Kennedy R.P., Short S.A. (1994) UCRL-15910; Cornell C.A. et al. (2002) J. Struct. Eng. "
                "128(4)); Poisson occurrence",
-        limits=LIMITS,
+        limits=LIMITS + (f" The hazard curve is a power law through code values, extrapolated {hazard.extrapolated}."
+                         if hazard.format == "code" else ""),
     )
     for key in ("results_study", "results_study_digest", "results_title"):
         if key in frag.attrs:
             ds.attrs[key] = str(frag.attrs[key])
-    append_history(ds, f"pipeline.risk hazard={os.path.basename(hazard.source)} years={years:g}")
+    append_history(ds, f"pipeline.risk hazard={os.path.basename(hazard.source)} "
+                       f"years={','.join(f'{y:g}' for y in np.atleast_1d(years))}")
     return ds
+
+
+def check_years(years):
+    """The periods of the stated probability [yr]: a positive number, or several, each once.
+
+    Returns a float for a number, a float array for a sequence; refuses the rest by value.
+    """
+    many = np.ndim(years) > 0
+    values = np.atleast_1d(np.asarray(years, float)) if many else np.array([float(years)])
+    for y in map(float, values):
+        if not (math.isfinite(y) and y > 0):
+            raise InputError(f"years = {y!r}: give a positive number of years, e.g. 50")
+    if many and (values.size == 0 or np.unique(values).size != values.size):
+        raise InputError(f"years = {', '.join(f'{y:g}' for y in values) or 'none'}: give one or more periods, "
+                         "each once, e.g. 50,2100")
+    return values if many else float(values[0])
+
+
+def periods(risk):
+    """The periods [yr] of a risk Dataset's ``probability_in_period``, as a list (one or several)."""
+    return [float(y) for y in np.atleast_1d(risk["years"].values)]
+
+
+def in_period(cell, name, years):
+    """``cell[name]`` at the period ``years`` [yr] (a Dataset with one period or several), as a float."""
+    var = cell[name]
+    return float(var.sel(years=years) if "years" in var.dims else var)
+
+
+def _hazard_attrs(hazard):
+    """The hazard curve's provenance: its file, or its code values, slopes and where it is extrapolated."""
+    if hazard.format == "code":
+        return dict(hazard_format=hazard.format, hazard_source=hazard.description,
+                    hazard_code_values=hazard.source.removeprefix("code values "),
+                    hazard_code_values_units="return period [year]:PGA [g]", hazard_slope_below=hazard.slope_below,
+                    hazard_slope_beyond=hazard.slope_beyond, hazard_extrapolated=hazard.extrapolated,
+                    hazard_imt=hazard.imt, hazard_level_units_in_file=hazard.file_units)
+    return dict(hazard_file=os.path.basename(hazard.source), hazard_format=hazard.format, hazard_imt=hazard.imt,
+                hazard_level_units_in_file=hazard.file_units, hazard_kind=hazard.kind,
+                **({"hazard_investigation_time": hazard.investigation_time} if hazard.investigation_time else {}))
 
 
 def _band(samples, confidence):
@@ -239,7 +279,7 @@ def _coords(frag, hazard, grid, years, im, units):
         "model": ("model", frag["model"].values.astype(str).astype(object)),
         "intensity": ("intensity", grid, {"units": units}),
         "hazard_level": ("hazard_level", np.asarray(hazard.levels, float), {"units": units}),
-        "years": ((), years),
+        "years": ((), years) if np.ndim(years) == 0 else ("years", years),
     }
     if acc:
         coords["intensity_g"] = ("intensity", grid / G)
@@ -265,7 +305,13 @@ def _warn(hazard, frag, flag, median, curve_end, units):
         named = [f"{columns[c]} {models[m]} {states[i]} (median {median[i, c, m] * factor:.3g} {unit})"
                  for i, c, m in cells[:3]]
         more = f" and {len(cells) - 3} more" if len(cells) > 3 else ""
-        warnings.warn(f"{os.path.basename(hazard.source)}: the hazard curve of site {site} ends at "
-                      f"{curve_end[s] * factor:.3g} {unit}, below the fragility median of {', '.join(named)}{more}: "
-                      "that risk rests partly on the curve extended beyond its last level; see "
-                      "annual_frequency_lower/upper (risk_flag median_beyond_hazard_curve)", HazardWarning, stacklevel=2)
+        if hazard.format == "code":
+            ends = (f"{hazard.source}: the largest PGA given is {curve_end[s] * factor:.3g} {unit}, below the fragility "
+                    f"median of {', '.join(named)}{more}: that risk rests partly on the power law extrapolated beyond "
+                    f"it (slope {hazard.slope_beyond:.3g})")
+        else:
+            ends = (f"{os.path.basename(hazard.source)}: the hazard curve of site {site} ends at "
+                    f"{curve_end[s] * factor:.3g} {unit}, below the fragility median of {', '.join(named)}{more}: "
+                    "that risk rests partly on the curve extended beyond its last level")
+        warnings.warn(f"{ends}; see annual_frequency_lower/upper (risk_flag median_beyond_hazard_curve)",
+                      HazardWarning, stacklevel=2)

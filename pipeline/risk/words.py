@@ -91,9 +91,10 @@ def no_risk_reason(risk, site, column, model, state):
     rate = risk["hazard_rate"].sel(site=site).values
     keep = np.isfinite(rate) & (rate > 0)
     levels, rates = risk["hazard_level"].values[keep], rate[keep]
-    parts = risk_integral(levels, rates, float(cell["fragility_median"]), float(cell["fragility_beta"]))
+    tails = tuple(risk.attrs.get(f"hazard_slope_{end}") for end in ("below", "beyond"))  # code values give them
+    parts = risk_integral(levels, rates, float(cell["fragility_median"]), float(cell["fragility_beta"]), tails)
     lower = f"{float(cell['annual_frequency_lower']):.3g} /yr"
-    if np.isfinite(parts.below):  # the integral is at most about the largest rate: not met in practice
+    if np.isfinite(parts.below) or levels.size < 2:  # beyond the largest rate: not met in practice
         return f"the risk integral is beyond the largest number a float holds (at least {lower})"
     k = (math.log(rates[0]) - math.log(rates[1])) / math.log(levels[1] / levels[0])  # a ratio may overflow
     a0, a1 = (f"{v * factor:.3g}" for v in levels[:2])
