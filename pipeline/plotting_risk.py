@@ -1,8 +1,9 @@
 """The figure of a site risk (:mod:`pipeline.risk`): the hazard curve, the fragility and the risk integrand.
 
 Three panels over one intensity axis (in g for accelerations, m/s^2 on the top axis): the hazard
-curve H(a) [1/yr] as read (points) and as integrated (log-log interpolation, dashed where it is
-extended beyond the curve's levels); the fragility P(DS | a) of each model; and the integrand
+curve H(a) [1/yr] as read (points) and as integrated (log-log interpolation, dotted where it is
+extended beyond the curve's levels; for code values, the values given and the power laws, dotted
+where extrapolated); the fragility P(DS | a) of each model; and the integrand
 P(DS | a) |dH/d ln a| [1/yr per unit ln a], whose area over a log axis is the mean annual
 frequency, so the figure shows which shaking levels carry the risk.
 """
@@ -10,7 +11,7 @@ frequency, so the figure shows which shaking levels carry the risk.
 import numpy as np
 
 from pipeline.plotting_fragility import _plain_log, _secondary, _style, im_axis, plt
-from pipeline.risk import RISK_FLAGS, describe_im, one_in, percent
+from pipeline.risk import RISK_FLAGS, describe_im, in_period, one_in, percent, periods
 
 
 def _draw(risk, axes, site, column, state, models):
@@ -35,13 +36,18 @@ def _draw(risk, axes, site, column, state, models):
         lo, hi = np.floor(np.log10(drawn.min())), np.ceil(np.log10(drawn.max()))
         ax_h.set_ylim(10.0 ** lo, 10.0 ** max(hi, lo + 1))
     inside = (risk["intensity"].values >= first) & (risk["intensity"].values <= end)
-    ax_h.plot(x[inside], h[inside], color="C0", lw=1.6, label="log-log interpolation")
+    code = risk.attrs.get("hazard_format") == "code"
+    if inside.sum() > 1:  # one code value: no curve between values, all of it extrapolated
+        ax_h.plot(x[inside], h[inside], color="C0", lw=1.6,
+                  label="power law between the values" if code else "log-log interpolation")
     ax_h.plot(np.where(inside, np.nan, x), np.where(inside, np.nan, h), color="C0", lw=1.2, ls=":",
-              label="extended by the end segments")
-    ax_h.plot(levels[ok], rate[ok], "o", color="C0", ms=4, label=f"hazard curve ({risk.attrs.get('hazard_file', '')})")
+              label=_extended_label(risk) if code else "extended by the end segments")
+    ax_h.plot(levels[ok], rate[ok], "o", color="C0", ms=4,
+              label=(f"code values (T:PGA {risk.attrs.get('hazard_code_values', '')})" if code else
+                     f"hazard curve ({risk.attrs.get('hazard_file', '')})"))
     ax_h.set_ylabel("annual rate of exceedance\nH(a) [1/yr]")
     ax_h.legend(fontsize="small", loc="lower left")
-    years = float(risk["years"])
+    years = periods(risk)
     lines = []
     for j, m in enumerate(models):
         cell = risk.sel(site=site, column=column, model=m, state=state)
@@ -53,12 +59,13 @@ def _draw(risk, axes, site, column, state, models):
         dens = cell["risk_integrand"].values
         dens = np.where(dens <= 1e30, dens, np.nan)  # the window of the hazard panel: ticks overflow beyond
         lam = float(cell["annual_frequency"])
-        p = float(cell["probability_in_period"])
+        p = [in_period(cell, "probability_in_period", y) for y in years]
         flag = RISK_FLAGS[int(cell["risk_flag"])]
-        text = (f"{m.upper()}: λ = {lam:.3g} /yr, {years:g} yr: {percent(p)} ({one_in(p)})" if np.isfinite(lam)
-                else f"{m.upper()}: not computed ({flag.replace('_', ' ')})")
+        more = "".join(f", {y:g} yr: {percent(q)}" for y, q in zip(years[1:], p[1:]))
+        text = (f"{m.upper()}: λ = {lam:.3g} /yr, {years[0]:g} yr: {percent(p[0])} ({one_in(p[0])}){more}"
+                if np.isfinite(lam) else f"{m.upper()}: not computed ({flag.replace('_', ' ')})")
         if flag == "median_beyond_hazard_curve":
-            text += " - median beyond the curve"
+            text += " - median beyond the values given" if code else " - median beyond the curve"
         ax_i.plot(x, dens, color=color, ls=style["ls"], lw=1.6, label=text)
         lines.append(text)
         for ax in (ax_h, ax_p, ax_i):
@@ -74,8 +81,8 @@ def _draw(risk, axes, site, column, state, models):
         ax.axvline(end * factor, color="0.4", lw=1.0, ls="--")
         ax.set_xscale("log")
         ax.grid(True, which="both", alpha=0.3)
-    ax_i.text(end * factor, 0.98, " last level", transform=ax_i.get_xaxis_transform(), fontsize="small",
-              va="top", color="0.3")
+    ax_i.text(end * factor, 0.98, " largest value given" if code else " last level",
+              transform=ax_i.get_xaxis_transform(), fontsize="small", va="top", color="0.3")
     meds = risk["fragility_median"].sel(column=column, state=state, model=models).values
     bets = np.nan_to_num(risk["fragility_beta"].sel(column=column, state=state, model=models).values)
     reach = [float(v) for v in meds * np.exp(2.5 * bets) if np.isfinite(v)]
@@ -84,6 +91,13 @@ def _draw(risk, axes, site, column, state, models):
     ax_i.set_xlabel(xlabel)
     _secondary(ax_h, secondary)
     return describe_im(im, risk.attrs.get("intensity_measure_period"))
+
+
+def _extended_label(risk):
+    """The legend of a code curve's extrapolated part: which slopes, below and beyond the values."""
+    below, beyond = (float(risk.attrs[f"hazard_slope_{end}"]) for end in ("below", "beyond"))
+    slopes = f"slope {below:.3g}" if f"{below:.3g}" == f"{beyond:.3g}" else f"slopes {below:.3g} and {beyond:.3g}"
+    return f"extrapolated: power law, {slopes}"
 
 
 def figure(risk, site=None, column=None, state="overturning", models=None, title=None):

@@ -233,3 +233,108 @@ def test_help_names_the_fragility_file_the_readme_writes(capsys):
         assert done.value.code == 0
         text = capsys.readouterr().out
         assert words in text and "quickstart-fragility" not in text, text
+
+
+# -- issue 48, item 1: a hazard curve from code values ----------------------------------------------
+
+@pytest.fixture(scope="module")
+def half_g(inputs, tmp_path_factory):
+    """(fragility of ``inputs`` with overturning at median 0.5 g, beta 0.4, no replicates; the same against Sa(1 s))."""
+    from pipeline import fragility as F
+    from pipeline import risk as R
+
+    folder = tmp_path_factory.mktemp("half-g")
+    frag = fixed_fragility(R.open_fragility(inputs[0]), 0.5, 0.4)
+    sa = frag.assign_attrs(intensity_measure="sa", intensity_measure_period=1.0)
+    return Path(F.write(frag, folder / "pga.nc")), Path(F.write(sa, folder / "sa.nc"))
+
+
+def test_risk_from_one_code_value_in_50_and_2100_years(half_g, tmp_path, capsys):
+    """--hazard-pga 475:0.16: H = (1/475) (a / 0.16 g)^-3, so lambda = H(0.5 g) exp(9 0.4^2 / 2) (Kennedy's
+    closed form; to 1e-13, above the round-off of the integral's two pieces, 4 eps (1 + ln 475 + 3 ln(0.5/0.16)
+    + 0.72) = 1e-14); the chance in 50 and in 2,100 years from one run, said where the curve is extrapolated."""
+    from pipeline import risk as R
+
+    out, table, fig = tmp_path / "risk.nc", tmp_path / "risk.csv", tmp_path / "risk.png"
+    assert main(["risk", str(half_g[0]), "--hazard-pga", "475:0.16", "--years", "50,2100", "--out", str(out),
+                 "--csv", str(table), "--plot", str(fig)]) == 0
+    captured = capsys.readouterr()
+    assert "frustum: warning: code values 475:0.16: the largest PGA given is 0.16 g, below the fragility median of " \
+           "paper 3d overturning (median 0.5 g)" in captured.err
+    lines = captured.out.splitlines()
+    assert lines[0] == ("hazard: code values: PGA 0.16 g at 475 years; H(a) = (1/475) (a / 0.16 g)^-3, slope 3 (the "
+                        "default: Eurocode 8's k is about 3); extrapolated at every PGA but 0.16 g (return period 475 "
+                        "years): the power law of slope 3")
+    exact = (1 / 475) * (0.5 / 0.16) ** -3 * math.exp(0.5 * (3 * 0.4) ** 2)
+    with xr.open_dataset(out) as ds:
+        assert result_kind(out) == "risk" and ds.attrs["hazard_format"] == "code"
+        cell = ds.sel(site="site-0", column="paper", model="3d", state="overturning")
+        lam = float(cell["annual_frequency"])
+        assert lam == pytest.approx(exact, rel=1e-13)
+        p = {T: float(cell["probability_in_period"].sel(years=T)) for T in (50.0, 2100.0)}
+    assert p[50.0] == pytest.approx(-math.expm1(-50 * exact), rel=1e-12)
+    assert 1 - p[2100.0] == pytest.approx(math.exp(-2100 * exact), rel=1e-12)  # standing 2,100 years
+    line = next(text for text in lines if text.startswith("site-0 paper 3d overturning: "))
+    assert line.startswith(f"site-0 paper 3d overturning: {lam:.3g} /yr, once in {R.years_words(1 / lam)} on average;")
+    assert f"; in 50 yr {R.percent(p[50.0])} (" in line and f"; in 2100 yr {R.percent(p[2100.0])} (" in line
+    with open(table, encoding="utf-8") as fh:
+        rows = [row for row in csv.DictReader(fh) if row["state"] == "overturning"]
+    assert float(rows[0]["probability_in_2100_yr"]) == pytest.approx(p[2100.0], rel=1e-3)  # 4 significant digits
+    assert rows[0]["hazard_extrapolated"].startswith("at every PGA but 0.16 g")
+    assert fig.stat().st_size > 10_000
+
+
+def test_risk_from_two_code_values_and_a_slope(half_g, tmp_path, capsys):
+    """Two values and --hazard-slope 3: their power law between them, slope 3 beyond; the share of the risk
+    from the extrapolated curve printed; the integral the one of pipeline.risk with those tails."""
+    from pipeline import risk as R
+    from pipeline.units import G
+
+    out = tmp_path / "risk.nc"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the median beyond 0.3 g, warned as above
+        assert main(["risk", str(half_g[0]), "--hazard-pga", "475:0.16,2475:0.30", "--hazard-slope", "3", "--out",
+                     str(out)]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0].endswith("extended with the slope given, 3; extrapolated below 0.16 g and beyond 0.3 g (return "
+                             "periods under 475 or over 2475 years): power laws of the slope given, 3")
+    with xr.open_dataset(out) as ds:
+        cell = ds.sel(site="site-0", column="paper", model="3d", state="overturning")
+        lam, share = float(cell["annual_frequency"]), float(cell["share_beyond_last_level"] + cell["share_below_first_level"])
+        assert float(ds["years"]) == 50.0  # one period: the scalar coordinate of before
+    expected = R.risk_integral(np.array([0.16, 0.30]) * G, [1 / 475, 1 / 2475], 0.5 * G, 0.4, (3.0, 3.0)).central
+    assert lam == pytest.approx(float(expected), rel=1e-14)
+    line = next(text for text in lines if text.startswith("site-0 paper 3d overturning: "))
+    assert line.endswith(f"; {R.percent(share)} of it from the extrapolated curve") and 0.5 < share < 1
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["--hazard-pga", "475:0.16"], "code values 475:0.16: the hazard curve is for PGA but the fragility"),
+    (["--hazard-pga", "475;0.16"], "--hazard-pga: '475;0.16' is not a return period and a PGA"),
+    (["--hazard-pga", "475:0.16", "--hazard-slope", "nan"], "--hazard-slope is nan"),
+    (["--hazard-pga", "475:0.16,2475:0.17"], "--hazard-pga: the slope between 475:0.16 and 2475:0.17 is 27.2"),
+    (["--hazard-pga", "475:0.16", "--years", "50,abc"], "--years 50,abc: 'abc' is not a number of years"),
+])
+def test_code_values_refused_in_one_line(half_g, tmp_path, capsys, argv, words):
+    """Refusals of code values as of a file's: one line, the value and the fix; nothing written. The first runs
+    the fragility against Sa(1 s), the others against PGA."""
+    frag = half_g[1] if words.startswith("code values") else half_g[0]
+    out = tmp_path / "risk.nc"
+    before = snapshot(*half_g)
+    assert main(["risk", str(frag), *argv, "--out", str(out)]) == 2
+    err = _err(capsys)
+    assert words in err and len(err.strip().splitlines()) == 1, err
+    assert unchanged(before) and not out.exists()
+
+
+def test_help_shows_code_values_with_examples(capsys):
+    from pipeline.cli import main as run
+
+    with pytest.raises(SystemExit) as done:
+        run(["risk", "--help"])
+    assert done.value.code == 0
+    text = " ".join(capsys.readouterr().out.split())
+    for words in ("--hazard-pga T:PGA[,T:PGA...]", "--hazard-slope K", "--years T[,T...]",
+                  "frustum risk out/quickstart_fragility.nc --hazard-pga 475:0.16 --years 50,2100 --out risk.nc",
+                  "--hazard-pga 475:0.16,2475:0.30 --hazard-slope 3"):
+        assert words in text, words
