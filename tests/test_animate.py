@@ -307,7 +307,7 @@ def test_frustum_animate_draws_a_colonnade_body_by_body(tmp_path, capsys):
     assert "8 frames" in capsys.readouterr().out  # 0, 0.1, ..., 0.7 s
     drawn = Motion(one_run(open_results(path)))
     assert [s.sides for s in drawn.drums] == [0, 4, 0, 4, 4] and drawn.drums[-1].half_y == pytest.approx(0.55)
-    assert drawn.labels[-1] == "block 1" and drawn.span == pytest.approx((-1.25 - 0.55, 1.25 + 0.55))
+    assert drawn.labels[-1] == "epistyle block 1" and drawn.span == pytest.approx((-1.25 - 0.55, 1.25 + 0.55))
     shown = frame(drawn, 0.0)
     assert len(shown.bodies) == 5 and not shown.ended
     block = shown.bodies[-1]
