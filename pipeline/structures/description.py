@@ -103,12 +103,12 @@ def named_title(structure):
     return f"{named[0]}: {named[1].get('title', named[0])}" if named else ""
 
 
-def title(structure):
+def title(structure, named=True):
     """What a structure is, in a phrase that follows "the response of" or "run by".
 
     ``"a monolithic column"``, ``"a column of 4 drums and a capital"``, ``"a colonnade of 8 columns of
     11 drums and a capital carrying 7 epistyle blocks (parthenon-east: Parthenon, Athens ...)"``; a
-    named monument with its id and title.
+    named monument with its id and title (unless ``named`` is False).
     """
     stack = _stack(structure)
     if isinstance(structure, Colonnade):
@@ -116,8 +116,8 @@ def title(structure):
                  f"{_plural(structure.n_blocks, 'epistyle block', 'epistyle blocks')}")
     else:
         words = "a " + _column_words(stack, False)
-    named = named_title(structure)
-    return f"{words} ({named})" if named else words
+    said = named_title(structure) if named else ""
+    return f"{words} ({said})" if said else words
 
 
 def whole_label(structure):
