@@ -243,3 +243,18 @@ def test_a_colonnades_study_fragility_and_risk_files_name_it(files):
             assert ds.attrs["title"] == f"{title}: row: {words}" and ds.attrs["structures"] == f"row: {words}"
             assert float(ds["interaxial"].sel(column="row")) == 2.5 and ds["interaxial"].attrs["units"] == "m"
             assert int(ds["n_columns"].sel(column="row")) == 2
+
+
+def test_a_colonnades_report_opens_with_what_stood_and_which_models_ran_it(files, tmp_path):
+    """`frustum report` of the row's study: the line under the title names the colonnade and its models (before:
+    "Earthquake response of 1 free-standing column(s) modelled as rigid conical frustums ...")."""
+    from pipeline.report import write_report
+
+    write_report(F.open_results(files["row_study"]), tmp_path / "report", bootstrap=0)
+    lines = (tmp_path / "report" / "report.md").read_text(encoding="utf-8").splitlines()
+    assert lines[0] == "# a row of two columns" and lines[1] == ""
+    assert lines[2].startswith("Earthquake response of a colonnade of 2 monolithic columns with capitals carrying 1 "
+                               "epistyle block (row) run by the 3D compliant drums on joints (3d-compliant) and the 2D "
+                               "rigid frame of a colonnade (2d-frame); a monolithic column (the column of row alone) "
+                               "run by the 3D rolling frustum (3d)")
+    assert "free-standing" not in "\n".join(lines[:3])
