@@ -341,7 +341,8 @@ def frame_bodies(motion, i):
     """The bodies of a rigid frame at row ``i``, moving with the ground: each column's shaft and capital turned
     by the frame's tilt about its pivot (its base centre where it stood plus ``x_b``, raised by R sin theta
     on its rim, as :func:`rigid_bodies` places a column), the epistyle translated by ``epistyle_dx`` and
-    ``epistyle_dz`` from where it lay on the abacus tops."""
+    ``epistyle_dz`` from where it lay on the abacus tops. In a flight (``lift_off``) the columns stay drawn on
+    the ground, as a rigid column is, and the epistyle at its computed height."""
     rotation = euler_rotation(motion.phi[i], motion.theta[i], 0.0)
     out = []
     for shape, what, x in motion.frame:

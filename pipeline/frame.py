@@ -242,9 +242,9 @@ def _histories(colonnade, settings, raw, diag, excitation, motion):
     col = colonnade.column.column
     ds.attrs.update(history_attributes(colonnade, models.get(settings.model)))
     ds.attrs.update(
-        comment=f"{settings.model}, the colonnade as a rigid planar frame: theta is the common tilt of its columns, x_b and x_p every "
-        "column's base centre and pivot from where it stood, epistyle_dx and epistyle_dz the epistyle's "
-        "translation; forces and energies the whole frame's",
+        comment=f"{settings.model}, the colonnade as a rigid planar frame: theta is the common tilt of its columns, "
+        "x_b and x_p every column's base centre and pivot from where it stood, epistyle_dx and epistyle_dz the "
+        "epistyle's translation; forces and energies the whole frame's",
         model=settings.model,
         column_R_m=col.R,
         column_r_m=col.r,

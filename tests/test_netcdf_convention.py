@@ -57,7 +57,13 @@ models = ["3d", "3d-compliant", "2d-frame"]
 options = {tail = 2.0, contact_sectors = 8}
 excitation = {angles = [0.0], scales = [0.5, 2.0]}
 records = {synthetic = [{generator = "one_sine_pulse", id = "pulse", ap = 3.0, tp = 1.0, dt = 0.01}]}
-columns = [{name = "row", R = 0.5, r = 0.4, h = 4.0, capital = [1.1, 0.3], colonnade = {columns = 2, interaxial = 2.5, epistyle_height = 0.8}}]
+[[columns]]
+name = "row"
+R = 0.5
+r = 0.4
+h = 4.0
+capital = [1.1, 0.3]
+colonnade = {columns = 2, interaxial = 2.5, epistyle_height = 0.8}
 """
 ROW = Colonnade(DrumColumn(Column(0.5, 0.4, 4.0), capital=Capital(1.1, 0.3)), 2, 2.5, 0.8)
 KINDS = ["simulate", "study", "fragility", "row_simulate", "row_study", "row_fragility", "row_risk"]
@@ -238,7 +244,8 @@ def test_a_colonnades_study_fragility_and_risk_files_name_it(files):
         assert list(fell.sel(scale=2.0).values) == ["the column", "column 2 shaft", "the colonnade"]
         drum = int(row["overturn_drum"].sel(record="pulse", angle=0.0, scale=2.0, model="3d-compliant"))
         assert D.body_labels(ROW)[drum] == "column 2 shaft"
-    for kind, title in (("row_fragility", "Lognormal fragility curves"), ("row_risk", "Risk of damage states at sites")):
+    for kind, title in (("row_fragility", "Lognormal fragility curves"),
+                        ("row_risk", "Risk of damage states at sites")):
         with xr.open_dataset(files[kind]) as ds:
             assert ds.attrs["title"] == f"{title}: row: {words}" and ds.attrs["structures"] == f"row: {words}"
             assert float(ds["interaxial"].sel(column="row")) == 2.5 and ds["interaxial"].attrs["units"] == "m"

@@ -46,7 +46,8 @@ def test_the_models_that_ran_a_structure_are_named_with_it():
             self.title, self.name = title, name
 
     line = D.what_ran([("a colonnade of 2 monolithic columns carrying 1 epistyle block",
-                        [("3D compliant drums on joints", "3d-compliant"), ("2D rigid frame of a colonnade", "2d-frame")]),
+                        [("3D compliant drums on joints", "3d-compliant"),
+                         ("2D rigid frame of a colonnade", "2d-frame")]),
                        ("a monolithic column", [("3D rolling frustum", "3d")])])
     assert line == ("a colonnade of 2 monolithic columns carrying 1 epistyle block run by the 3D compliant drums on "
                     "joints (3d-compliant) and the 2D rigid frame of a colonnade (2d-frame); a monolithic column run "
@@ -100,6 +101,6 @@ def test_the_compliant_models_bodies_and_joints_carry_the_structures_labels_in_i
                                               len(layout.contacts))
     for c, label in zip(layout.contacts, D.joint_labels(structure)):
         column = f"column {c.column + 1}" if isinstance(structure, Colonnade) and c.column >= 0 else None
-        word = {"base": "base of", "bed": "bed joint under", "capital": "capital on its shaft", "bearing": " / epistyle",
-                "head": "head joint"}[c.kind]
+        word = {"base": "base of", "bed": "bed joint under", "capital": "capital on its shaft",
+                "bearing": " / epistyle", "head": "head joint"}[c.kind]
         assert word in label and (column is None or column in label), (c.kind, label)

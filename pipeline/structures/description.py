@@ -166,7 +166,8 @@ def attributes(structure):
     """The global attributes of a results file that holds ``structure`` (CF: plain numbers and text).
 
     Every structure: ``structure`` (:func:`title`), ``structure_kind``, ``n_drums`` and ``capital``
-    ("SIDE x HEIGHT m" or "none"; with one ``capital_side_m`` and ``capital_height_m``); a colonnade also :data:`DIMENSIONS` (lengths as ``NAME_m``); a
+    ("SIDE x HEIGHT m" or "none"; with one ``capital_side_m`` and ``capital_height_m``); a colonnade
+    also :data:`DIMENSIONS` (lengths as ``NAME_m``); a
     named colonnade ``colonnade``, ``colonnade_title`` and ``colonnade_source``, a named column
     ``named_column``, ``column_title`` and ``column_source`` (from the data files).
     """
