@@ -1,4 +1,4 @@
-"""The motion of a column, animated: a solid frustum in 3D moving with the ground.
+"""The motion of a column or a colonnade, animated: solid bodies in 3D moving with the ground.
 
 :func:`animate_file` reads a histories file of ``frustum simulate`` (one
 column, one record, one or both models) and writes a GIF (matplotlib's
@@ -14,10 +14,15 @@ of motion (``speed`` 1).
 The drawing is per body: :func:`frustum_faces` turns one frustum
 (:class:`Shape`) at one :class:`Pose` into shaded polygons, and
 :class:`ModelView` draws a list of bodies per frame. A rigid column is one
-body (:func:`rigid_bodies`); a column of drums (the compliant model's
-histories, with a ``drum`` dimension) is one body per drum and a square block
-for a capital, each placed by its own displacement, tilt and rotation
-(:func:`drum_bodies`).
+body (:func:`rigid_bodies`); a column of drums or a colonnade (the compliant
+model's histories, with a ``drum`` dimension) is one body per drum, a square
+block for a capital and a box for an epistyle block, each placed by its own
+displacement, tilt and rotation (:func:`drum_bodies`); a rigid frame
+(``2d-frame``, whose histories are the frame's tilt and the epistyle's
+translation) is its columns, each with its capital, turning in unison about
+their pivots and the epistyle translating on them, as the model says, the
+row read back from the file's attributes (:func:`frame_bodies`). Each view
+shows its own model's critical tilt.
 
 Ground displacement is the double trapezoidal integral of the ground
 acceleration from rest, without baseline correction: it shows how the ground
@@ -218,14 +223,19 @@ class Motion:
         acc = [run[f"ground_acc_{c}"].values if f"ground_acc_{c}" in run else np.zeros_like(theta) for c in "xyz"]
         self.acc = np.nan_to_num(np.stack(acc, axis=1))
         self.ground = np.stack([ground_displacement(a, self.time) for a in self.acc.T], axis=1)
-        self.theta_crit = float(run["theta_crit"])
+        # the model's own critical tilt (a rigid frame's is the frame's), else the column's
+        self.theta_crit = float(run.attrs.get("theta_crit_rad", run["theta_crit"]))
         self.height = self.shape.h
         self.drums = ()
+        self.frame = ()  # a rigid frame's bodies: (Shape, what it is, x of its column's axis [m]) each
         self.labels = ()
         self.row = False
+        self.origin = np.zeros(2)  # where the base whose contact path is drawn stood (x_p, y_p are from there)
         self.span = (-self.shape.R, self.shape.R)
         if "drum_dx" in run and np.isfinite(run["drum_dx"].values).any():
             self._drums(run)
+        elif "epistyle_dx" in run and np.isfinite(run["epistyle_dx"].values).any():
+            self._frame(run)
         self.overturn_time = math.nan
         self.overturn_row = None  # the row holding the last computed state, from which the histories are held
         if "phase" in run:
@@ -257,12 +267,49 @@ class Motion:
                                      rest[None, :] + run["drum_dz"].values], axis=2)
         self.labels = tuple(str(x) for x in run["body_label"].values) if "body_label" in run else ()
         self.row = bool(np.any(kind == 2))  # a colonnade: its bodies fall each on its own
+        if self.row:  # the contact path is its first column's base's, from where that base stood
+            self.origin = np.array([float(x0[0]), float(y0[0])])
         self.span = (float(np.min(x0 - run["drum_R"].values)), float(np.max(x0 + run["drum_R"].values)))
         self.drum_theta = np.nan_to_num(run["drum_theta"].values)
         # the direction of the tilt is undefined upright: any there, with the spin taking up the rest
         self.drum_phi = np.stack([_filled(column) for column in run["drum_phi"].values.T], axis=1)
         self.drum_psi = np.nan_to_num(run["drum_rotation"].values) - self.drum_phi
         self.height = float(np.max(run["drum_z"].values + run["drum_h"].values))
+
+    def _frame(self, run):
+        """A rigid frame (2d-frame): every column's shaft and capital and the epistyle, from the structure the
+        file's attributes describe (:func:`pipeline.structures.description.colonnade_from_attributes`).
+
+        The columns turn in unison by the frame's tilt about their pivots, each base where it stood
+        moved by ``x_b``; the epistyle translates by ``epistyle_dx``, ``epistyle_dz``, as the model says."""
+        from pipeline.structures.column import Column
+        from pipeline.structures.description import colonnade_from_attributes, column_labels
+
+        row = colonnade_from_attributes(run.attrs, Column(self.shape.R, self.shape.r, self.shape.h),
+                                        f"the {self.model} run")
+        cap, c = row.capital, row.half_abacus
+        labels, bodies = [], []
+        for k, x in enumerate(row.axes()):
+            labels += column_labels(row.column, k)[0]
+            bodies.append((self.shape, "shaft", x))
+            if cap is not None:
+                bodies.append((Shape(c, c, cap.height, 4), "capital", x))
+        length = 0.5 * (row.block_extent(row.n_blocks - 1)[1] - row.block_extent(0)[0])  # the row's blocks as one
+        bodies.append((Shape(length, length, row.block_height, 4, 0.5 * row.epistyle_width), "epistyle", 0.0))
+        self.frame, self.labels = tuple(bodies), tuple(labels) + ("epistyle",)
+        self.frame_top = row.abacus_top
+        self.epistyle = np.stack([_filled(run["epistyle_dx"].values), _filled(run["epistyle_dz"].values)], axis=1)
+        axes = row.axes()
+        reach = max(c, self.shape.R)
+        self.span = (axes[0] - reach, axes[-1] + reach)
+        self.origin = np.array([axes[0], 0.0])  # every column's pivot moves alike: the path under the first
+        self.height = row.abacus_top + row.block_height
+
+    @property
+    def bodies(self):
+        """The function that places this run's bodies at a row: :func:`drum_bodies` (drums, a compliant
+        colonnade), :func:`frame_bodies` (a rigid frame) or :func:`rigid_bodies` (a rigid column)."""
+        return drum_bodies if self.drums else (frame_bodies if self.frame else rigid_bodies)
 
     def index(self, t):
         """Row of the histories at time ``t`` [s] (the last at or before it)."""
@@ -279,7 +326,7 @@ class Motion:
         if self.labels:  # a numbered body by its label; one of its kind with an article ("the capital")
             label = self.labels[b]
             return label if any(ch.isdigit() for ch in label) else f"the {label}"
-        if len(self.drums) <= 1:
+        if len(self.drums) <= 1 and not self.frame:
             return "the column"
         return "the capital" if self.drums[b].sides else f"drum {b + 1}"
 
@@ -288,6 +335,26 @@ def rigid_bodies(motion, i):
     """The bodies of a rigid column at row ``i``: one frustum at its Euler angles, moving with the ground."""
     rotation = euler_rotation(motion.phi[i], motion.theta[i], motion.psi[i])
     return [(motion.shape, Pose(motion.base[i] + motion.ground[i], rotation))]
+
+
+def frame_bodies(motion, i):
+    """The bodies of a rigid frame at row ``i``, moving with the ground: each column's shaft and capital turned
+    by the frame's tilt about its pivot (its base centre where it stood plus ``x_b``, raised by R sin theta
+    on its rim, as :func:`rigid_bodies` places a column), the epistyle translated by ``epistyle_dx`` and
+    ``epistyle_dz`` from where it lay on the abacus tops. In a flight (``lift_off``) the columns stay drawn on
+    the ground, as a rigid column is, and the epistyle at its computed height."""
+    rotation = euler_rotation(motion.phi[i], motion.theta[i], 0.0)
+    out = []
+    for shape, what, x in motion.frame:
+        if what == "epistyle":  # it translates, level, with the capitals' top edges
+            dx, dz = motion.epistyle[i]
+            out.append((shape, Pose(np.array([x + dx, 0.0, motion.frame_top + dz]) + motion.ground[i], np.eye(3))))
+        elif what == "shaft":
+            base = motion.base[i] + np.array([x, 0.0, 0.0]) + motion.ground[i]
+            out.append((shape, Pose(base, rotation)))
+        else:  # the capital on its shaft's top
+            out.append((shape, Pose(out[-1][1].centre + rotation[:, 2] * motion.shape.h, rotation)))
+    return out
 
 
 def drum_bodies(motion, i):
@@ -356,11 +423,10 @@ def frame(motion, t, bodies=None):
     t : float
         Time [s].
     bodies : callable, optional
-        ``bodies(motion, i) -> list of (Shape, Pose)`` (default :func:`drum_bodies` for a
-        column of drums, else :func:`rigid_bodies`).
+        ``bodies(motion, i) -> list of (Shape, Pose)`` (default :attr:`Motion.bodies`).
     """
     if bodies is None:
-        bodies = drum_bodies if motion.drums else rigid_bodies
+        bodies = motion.bodies
     ended = motion.ended and t >= motion.overturn_time - 1e-9
     row = motion.overturn_row if ended else motion.index(t)
     drawn = [(b, shape, pose) for b, (shape, pose) in enumerate(bodies(motion, row))]
@@ -416,15 +482,14 @@ class ModelView:
     ax : mpl_toolkits.mplot3d.Axes3D
     motion : Motion
     bodies : callable, optional
-        ``bodies(motion, i) -> list of (Shape, Pose)`` (default :func:`drum_bodies` for a
-        column of drums, else :func:`rigid_bodies`).
+        ``bodies(motion, i) -> list of (Shape, Pose)`` (default :attr:`Motion.bodies`).
     """
 
     def __init__(self, ax, motion, bodies=None):
         from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
         if bodies is None:
-            bodies = drum_bodies if motion.drums else rigid_bodies
+            bodies = motion.bodies
         self.ax, self.motion, self.bodies = ax, motion, bodies
         shape = motion.shape
         reach = motion.height + shape.R
@@ -481,7 +546,7 @@ class ModelView:
         drawn = np.isfinite(m.contact[: i + 1, 0])
         if math.isfinite(m.overturn_time):  # the path ends with the fall
             drawn &= m.time[: i + 1] < m.overturn_time
-        path = m.contact[: i + 1][drawn] + g[:2]
+        path = m.contact[: i + 1][drawn] + m.origin + g[:2]
         self.path.set_data_3d(path[:, 0], path[:, 1], np.zeros(len(path)))
         base = g[:2] + np.array([-0.55 * hx, -0.55 * h])  # from a corner of the plate, clear of the column
         tip = base + m.acc[i, :2] * self.arrow_scale
@@ -490,8 +555,8 @@ class ModelView:
         tilt = math.degrees(m.theta[i])
         state = f", overturned at {m.overturn_time:.2f} s" if now.ended else ""
         name = model_title(m.model)
-        if m.drums:
-            name = f"{name}: {len(m.drums)} bodies"
+        if m.drums or m.frame:
+            name = f"{name}: {len(m.drums or m.frame)} bodies"
         accel = float(np.hypot(*m.acc[i, :2])) / 9.80665
         clock = m.overturn_time if now.ended else m.time[i]  # the clock stops with the run
         self.title.set_text(f"{name}\nt = {clock:5.2f} s   tilt θ = {tilt:5.2f}° "
@@ -599,8 +664,9 @@ def _figure(runs, dpi):
     fig.subplots_adjust(left=0.0, right=1.0, bottom=0.0, top=0.86, wspace=0.0)
     views = [ModelView(fig.add_subplot(1, len(motions), k + 1, projection="3d"), m) for k, m in enumerate(motions)]
     record = runs[0].attrs.get("record_id", "")
-    fig.suptitle(f"{record}: the column moving with the ground" if record and record != "free-motion"
-                 else "free motion of the column", fontsize=10)
+    what = "the colonnade" if any(m.row or m.frame for m in motions) else "the column"
+    fig.suptitle(f"{record}: {what} moving with the ground" if record and record != "free-motion"
+                 else f"free motion of {what}", fontsize=10)
     return fig, views
 
 
@@ -717,5 +783,5 @@ def animate_file(path, out, fps=10.0, speed=1.0, models=None, dpi=80):
 
 
 __all__ = ["check_animation_path", "check_animation_options", "MAX_FRAMES", "render_frame", "Shape", "Pose", "euler_rotation", "frustum_faces", "rigid_bodies",
-           "drum_bodies", "Motion", "ModelView", "Frame", "frame", "lowest_point", "HOLD",
+           "drum_bodies", "frame_bodies", "Motion", "ModelView", "Frame", "frame", "lowest_point", "HOLD",
            "frame_times", "animate", "animate_file"]

@@ -69,10 +69,11 @@ VARIABLES = {
     "phi": Var("rad", "precession angle of the column axis"),
     "theta": Var("rad", "inclination of the column axis from the vertical", degrees=True),
     "psi": Var("rad", "rotation of the column about its own axis (Euler spin angle)"),
-    "x_p": Var("m", "X coordinate of the contact point on the base plane"),
-    "y_p": Var("m", "Y coordinate of the contact point on the base plane"),
-    "x_b": Var("m", "X coordinate of the centre of the base on the base plane"),
-    "y_b": Var("m", "Y coordinate of the centre of the base on the base plane"),
+    # positions on the ground are from where the base's centre stood at rest (a colonnade's first column's)
+    "x_p": Var("m", "X coordinate of the contact point on the base plane, from where the base's centre stood at rest"),
+    "y_p": Var("m", "Y coordinate of the contact point on the base plane, from where the base's centre stood at rest"),
+    "x_b": Var("m", "X coordinate of the centre of the base on the base plane, from where it stood at rest"),
+    "y_b": Var("m", "Y coordinate of the centre of the base on the base plane, from where it stood at rest"),
     "phi_dot": Var("rad s-1", "precession rate"),
     "theta_dot": Var("rad s-1", "inclination rate"),
     "psi_dot": Var("rad s-1", "spin angle rate"),
@@ -95,7 +96,9 @@ VARIABLES = {
     # compliant-contact model (pipeline.compliant): the base's joint, and per drum
     "slip": Var("m", "slip path of the base: area-weighted mean plastic slip of its contact points"),
     "contact_area_fraction": Var("1", "fraction of the base's contact area that carries load"),
-    "drum": Var("1", "drum index, 0 at the bottom (a capital is the last)"),
+    "drum": Var("1", "body index in the structure's order (body_label names each): a column's drums bottom up "
+                "and its capital; a colonnade's columns in turn, then its epistyle blocks"),
+    "body_label": Var("1", "what the body is: drum 2, capital, column 2 drum 3, epistyle block 1"),
     "drum_dx": Var("m", "X displacement of the drum's centre of mass relative to the ground"),
     "drum_dy": Var("m", "Y displacement of the drum's centre of mass relative to the ground"),
     "drum_theta": Var("rad", "inclination of the drum's axis from the vertical", degrees=True),
@@ -106,6 +109,10 @@ VARIABLES = {
     "drum_r": Var("m", "radius of the top of the drum (a capital: half its side)"),
     "drum_h": Var("m", "height of the drum"),
     "drum_z": Var("m", "height of the drum's base above the ground at rest"),
+    # a code, not a flag: CF checks an auxiliary coordinate's flags as misused and asks for its units
+    "drum_kind": Var("1", "kind of body: 0 a drum (frustum), 1 a capital (square block), 2 an epistyle block"),
+    "drum_x": Var("m", "X coordinate of the body's centre of mass at rest (a colonnade's row along X, centred on 0)"),
+    "drum_y": Var("m", "Y coordinate of the body's centre of mass at rest"),
     # the rigid planar frame of a colonnade (pipeline.frame, 2d-frame): its epistyle translates with the capitals
     "epistyle_dx": Var("m", "horizontal displacement of the epistyle along the row (2d-frame: it translates with "
                        "the capitals' top edges)"),
@@ -127,22 +134,38 @@ VARIABLES = {
     "residual_displacement": Var("m", "residual horizontal displacement of the centre of the base"),
     "energy_balance_error": Var("m", "error of the energy balance per unit weight, E/(m g)"),
     # study results of the compliant model (pipeline.compliant): the residual dislocation per joint
-    "joint": Var("1", "joint index: joint k is the base of body k (0 the base on the ground, k >= 1 the bed "
-                 "joint on body k - 1)"),
-    "joint_slip": Var("m", "residual slip of the joint: horizontal offset of the upper base's centre from the "
-                      "centre of the face below (joint 0: from where the column stood)"),
+    "joint": Var("1", "joint index in the structure's order (joint_label names each): a column's base on the "
+                 "ground, its bed joints bottom up and its capital's; a colonnade's columns in turn, then the "
+                 "epistyle blocks' bearings on the capitals and the head joints between blocks"),
+    "joint_label": Var("1", "what the joint is: base of the column, bed joint under drum 2, capital 2 / epistyle "
+                       "block 1, head joint blocks 1-2"),
+    "joint_slip": Var("m", "residual slip of the joint: offset of the upper body's bearing face from the centre "
+                      "of the face below (a base: from where its column stood)"),
     "joint_twist": Var("rad", "residual twist of the joint: rotation of the upper body relative to the lower one "
                        "about the lower axis", degrees=True),
     "joint_tilt": Var("rad", "residual relative tilt of the joint: angle between the axes of the upper and the "
-                      "lower body (joint 0: the tilt of drum 0)", degrees=True),
+                      "lower body (a base: the tilt of the body on it)", degrees=True),
     "joint_opening": Var("m", "residual opening of the joint: widest gap between a contact point and the face below"),
     "joint_diameter": Var("m", "diameter of the joint's bearing face"),
     "dislocation_ratio": Var("1", "largest residual slip of a bed joint over its diameter (0: no bed joint)"),
-    "overturn_drum": Var("1", "body that lay down or fell first, 0 at the bottom (-1: none fell)"),
+    "overturn_drum": Var("1", "index of the body that lay down or fell first, in the structure's order (-1: none "
+                         "fell; a model that runs the structure as one body: 0)"),
+    "overturn_body": Var("1", "label of the body that lay down or fell first (empty: none fell; the column or the "
+                         "colonnade: a model that runs it as one body)"),
     "epistyle_slip": Var("m", "largest residual slip of an epistyle block on a capital (a colonnade; NaN for a column)"),
     "epistyle_opening": Var("m", "widest head joint between epistyle blocks at the end (a colonnade; NaN for a "
                             "column)"),
     "n_drums": Var("1", "number of drums of the column (1: a monolith)"),
+    "structure_source": Var("1", "where the structure's dimensions come from: a named column's or colonnade's source "
+                            "(empty: given in the study file)"),
+    # a colonnade's numbers (pipeline.structures.description.DIMENSIONS; a column alone: 1 column, 0 blocks)
+    "n_columns": Var("1", "number of columns in the row (1: the column stands alone)"),
+    "interaxial": Var("m", "spacing of the column axes of the colonnade (NaN: the column stands alone)"),
+    "epistyle_height": Var("m", "height of the epistyle blocks (NaN: the column stands alone)"),
+    "epistyle_width": Var("m", "width of the epistyle blocks across the row (NaN: the column stands alone)"),
+    "course_height": Var("m", "course above the epistyle carried as mass, as a height of its width (NaN: the "
+                         "column stands alone)"),
+    "n_blocks": Var("1", "number of epistyle blocks (0: the column stands alone)"),
     "structure": Var("1", "what stands, in words: the colonnade the column stands in (its number of columns, "
                      "interaxial spacing, epistyle), its drums and capital, or the column alone"),
     # the summary of one compliant run (pipeline.compliant) in a simulate file, beside the names above
@@ -160,6 +183,9 @@ VARIABLES = {
     "slenderness": Var("1", "slenderness h/R of the column"),
     "beta": Var("1", "conicity r/R of the column"),
     "theta_crit": Var("rad", "critical (static overturning) inclination atan(R/z_cm)", degrees=True),
+    "theta_crit_model": Var("rad", "critical inclination of the structure as the model runs it, which "
+                            "peak_theta_ratio divides by (2d-frame: the rigid frame's, atan(b_e/z_e); the other "
+                            "models: the column's theta_crit)", degrees=True),
     "latitude": Var("degree_north", "latitude of the column", "latitude"),
     "longitude": Var("degree_east", "longitude of the column", "longitude"),
     # label dimensions: strings on the dimension itself (module docstring)
@@ -245,7 +271,6 @@ FLAGS = {
     "lift_off": ([0, 1], "no_lift_off lift_off",
                  "the normal contact force reached zero and the column flew"),
     "status": ([0, 1], "ok failed", "status of the simulation (failed: values are NaN or 0)"),
-    "drum_kind": ([0, 1], "drum capital", "kind of body: a drum (frustum) or a capital (square block)"),
     "risk_flag": ([0, 1, 2, 3, 4, 5], "ok median_beyond_hazard_curve no_median_no_exceedance_observed "
                   "no_median_every_run_exceeds no_fit integral_overflows",
                   "how far the site risk rests on the data: the fragility's median beyond the hazard curve's last "
@@ -488,8 +513,10 @@ def add_summaries(ds, summaries):
     xarray.Dataset
         ``ds`` with every name of :data:`SUMMARY_VARIABLES` some run reports, on (column, record,
         model): floats NaN and flags and counts 0 for a run that does not report it. With a
-        compliant run also the residual dislocation per joint (dims ..., ``joint``; coordinate
-        ``joint_diameter`` [m]), the peak tilt of every body (..., ``drum``) and ``n_drums``.
+        compliant run also the residual dislocation per joint (dims ..., ``joint``; coordinates
+        ``joint_diameter`` [m] and ``joint_label``), the peak tilt of every body (..., ``drum``) and
+        ``n_drums``; ``overturn_body``, the label of the body that fell first ("" none), of every run
+        that reports it.
     """
     if len(summaries) != ds.sizes["model"]:
         raise ValueError(f"{len(summaries)} summaries for {ds.sizes['model']} models")
@@ -513,6 +540,13 @@ def add_summaries(ds, summaries):
         ds.coords["joint_diameter"] = (("column", "joint"), np.asarray(diameters, dtype=np.float64)[None])
         ds.coords["n_drums"] = ("column", np.array([next(s["n_drums"] for s in summaries if "n_drums" in s)],
                                                    dtype=np.int32))
+        labels = next((s["joint_label"] for s in summaries if "joint_label" in s), ())
+        if labels:
+            # one structure per file: on the joint alone (CF: a label coordinate has one dimension and its length)
+            ds.coords["joint_label"] = ("joint", np.array(list(labels), dtype=object))
+    if any("overturn_body" in s for s in summaries):
+        ds["overturn_body"] = (dims, np.array([str(s.get("overturn_body", "")) for s in summaries],
+                                              dtype=object)[None, None, :])
     for name in SUMMARY_DRUM_VARIABLES:
         if "drum" in ds.dims and any(name in s for s in summaries):
             values = np.full((len(summaries), ds.sizes["drum"]), np.nan)
@@ -530,9 +564,11 @@ def histories_file(runs, column, record, summaries=None):
     ----------
     runs : list of xarray.Dataset
         Histories from :func:`pipeline.simulate.simulate` or
-        :func:`pipeline.simulate.simulate_free` (same time grid), one per model.
+        :func:`pipeline.simulate.simulate_free`, one per model, on one time grid: a run that ended
+        sooner (it came to rest before another's settle limit) holds the first rows of the longest
+        run's, and NaN after its end.
     column : str
-        Label of the column.
+        Label of the column (or of the colonnade).
     record : str
         Identifier of the record (``free-motion`` for a free motion).
     summaries : list of dict, optional
@@ -544,13 +580,18 @@ def histories_file(runs, column, record, summaries=None):
     xarray.Dataset
         Dims ``column``, ``record``, ``model`` (string labels) and ``time``;
         the geometry as coordinates on ``column`` (``column_R``, ``column_r``,
-        ``column_h``, ``theta_crit`` and ``theta_crit_deg``); incidence angle
-        [degree] and scale factor as scalar coordinates; with ``summaries``,
-        the summary variables on (column, record, model).
+        ``column_h``, the column's ``theta_crit`` and ``theta_crit_deg``), each model's critical
+        tilt on (column, model) (``theta_crit_model``: a rigid frame's differs); incidence angle
+        [degree] and scale factor as scalar coordinates; the structure each model ran in the
+        title and attributes (:mod:`pipeline.structures.description`); with ``summaries``, the
+        summary variables on (column, record, model).
     """
     import xarray as xr
 
+    from pipeline.structures.column import Column
+
     first = runs[0].attrs
+    runs = _on_one_grid(runs)
     names = list(dict.fromkeys(n for run in runs for n in run.data_vars))
     shapes = {n: run[n] for run in reversed(runs) for n in run.data_vars}  # a run that has each variable
     stacked = []
@@ -567,12 +608,15 @@ def histories_file(runs, column, record, summaries=None):
     ds = xr.concat(stacked, dim="model", join="exact", combine_attrs="drop_conflicts")
     for name in ("model", "column_R_m", "column_r_m", "column_h_m", "theta_crit_rad", "incidence_angle_rad", "scale"):
         ds.attrs.pop(name, None)
+    ds.attrs.update(_what_ran(runs))
     ds = ds.expand_dims(column=[column], record=[record]).transpose("column", "record", "model", "time", ...)
     ds = ds.assign_coords(
         column_R=("column", [first["column_R_m"]]),
         column_r=("column", [first["column_r_m"]]),
         column_h=("column", [first["column_h_m"]]),
-        theta_crit=("column", [first["theta_crit_rad"]]),
+        # the column's own; a model that runs another structure (a rigid frame) has its own below
+        theta_crit=("column", [Column(first["column_R_m"], first["column_r_m"], first["column_h_m"]).critical_tilt]),
+        theta_crit_model=(("column", "model"), [[run.attrs["theta_crit_rad"] for run in runs]]),
         angle=float(np.degrees(first.get("incidence_angle_rad", 0.0))),
         scale=float(first.get("scale", 1.0)),
     )
@@ -581,6 +625,41 @@ def histories_file(runs, column, record, summaries=None):
     if summaries is not None:
         ds = add_summaries(ds, summaries)
     return annotate(ds)
+
+
+def _on_one_grid(runs):
+    """The runs on the longest one's time grid: every other's rows are its first ones (the models of one file
+    share one output grid, to the bit), NaN after a run's end; anything else is a caller's bug."""
+    longest = max(runs, key=lambda run: run.sizes["time"])
+    time = longest["time"].values
+    out = []
+    for run in runs:
+        n = run.sizes["time"]
+        if not np.array_equal(run["time"].values, time[:n]):
+            raise ValueError(f"the runs of one file have different output instants ({run.attrs.get('model')} "
+                             f"against {longest.attrs.get('model')})")
+        if n < time.size:
+            run = run.drop_vars("tau").reindex(time=time).assign_coords(tau=longest["tau"])
+        out.append(run)
+    return out
+
+
+def _what_ran(runs):
+    """The file's title and ``structure`` attribute from each run's (its model and the structure it ran); one
+    run's own stand (a free motion's title)."""
+    from pipeline import models
+    from pipeline.structures.description import what_ran
+
+    if len(runs) == 1:
+        return {}
+    groups = {}
+    for run in runs:
+        if "structure" not in run.attrs:
+            return {}  # a free motion, or histories made by hand: their own words stand
+        name = str(run.attrs["model"])
+        groups.setdefault(str(run.attrs["structure"]), []).append((models.title(name), name))
+    return {"title": "Response to ground motion of " + what_ran(list(groups.items())),
+            "structure": "; ".join(groups)}
 
 
 def one_run(ds, column=None, record=None, model=None):
@@ -596,14 +675,16 @@ def one_run(ds, column=None, record=None, model=None):
     -------
     xarray.Dataset
         With the attributes the plotting code reads (``model``,
-        ``column_R_m``, ``column_r_m``, ``column_h_m``, ``theta_crit_rad``).
+        ``column_R_m``, ``column_r_m``, ``column_h_m``, ``theta_crit_rad``: the model's own critical
+        tilt where the file has it, ``theta_crit_model``).
     """
     pick = {d: (str(ds[d].values[0]) if v is None else v)
             for d, v in (("column", column), ("record", record), ("model", model))}
     run = ds.sel(pick)
+    crit = run["theta_crit_model"] if "theta_crit_model" in run.coords else run["theta_crit"]
     run.attrs = dict(ds.attrs, model=pick["model"], record_id=pick["record"],
                      column_R_m=float(run["column_R"]), column_r_m=float(run["column_r"]),
-                     column_h_m=float(run["column_h"]), theta_crit_rad=float(run["theta_crit"]))
+                     column_h_m=float(run["column_h"]), theta_crit_rad=float(crit))
     return run
 
 
@@ -628,6 +709,26 @@ def catalog_markdown():
         "`pipeline.dataset.SUMMARY_VARIABLES`) and, for the compliant model, `restitution`,",
         "`contact_damping`, the residual dislocation per `joint`, `drum_peak_theta` per `drum` and",
         "`overturn_drum`.",
+        "",
+        "Positions are relative to where each body stood at rest: `x_p`, `y_p` (the contact point)",
+        "and `x_b`, `y_b` (the base's centre) from where the base's centre stood (a colonnade's: its",
+        "first column's; 2d-frame: every column's), `drum_dx`, `drum_dy`, `drum_dz` every body's",
+        "centre of mass from its place at rest (`drum_x`, `drum_y`, `drum_z`: where it stood), so",
+        "a plot of a colonnade's contact path starts at 0, at its base.",
+        "",
+        "Every file says what stood: its title names the structure and the models that ran it",
+        "(\"a colonnade of 8 columns of 11 drums and a capital carrying 7 epistyle blocks",
+        "(parthenon-east: ...) run by the 3D compliant drums on joints (3d-compliant)\") and its",
+        "attributes hold it (`structure`, `structure_kind`, `n_drums`, `capital`; a colonnade's",
+        "`n_columns`, `interaxial_m`, `epistyle_height_m`, `epistyle_width_m`, `course_height_m`,",
+        "`n_blocks`; a named colonnade's `colonnade`, `colonnade_title`, `colonnade_source`, a named",
+        "column's `named_column`, `column_title`, `column_source`); a study's, fragility's and",
+        "risk's attribute `structures` names every column's, and their coordinates on `column` the",
+        "colonnades' numbers (`n_columns`, `interaxial`, ...). Bodies and joints carry their labels",
+        "(`body_label` on `drum`, `joint_label` on `joint`; in study results a string variable on",
+        "(column, joint), as CF takes a label coordinate of one dimension only) and `overturn_body`",
+        "names the body that fell first. A simulate file holds each model's critical tilt as",
+        "`theta_crit_model` (a rigid frame's is the frame's), `theta_crit` the column's own.",
         "",
         "The rigid frame of a colonnade (`2d-frame`) writes the same names for the whole frame:",
         "`theta` is the common tilt of its columns, `x_b` and `x_p` every column's base centre and pivot",

@@ -54,7 +54,18 @@ from pipeline import dataset
 from pipeline.dataset import annotate, append_history, write_netcdf
 from pipeline.errors import InputError
 from pipeline.models import DEFAULT, of_results
+from pipeline.structures.description import DIMENSIONS
 from pipeline.undecided import DEFAULT_UNDECIDED, UNDECIDED_CHOICES
+
+#: What a fragility file carries of the structures of its results, per column (and, as text, in its
+#: ``structures`` attribute); a risk file carries them on.
+STRUCTURE_COORDS = ("structure", "structure_source") + tuple(name for name, _unit, _value in DIMENSIONS)
+
+
+def structures_title(what, attrs):
+    """A file's title naming the structures of the study it comes from (``attrs["structures"]``): ``"Lognormal
+    fragility curves: row: a colonnade of 6 columns ..."``; a file from before they were named: "of columns"."""
+    return f"{what}: {attrs['structures']}" if "structures" in attrs else f"{what} of free-standing columns"
 
 DEFAULT_STATES = (0.25, 0.5, 1.0)
 
@@ -702,7 +713,8 @@ def fragility(results, im="pga", states=DEFAULT_STATES, bootstrap=0, seed=0, con
             "im_level": ("im_level", grid, {"units": im_units, "long_name": f"{im_long} at which the curve is evaluated"}),
         },
     )
-    for name in ("column_R", "column_r", "column_h", "slenderness", "theta_crit", "latitude", "longitude"):
+    for name in ("column_R", "column_r", "column_h", "slenderness", "theta_crit", "latitude", "longitude",
+                 *STRUCTURE_COORDS):
         if name in results.coords and results[name].dims == ("column",):
             ds.coords[name] = ("column", results[name].values, dict(results[name].attrs))
     for name in ("base_model", "model_variant"):  # a study's variants: which model each is, and how
@@ -716,7 +728,7 @@ def fragility(results, im="pga", states=DEFAULT_STATES, bootstrap=0, seed=0, con
         _bootstrap(ds, x, exceed, weight, grid, bootstrap, seed, confidence)
 
     ds.attrs.update(
-        title="Lognormal fragility curves of free-standing columns",
+        title=structures_title("Lognormal fragility curves", results.attrs),
         summary="Maximum-likelihood lognormal fragility (median, dispersion) per damage state, column and model, "
                 "from multiple-stripe study results (binomial likelihood on counts per IM level, records and "
                 "angles pooled; 3D runs counted once per record and scale).",
@@ -740,6 +752,8 @@ def fragility(results, im="pga", states=DEFAULT_STATES, bootstrap=0, seed=0, con
     for key in ("study", "study_digest", "source_file", "title"):
         if key in results.attrs:
             ds.attrs[f"results_{key}"] = str(results.attrs[key])
+    if "structures" in results.attrs:
+        ds.attrs["structures"] = str(results.attrs["structures"])
     own = {name: dict(var.attrs) for name, var in ds.variables.items()}
     annotate(ds)
     for name, attrs in own.items():  # the catalog must not relabel IM-dependent units

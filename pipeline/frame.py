@@ -25,6 +25,7 @@ import math
 import numpy as np
 import xarray as xr
 
+from pipeline import models
 from pipeline.dataset import annotate, append_history
 from pipeline.dynamics.rigid import diagnostics as rd
 from pipeline.dynamics.rigid import frustum as fk
@@ -38,6 +39,7 @@ from pipeline.simulate import (
     RIGID_CONTACT_TILT, kernel_diagnostics, kernel_options, kernel_record, kernel_summary, output_instants, run_kernel,
 )
 from pipeline.structures.colonnade import Colonnade
+from pipeline.structures.description import history_attributes, whole_label
 from pipeline.units import G, deg_to_rad, time_scale
 
 __all__ = ["simulate_frame", "frame_constants", "frame_options", "frame_lying_tilt", "frame_restitution",
@@ -160,6 +162,7 @@ def simulate_frame(colonnade, motion, excitation, settings, histories=True, prog
     theta = last[rk.THETA2] if raw.summary[hy.S_FINAL_PHASE] not in (hy.PHASE_REST, hy.PHASE_SLIDING) else 0.0
     base = raw.summary[hy.S_BASE_X] * length + _base_offset(frame, theta)
     summary["residual_displacement"] = float(abs(base))
+    summary["overturn_body"] = whole_label(colonnade) if summary["overturned"] else ""  # it falls as one
     ds = _histories(colonnade, settings, raw, diag, excitation, motion) if histories else None
     return Response(summary, ds, _impact_table(raw, length))
 
@@ -237,22 +240,16 @@ def _histories(colonnade, settings, raw, diag, excitation, motion):
     ds = xr.Dataset(variables, coords={"time": tau * t_column, "tau": ("time", tau)})
     theta_k, _damping, c_n = frame_patch(colonnade, settings)
     col = colonnade.column.column
+    ds.attrs.update(history_attributes(colonnade, models.get(settings.model)))
     ds.attrs.update(
-        title="Response of a colonnade as a rigid planar frame (2d-frame) to ground motion: theta is the common "
-        "tilt of its columns, x_b and x_p every column's base centre and pivot from where it stood, "
-        "epistyle_dx and epistyle_dz the epistyle's translation; forces and energies the whole frame's",
+        comment=f"{settings.model}, the colonnade as a rigid planar frame: theta is the common tilt of its columns, "
+        "x_b and x_p every column's base centre and pivot from where it stood, epistyle_dx and epistyle_dz the "
+        "epistyle's translation; forces and energies the whole frame's",
         model=settings.model,
         column_R_m=col.R,
         column_r_m=col.r,
         column_h_m=col.h,
         theta_crit_rad=frame.alpha,
-        colonnade_columns=colonnade.n_columns,
-        colonnade_interaxial_m=colonnade.interaxial,
-        epistyle_height_m=colonnade.epistyle_height,
-        epistyle_width_m=colonnade.epistyle_width,
-        course_height_m=colonnade.course_height,
-        capital_side_m=colonnade.capital.side if colonnade.capital is not None else 0.0,
-        capital_height_m=colonnade.capital.height if colonnade.capital is not None else 0.0,
         column_mass_kg=frame.m,
         epistyle_mass_kg=frame.M,
         frame_mass_kg=frame.m_tot,

@@ -143,7 +143,8 @@ def plot_study(ds, path):
     record (peak of the horizontal vector), one marker per record, angle and
     scale, per model, for the first column; overturned runs are drawn at the
     top. Right: fraction of overturned runs (over records and angles) against
-    the scale level, one line per column and model.
+    the scale level (a target PGA in g, as on the left), one line per column
+    and model.
 
     Parameters
     ----------
@@ -152,6 +153,13 @@ def plot_study(ds, path):
         :func:`pipeline.dataset.open_results`).
     path : str or os.PathLike
     """
+    from pipeline.figfile import save_figure
+
+    return save_figure(study_figure(ds), path, dpi=120)
+
+
+def study_figure(ds):
+    """The figure of :func:`plot_study`, not saved (a ``matplotlib.figure.Figure``)."""
     ok = ds.status == 0
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.5), constrained_layout=True)
     first = ds.isel(column=0)
@@ -174,22 +182,25 @@ def plot_study(ds, path):
     ax1.set_xlabel("PGA of the scaled record (horizontal vector) [g]")
     ax1.set_ylabel(r"peak $\theta$ / $\theta_{crit}$ [1] (overturned: drawn at the top)")
     ax1.set_ylim(0, max(1.12, 1.12 * top))
-    ax1.set_title(f"column {first.column.values.item()}", fontsize=10)
+    ax1.set_title(str(first.column.values.item()), fontsize=10)  # its label: a column or a colonnade
     ax1.legend(fontsize=8)
     frac = (ds.overturned.where(ok)).mean(dim=("record", "angle"))
-    xlabel = "scale factor on the record [1]"
+    xlabel, levels = "scale factor on the record [1]", ds.scale.values
     units = ds.scale.attrs.get("units", "1")
-    if units != "1":
-        xlabel = f"{ds.scale.attrs.get('long_name', 'target level').split('(')[0].strip()} [{units}]"
+    if units != "1":  # target levels: an acceleration in g, as on the left and in reports
+        words = ds.scale.attrs.get("long_name", "target level").split("(")[0].strip()
+        words = words.replace("pga", "PGA").replace("pgv", "PGV")
+        if units == "m s-2":
+            xlabel, levels = f"{words} [g]", levels / G
+        else:
+            xlabel = f"{words} [{units}]"
     for column in ds.column.values[:6]:
         for model in ds.model.values:
-            ax2.plot(ds.scale.values, frac.sel(column=column, model=model).values, marker="o",
+            ax2.plot(levels, frac.sel(column=column, model=model).values, marker="o",
                      label=f"{column} ({model})")
     ax2.set_xlabel(xlabel)
     ax2.set_ylabel("fraction overturned (records x angles) [1]")
     ax2.set_ylim(-0.03, 1.03)
     ax2.legend(fontsize=8)
     fig.suptitle(ds.attrs.get("title", "study"), fontsize=11)
-    from pipeline.figfile import save_figure
-
-    return save_figure(fig, path, dpi=120)
+    return fig

@@ -37,6 +37,7 @@ from pipeline.dynamics.rigid import rocking as rk
 from pipeline.dynamics.rigid.run2d import run_rocking
 from pipeline.dynamics.rigid.run3d import run_frustum
 from pipeline.errors import InputError
+from pipeline.structures.description import history_attributes, whole_label
 from pipeline.structures.kinds import RUNS, describe_kind, kind_of
 from pipeline.models.rigid import ROLLING_FRUSTUM
 from pipeline.response import Response
@@ -202,6 +203,7 @@ def simulate_rigid(column, motion, excitation, settings, histories=True, progres
     raw = _run(column, settings, record, dt, y0, duration, settings.settle_limit)
     diag = kernel_diagnostics(raw, settings)
     summary = _summary(column, settings, raw, diag, motion, excitation)
+    summary["overturn_body"] = whole_label(column) if summary["overturned"] else ""  # one body
     ds = _histories(column, settings, raw, diag, excitation, motion) if histories else None
     return Response(summary, ds, _impact_table(raw, column))
 
@@ -481,8 +483,8 @@ def _histories(column, settings, raw, diag, excitation, motion):
     variables = {k: ("time", np.asarray(v, dtype=np.float64)) for k, v in data.items()}
     variables["phase"] = ("time", phase.astype(np.int8))
     ds = xr.Dataset(variables, coords={"time": time, "tau": ("time", raw.tau)})
+    ds.attrs.update(history_attributes(column, models.get(settings.model)))
     ds.attrs.update(
-        title="Response of a free-standing column (conical frustum) to ground motion",
         model=settings.model,
         column_R_m=column.R,
         column_r_m=column.r,

@@ -307,9 +307,108 @@ def test_frustum_animate_draws_a_colonnade_body_by_body(tmp_path, capsys):
     assert "8 frames" in capsys.readouterr().out  # 0, 0.1, ..., 0.7 s
     drawn = Motion(one_run(open_results(path)))
     assert [s.sides for s in drawn.drums] == [0, 4, 0, 4, 4] and drawn.drums[-1].half_y == pytest.approx(0.55)
-    assert drawn.labels[-1] == "block 1" and drawn.span == pytest.approx((-1.25 - 0.55, 1.25 + 0.55))
+    assert drawn.labels[-1] == "epistyle block 1" and drawn.span == pytest.approx((-1.25 - 0.55, 1.25 + 0.55))
     shown = frame(drawn, 0.0)
     assert len(shown.bodies) == 5 and not shown.ended
     block = shown.bodies[-1]
     assert lowest_point(block[1], block[2]) == pytest.approx(4.3, abs=1e-3)  # on the abacus tops
     np.testing.assert_allclose(block[2].centre[:2], [0.0, 0.0], atol=1e-6)  # between the two columns
+
+
+def _drawn_bodies(view):
+    """The bodies a drawn view shows: its solids that are visible and hold a body's faces (more than the one
+    placeholder triangle every solid starts with)."""
+    return [solid for solid in view.solids if solid.get_visible() and len(solid.get_paths()) > 1]
+
+
+@pytest.fixture(scope="module")
+def frame_row(tmp_path_factory):
+    """A rigid frame (2d-frame) of three of the paper's columns with capitals under two epistyle blocks, rocking
+    under a one-sine pulse, and the same row as the compliant model, in one file as frustum simulate writes it."""
+    from pipeline.structures.colonnade import Colonnade
+    from pipeline.structures.drums import Capital, DrumColumn
+
+    row = Colonnade(DrumColumn(Column(0.5, 0.4, 4.0), capital=Capital(1.1, 0.3)), 3, 2.5, 0.8)
+    pulse = one_sine_pulse(4.0, 0.5, dt=0.01, record_id="pulse")
+    runs = [simulate(row, pulse, Excitation(), ModelSettings(model=m, tail=0.5, **extra))
+            for m, extra in (("3d-compliant", {"contact_sectors": 8}), ("2d-frame", {}))]
+    path = tmp_path_factory.mktemp("frame") / "row.nc"
+    write_netcdf(histories_file([r.histories for r in runs], column="row", record="pulse",
+                                summaries=[r.summary for r in runs]), path)
+    return row, path
+
+
+def test_a_rigid_frame_is_drawn_as_the_frame_its_file_describes(frame_row):
+    """Issue 47, item 2: a 2d-frame run is drawn as its frame, read back from the file's attributes: every column
+    with its capital and the epistyle, 3 + 3 + 1 bodies drawn (before: one bare column). The columns turn in
+    unison by the frame's tilt about their pivots and the epistyle, translated as the model says
+    (epistyle_dx, epistyle_dz), rests on the capitals' top edges opposite the pivots, to round-off: the drawing
+    and the model's own histories agree."""
+    from pipeline.animate import _figure, frustum_faces
+
+    row, path = frame_row
+    run = one_run(open_results(path), model="2d-frame")
+    i = int(np.nanargmax(run["theta"].values))
+    t = float(run["time"].values[i])
+    assert math.degrees(float(run["theta"].values[i])) > 0.5  # the premise: the frame rocks
+    fig, views = _figure([run], dpi=40)
+    try:
+        views[0].draw(t)
+        fig.canvas.draw()
+        assert len(_drawn_bodies(views[0])) == 7
+        assert "2D rigid frame of a colonnade: 7 bodies" in views[0].title.get_text()
+    finally:
+        import matplotlib.pyplot as plt
+
+        plt.close(fig)
+    motion = views[0].motion
+    bodies = motion.bodies(motion, i)
+    assert [shape.sides for shape, _ in bodies] == [0, 4, 0, 4, 0, 4, 4]
+    epistyle = frustum_faces(*bodies[-1])[0][-2]  # its underside
+    lean = math.copysign(1.0, float(run["phi"].values[i]))  # +1: towards +x, on the pivots at +R
+    for k in range(3):
+        top = frustum_faces(*bodies[2 * k + 1])[0][-1]  # the capital's top face
+        edge = top[np.argmax(top[:, 2])]  # its highest corner: on the edge opposite the pivot
+        assert math.copysign(1.0, edge[0] - row.axes()[k] - float(run["x_b"].values[i])) == -lean
+        np.testing.assert_allclose(edge[2], epistyle[:, 2].max(), rtol=0, atol=1e-9)
+        # and it moved along the row by the epistyle's translation, the model's epistyle_dx
+        np.testing.assert_allclose(edge[0], row.axes()[k] - lean * 0.55 + float(run["epistyle_dx"].values[i])
+                                   + motion.ground[i, 0], rtol=0, atol=1e-9)
+    # the epistyle's underside lies level on those edges, its x the row's blocks' span moved by epistyle_dx
+    np.testing.assert_allclose(np.ptp(epistyle[:, 2]), 0.0, atol=1e-12)
+    np.testing.assert_allclose([epistyle[:, 0].min(), epistyle[:, 0].max()],
+                               np.array([-2.5 - 0.55, 2.5 + 0.55]) + float(run["epistyle_dx"].values[i])
+                               + motion.ground[i, 0], atol=1e-9)
+
+
+def test_side_by_side_each_panel_has_its_own_theta_crit(frame_row):
+    """A file with 3d-compliant and 2d-frame of one row: the compliant panel's theta_crit is its column's (15.1 deg),
+    the frame's panel the frame's (before: both the frame's)."""
+    from pipeline.animate import _figure
+
+    row, path = frame_row
+    ds = open_results(path)
+    fig, views = _figure([one_run(ds, model="3d-compliant"), one_run(ds, model="2d-frame")], dpi=40)
+    try:
+        for view in views:
+            view.draw(0.5)
+        compliant, frame_ = (view.title.get_text() for view in views)
+    finally:
+        import matplotlib.pyplot as plt
+
+        plt.close(fig)
+    assert "(θ_crit 15.1°)" in compliant and "3D compliant drums on joints: 8 bodies" in compliant
+    assert f"(θ_crit {math.degrees(row.frame.alpha):.1f}°)" in frame_ and math.degrees(row.frame.alpha) < 14.0
+
+
+def test_simulate_animates_a_rigid_frame(tmp_path, capsys):
+    """`frustum simulate --model 2d-frame --animate` draws the frame, as `frustum animate` does (before: refused)."""
+    out, gif = tmp_path / "frame.nc", tmp_path / "frame.gif"
+    assert main(["simulate", "--column", "0.5,0.4,4", "--capital", "1.1,0.3", "--model", "2d-frame", "--colonnade", "3",
+                 "--interaxial", "2.5", "--epistyle", "0.8", "--record", "SYN-RICKER", "--tail", "0.5", "--out",
+                 str(out), "--animate", str(gif)]) == 0
+    assert f"wrote {gif}" in capsys.readouterr().out
+    with Image.open(gif) as image:
+        assert image.n_frames > 10
+    assert len(Motion(one_run(open_results(out))).frame) == 7
+

@@ -289,3 +289,28 @@ def test_a_body_has_fallen_off_its_support_only_measured_on_that_support():
     event_values(off, asm.bodies, asm.joints, g)
     # to the joint's static penetration at rest (the rest state sinks it by 2e-6 m)
     assert g[n + 1] == pytest.approx(0.01 / asm.length, abs=1e-5)
+
+
+def test_the_file_of_a_row_that_fell_names_the_body_that_fell_first(tmp_path):
+    """Issue 47, item 1: a compliant colonnade's file names the body that fell first (overturn_body, as
+    body_label names overturn_drum) and every joint (joint_label); its title names the row and the model (before:
+    "a free-standing column", no overturn_body, no joint_label in the file)."""
+    import xarray as xr
+
+    from pipeline.dataset import histories_file, write_netcdf
+
+    row = Colonnade(DrumColumn(PAPER, capital=CAPITAL), 2, 2.5, 0.8)
+    run = simulate(row, one_sine_pulse(6.0, 1.0, dt=0.01, record_id="pulse"), Excitation(),
+                   compliant(contact_sectors=8, tail=3.0))
+    assert run.summary["overturned"]  # the premise
+    write_netcdf(histories_file([run.histories], column="row", record="pulse", summaries=[run.summary]),
+                 tmp_path / "row.nc")
+    with xr.open_dataset(tmp_path / "row.nc") as ds:
+        cell = ds.sel(column="row", record="pulse", model="3d-compliant")
+        fell = str(cell["overturn_body"].values)
+        assert fell == run.summary["overturn_body"] == str(ds["body_label"].values[int(cell["overturn_drum"])])
+        assert fell == "column 2 shaft"
+        assert len(ds["joint_label"]) == row.n_joints and str(ds["joint_label"].values[-1]) == \
+            "capital 2 / epistyle block 1"
+        assert ds.attrs["title"] == ("Response to ground motion of a colonnade of 2 monolithic columns with capitals "
+                                     "carrying 1 epistyle block run by the 3D compliant drums on joints (3d-compliant)")

@@ -76,3 +76,48 @@ def test_records_plot_writes_svg_and_names_the_formats(tmp_path, capsys):
     assert main(["records", "plot", "FEMA-FF-01", "--out", str(tmp_path / "rec.xyz")]) == 2
     err = capsys.readouterr().err
     assert "--out" in err and "rec.xyz': not a figure format matplotlib writes" in err and ".svg" in err
+
+
+def test_the_study_plot_draws_pga_in_g_on_every_panel(tmp_path):
+    """Issue 47, item 2: a study scaled to target PGAs draws them in g on the right panel, as the left panel and the
+    reports do (before: m s-2 there, g on the left)."""
+    from pipeline.plotting import study_figure
+    from pipeline.study import load_study, run_study
+
+    (tmp_path / "targets.toml").write_text(
+        'title = "targets"\noutput = "targets.nc"\nmodels = ["3d"]\noptions = {tail = 0.5}\n'
+        'excitation = {angles = [0.0], intensity = {measure = "pga", units = "g", values = [0.2, 0.4]}}\n'
+        'records = {synthetic = [{generator = "one_sine_pulse", id = "pulse", ap = 3.0, tp = 0.4, dt = 0.01}]}\n'
+        'columns = [{name = "paper", R = 0.5, r = 0.4, h = 4.0}]\n', encoding="utf-8")
+    report = run_study(load_study(tmp_path / "targets.toml"), serial=True, progress=False)
+    fig = study_figure(report.dataset)
+    try:
+        left, right = fig.axes
+        assert left.get_xlabel() == "PGA of the scaled record (horizontal vector) [g]"
+        assert right.get_xlabel() == "target PGA of the scaled record [g]"
+        np.testing.assert_allclose(right.lines[0].get_xdata(), [0.2, 0.4], rtol=1e-12)
+        np.testing.assert_allclose(left.collections[0].get_offsets()[:, 0], [0.2, 0.4], rtol=1e-9)
+    finally:
+        plt.close(fig)
+
+
+def test_a_colonnades_response_plot_draws_its_contact_at_its_base(tmp_path):
+    """Issue 47, item 1: the compliant colonnade's base path (its first column's) is drawn from where that base
+    stood, around the "base at start" circle at the origin, as its contact point is (before: x_b absolute, 1.25 m
+    off along the row)."""
+    from pipeline.structures.colonnade import Colonnade
+    from pipeline.structures.drums import Capital, DrumColumn
+
+    row = Colonnade(DrumColumn(COLUMN, capital=Capital(1.1, 0.3)), 2, 2.5, 0.8)
+    run = simulate(row, one_sine_pulse(3.0, 0.4, dt=0.01, record_id="pulse"), Excitation(),
+                   ModelSettings(model="3d-compliant", tail=0.5, contact_sectors=8))
+    fig = response_figure(run.histories, run.summary)
+    try:
+        path = fig.axes[1]
+        lines = {line.get_label(): np.asarray(line.get_xydata()) for line in path.lines}
+        for name in ("contact point", "base centre"):
+            drawn = lines[name][np.isfinite(lines[name]).all(axis=1)]
+            assert drawn.size and np.all(np.hypot(*drawn.T) <= 50.0 + 1.0), name  # [cm]: within the base's rim
+        assert np.all(np.abs(lines["base centre"]) < 1.0)  # [cm]: where the base stood, not 125 cm along the row
+    finally:
+        plt.close(fig)

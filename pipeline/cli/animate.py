@@ -1,4 +1,4 @@
-"""``frustum animate``: the motion of a simulated column as a GIF or MP4."""
+"""``frustum animate``: the motion of a simulated column or colonnade as a GIF or MP4."""
 
 import argparse
 
@@ -9,6 +9,9 @@ examples:
     frustum animate r.nc --out motion.gif
   the 3D model only, at half speed, as MP4 (pip install -e '.[video]'):
     frustum animate r.nc --out motion.mp4 --model 3d --speed 0.5
+  a colonnade: the Parthenon's east front as the rigid frame (every column, capital and the epistyle):
+    frustum simulate --model 2d-frame --colonnade parthenon-east --record FEMA-FF-01 --out front.nc
+    frustum animate front.nc --out front.gif
 """
 
 
@@ -17,10 +20,12 @@ def register(subparsers):
     from pipeline.animate import HOLD
 
     p = subparsers.add_parser(
-        "animate", help="animate a simulated column (GIF or MP4)",
-        description="Draw the column of a 'frustum simulate' file as a solid frustum in 3D moving with the "
-        "ground: its contact path on the ground, an arrow for the ground acceleration, time and tilt; one view "
-        "per model, side by side. A column that overturned is shown from then on as the run left it, still and "
+        "animate", help="animate a simulated column or colonnade (GIF or MP4)",
+        description="Draw the structure of a 'frustum simulate' file in 3D moving with the ground: a column as a "
+        "solid frustum, its drums and capital, or a colonnade with its capitals and epistyle (the rigid frame "
+        "2d-frame as its columns rocking in unison under the epistyle); its contact path on the ground, an arrow "
+        "for the ground acceleration, time and tilt against the model's own theta_crit; one view per model, side "
+        "by side. A structure that overturned is shown from then on as the run left it, still and "
         f"greyed, with when it fell and which bodies fell; the animation ends {HOLD:g} s after that.",
         epilog=_EXAMPLES, formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -29,7 +34,8 @@ def register(subparsers):
     p.add_argument("--fps", type=float, default=10.0, help="frames per second of the animation (default 10)")
     p.add_argument("--speed", type=float, default=1.0,
                    help="seconds of motion per second of animation (default 1: real time)")
-    p.add_argument("--model", default=None, metavar="3d|2d|3d,2d", help="models to draw (default: all in the file)")
+    p.add_argument("--model", default=None, metavar="MODEL[,MODEL]",
+                   help="models to draw, e.g. 3d,2d or 3d-compliant,2d-frame (default: all in the file)")
     p.add_argument("--dpi", type=float, default=80.0, help="resolution [dots per inch] (default 80)")
     p.set_defaults(handler=run)
 

@@ -214,11 +214,6 @@ def run_simulate(args):
         column = _drum_column(args, Column.parse(args.column, density=args.density))
         colonnade = _row(args, column)
     bodies = {m: colonnade if (colonnade is not None and REGISTRY[m].runs("colonnade")) else column for m in models}
-    flat = [m for m in models if bodies[m] is colonnade and "drum_dx" not in REGISTRY[m].histories]
-    if args.animate and colonnade is not None and flat:
-        raise InputError(f"--animate draws a colonnade body by body, which --model {flat[0]} does not compute (its "
-                         "histories hold the frame's tilt and the epistyle's translation; --plot draws them): drop "
-                         "--animate, or animate --model 3d-compliant")
     if args.animate:
         from pipeline.animate import check_animation_path
 

@@ -77,9 +77,11 @@ def describe(study):
     """A few lines that say what a study computes."""
     from pipeline.study import block_size
 
+    from pipeline.study.results import what_ran
+
     nc, nr, na, ns, nm = study.shape
     levels = "scales" if study.scales is not None else f"target {study.intensity.measure} levels"
-    text = (f"{study.title}: {nc} column(s) x {nr} record(s) x {na} angle(s) x {ns} {levels} x "
+    text = (f"{study.title}: {what_ran(study)}\n{nc} column(s) x {nr} record(s) x {na} angle(s) x {ns} {levels} x "
             f"{nm} model(s) = {study.n_simulations} results; {block_size(study)} column(s) per task")
     variants = [study.variant(m) for m in study.models if study.variant(m).name != study.variant(m).model
                 or study.variant(m).describe()]

@@ -17,6 +17,7 @@ from pipeline.compliant.parts import (
 from pipeline.dynamics.compliant import joint as jl
 from pipeline.dynamics.compliant.layout import SHAPE_RECT
 from pipeline.errors import InputError
+from pipeline.structures.description import bearing_label, block_label, head_label
 
 __all__ = ["colonnade_layout", "is_colonnade"]
 
@@ -62,7 +63,7 @@ def colonnade_layout(colonnade, settings):
             carried[b.column] += colonnade.block_mass(k) * b.area / sum(c.area for c in bearings)
     parts, contacts, tops = [], [], []
     for i, x in enumerate(colonnade.axes()):
-        p, c = column_layout(stack, x, len(parts), i, settings, prefix=f"column {i + 1} ", carried=carried[i])
+        p, c = column_layout(stack, x, len(parts), i, settings, row=True, carried=carried[i])
         parts += p
         contacts += c
         tops.append(len(parts) - 1)
@@ -73,7 +74,7 @@ def colonnade_layout(colonnade, settings):
     for k in range(colonnade.n_blocks):
         x0, x1 = colonnade.block_extent(k)
         half = (0.5 * (x1 - x0), 0.5 * colonnade.epistyle_width, height)
-        parts.append(Part(f"block {k + 1}", KIND_BLOCK, colonnade.block_mass(k), colonnade.block_inertia(k),
+        parts.append(Part(block_label(k), KIND_BLOCK, colonnade.block_mass(k), colonnade.block_inertia(k),
                           colonnade.block_centre(k), 0.5 * height, height, 0.5 * np.pi, False, half, -1))
     axes = colonnade.axes()
     for k in range(colonnade.n_blocks):
@@ -91,7 +92,7 @@ def colonnade_layout(colonnade, settings):
                                       grid[:, 2]])
             contacts.append(Contact("bearing", tops[b.column], block, (cx, cy, cap_top), IDENTITY, (ux, uy, uz),
                                     IDENTITY, SHAPE_RECT, (ha, hb), points,
-                                    parts[block].mass * b.area / total, -1, False))
+                                    parts[block].mass * b.area / total, -1, False, bearing_label(k, b.column)))
     for head in colonnade.head_joints():
         left, right = first_block + head.left, first_block + head.right
         lc, rc = parts[left].centre, parts[right].centre
@@ -102,7 +103,8 @@ def colonnade_layout(colonnade, settings):
         points = np.column_stack([np.full(len(grid), ux), uy + grid[:, 0], uz + grid[:, 1], grid[:, 0], grid[:, 1],
                                   grid[:, 2]])
         contacts.append(Contact("head", left, right, (head.x - lc[0], uy, zc - lc[2]), END_FACE, (ux, uy, uz),
-                                END_FACE, SHAPE_RECT, (hy, hz), points, parts[right].mass, -1, False))
+                                END_FACE, SHAPE_RECT, (hy, hz), points, parts[right].mass, -1, False,
+                                head_label(head.left, head.right)))
     drums = [b for b, p in enumerate(parts) if p.kind != KIND_BLOCK and p.kind != KIND_CAPITAL]
     row = []
     for i, top in enumerate(tops):

@@ -2,10 +2,12 @@
 
 The rigid models' histories (``theta``, ``phi``, ``psi``, the base's path, forces and friction,
 energy, ground acceleration, ``phase``) of the watched body (a column's top; a colonnade's
-most tilted capital for ``theta``) and of the first column's base joint, and every body's
+most tilted capital for ``theta``) and of the first column's base joint (its contact point and
+centre from where that base stood at rest, as the rigid models' are), and every body's
 displacement, tilt, rotation, rise and tilt direction along the dimension ``drum`` (a body:
 drum, capital or epistyle block, named by the coordinate ``body_label``), with each body's
-shape and place at rest for drawing.
+shape and place at rest for drawing. The file says what the structure is
+(:func:`pipeline.structures.description.attributes`).
 """
 
 import numpy as np
@@ -31,9 +33,12 @@ def _euler_zxz(q):
     return phi, psi, r13, r23
 
 
-def histories(stack, asm, settings, raw, motion, excitation, damping):
-    """The run's histories (:mod:`pipeline.dataset` names, SI) for the column ``stack`` (a colonnade's every column)."""
+def histories(structure, asm, settings, raw, motion, excitation, damping):
+    """The run's histories (:mod:`pipeline.dataset` names, SI) of ``structure`` (a column, drums, a colonnade)."""
+    from pipeline import models
+    from pipeline.compliant.layouts import outline_of
     from pipeline.dataset import annotate, append_history
+    from pipeline.structures.description import history_attributes
 
     L, T = asm.length, asm.time
     n, n_j = asm.n_bodies, asm.n_joints
@@ -44,6 +49,8 @@ def histories(stack, asm, settings, raw, motion, excitation, damping):
     phi, psi, _, _ = _euler_zxz(raw.hist_y[:, top + QW:top + QZ + 1])
     _, _, e13, e23 = _euler_zxz(raw.hist_y[:, QW:QZ + 1])
     zc = asm.bodies[0, B_ZC]
+    _, _, r13, r23 = _euler_zxz(raw.y0[None, QW:QZ + 1])  # the base's centre at rest, from where x_b is measured
+    rest_x, rest_y = raw.y0[X] - r13[0] * zc, raw.y0[Y] - r23[0] * zc
     diag = raw.hist_diag
     # the phase flags of the rigid models (pipeline.dataset.FLAGS): in contact 0, on the rim 1,
     # overturned 2, sliding flat 3, slipping on the rim 4, in flight 5
@@ -58,8 +65,8 @@ def histories(stack, asm, settings, raw, motion, excitation, damping):
         "psi": psi,
         "x_p": diag[:, D_COP_X] * L,
         "y_p": diag[:, D_COP_Y] * L,
-        "x_b": (raw.hist_y[:, X] - e13 * zc) * L,
-        "y_b": (raw.hist_y[:, Y] - e23 * zc) * L,
+        "x_b": (raw.hist_y[:, X] - e13 * zc - rest_x) * L,
+        "y_b": (raw.hist_y[:, Y] - e23 * zc - rest_y) * L,
         "omega_zeta": raw.hist_y[:, top + WZ] / T,
         "energy_hat": diag[:, D_ENERGY],
         "work_ground_hat": raw.hist_y[:, NB * n + A_WORK],
@@ -98,14 +105,13 @@ def histories(stack, asm, settings, raw, motion, excitation, damping):
         coords[name] = ("drum", np.array([p.shape[k] for p in parts]))
     coords["drum_kind"] = ("drum", np.array([p.kind for p in parts], dtype=np.int8))
     ds = xr.Dataset(variables, coords=coords)
+    stack = outline_of(structure, whole=True)
+    ds.attrs.update(history_attributes(structure, models.get(settings.model)))
     ds.attrs.update(
-        title="Response of a free-standing column (rigid drums on compliant joints) to ground motion",
         model=settings.model,
         column_R_m=stack.column.R,
         column_r_m=stack.column.r,
         column_h_m=stack.column.h,
-        n_drums=stack.n_drums,
-        capital="none" if stack.capital is None else f"{stack.capital.side:g} x {stack.capital.height:g} m",
         density_kg_m3=stack.density,
         theta_crit_rad=stack.column.critical_tilt,
         normal_stiffness_Pa_m=settings.normal_stiffness,

@@ -23,6 +23,7 @@ from pipeline.dynamics.compliant import joint as jl
 from pipeline.dynamics.compliant.layout import GROUND, SHAPE_DISC
 from pipeline.errors import InputError
 from pipeline.structures.column import Column
+from pipeline.structures.description import column_labels
 from pipeline.structures.drums import DrumColumn
 
 __all__ = ["Part", "Contact", "Layout", "as_stack", "stack_layout", "lying_tilt"]
@@ -41,7 +42,8 @@ class Part:
     Attributes
     ----------
     label : str
-        What it is, for people: ``"drum 2"``, ``"capital"``, ``"column 3 drum 1"``, ``"block 2"``.
+        What it is, for people (:mod:`pipeline.structures.description`): ``"drum 2"``, ``"capital"``,
+        ``"column 3 drum 1"``, ``"epistyle block 2"``.
     kind : int
         ``KIND_DRUM``, ``KIND_CAPITAL`` or ``KIND_BLOCK``.
     mass : float
@@ -115,6 +117,9 @@ class Contact:
         The column it belongs to (-1: the epistyle's).
     rim : bool
         A disc on which a column rocks: its uplift and landings are counted.
+    label : str
+        What it is, for people (:mod:`pipeline.structures.description`): ``"base of column 2"``,
+        ``"bed joint under drum 3"``, ``"capital 2 / epistyle block 1"``, ``"head joint blocks 1-2"``.
     """
 
     kind: str
@@ -130,6 +135,7 @@ class Contact:
     load: float
     column: int = 0
     rim: bool = True
+    label: str = ""
 
 
 @dataclass(frozen=True)
@@ -181,7 +187,7 @@ def rectangle_nodes(settings):
     return max(3, settings.contact_sectors // 4)
 
 
-def column_layout(stack, x0, first, column, settings, prefix="", carried=0.0):
+def column_layout(stack, x0, first, column, settings, row=False, carried=0.0):
     """The bodies and joints of one column of drums (and its capital) whose axis stands at (x0, 0).
 
     Parameters
@@ -195,8 +201,8 @@ def column_layout(stack, x0, first, column, settings, prefix="", carried=0.0):
         Its index among the structure's columns.
     settings : pipeline.settings.ModelSettings
         Contact points and anathyrosis.
-    prefix : str
-        Put before each label ("column 2 ").
+    row : bool
+        It stands in a colonnade: its labels name its column ("column 2 drum 1").
     carried : float
         Mass resting on its capital (its share of an epistyle) [kg]: every joint of the column
         carries it too.
@@ -211,20 +217,20 @@ def column_layout(stack, x0, first, column, settings, prefix="", carried=0.0):
     n = stack.n_bodies
     inner = [settings.base_anathyrosis] + _per_joint(settings.anathyrosis, n - 1, "anathyrosis", 0.0)
     parts, contacts = [], []
+    labels, joint_labels = column_labels(stack, column if row else None)
     base = 0.0
     for k, d in enumerate(drums):
         m = density * d.volume
         a, c = d.central_inertia_hat
         it, ia = a * m * d.R ** 2, c * m * d.R ** 2
-        label = prefix + (f"drum {k + 1}" if n > 1 else "shaft")
-        parts.append(Part(label, KIND_DRUM, m, (it, it, ia), (x0, 0.0, base + d.z_cm), d.z_cm, d.h,
+        parts.append(Part(labels[k], KIND_DRUM, m, (it, it, ia), (x0, 0.0, base + d.z_cm), d.z_cm, d.h,
                           lying_tilt(d.R, d.r, d.h), k == 0, (d.R, d.r, d.h), column))
         base += d.h
     if stack.capital is not None:
         cap = stack.capital
         it, ia = cap.inertia(density)
         half = 0.5 * cap.side
-        parts.append(Part(prefix + "capital", KIND_CAPITAL, cap.mass(density), (it, it, ia),
+        parts.append(Part(labels[-1], KIND_CAPITAL, cap.mass(density), (it, it, ia),
                           (x0, 0.0, base + 0.5 * cap.height), 0.5 * cap.height, cap.height, 0.5 * math.pi,
                           False, (half, half, cap.height), column))
     above = np.cumsum([p.mass for p in parts][::-1])[::-1] + carried
@@ -239,7 +245,7 @@ def column_layout(stack, x0, first, column, settings, prefix="", carried=0.0):
             kind = "capital" if part.kind == KIND_CAPITAL else "bed"
         contacts.append(Contact(kind, lower, first + k, origin, IDENTITY, (0.0, 0.0, -part.zc), IDENTITY,
                                 SHAPE_DISC, (math.inf if k == 0 else radius, 0.0), points, float(above[k]),
-                                column, True))
+                                column, True, joint_labels[k]))
     return parts, contacts
 
 

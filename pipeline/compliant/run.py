@@ -73,5 +73,5 @@ def simulate_compliant(column, motion, excitation, settings, histories=True, pro
     summary = run_summary(stack, asm, params, settings, raw, damping, restitution)
     summary.update(record_id=motion.record_id, angle=float(excitation.angle), scale=float(excitation.scale),
                    step=float(raw.step), step_limit=float(limit))
-    ds = run_histories(stack, asm, settings, raw, motion, excitation, damping) if histories else None
+    ds = run_histories(column, asm, settings, raw, motion, excitation, damping) if histories else None
     return Response(summary, ds, np.empty((0, 4)))

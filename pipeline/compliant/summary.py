@@ -130,21 +130,10 @@ def _bed_joints(layout):
 
 
 def joint_labels(layout):
-    """Each joint in words: "base of column 2 drum 1", "bed joint under drum 3", "block 1 on column 2
-    capital", "block 1 against block 2"."""
-    parts = layout.parts
-    labels = []
-    for c in layout.contacts:
-        upper = parts[c.upper].label
-        if c.kind == "base":
-            labels.append(f"base of {upper}")
-        elif c.kind == "head":
-            labels.append(f"{parts[c.lower].label} against {upper}")
-        elif c.kind == "bearing":
-            labels.append(f"{upper} on {parts[c.lower].label}")
-        else:
-            labels.append(f"bed joint under {upper}")
-    return tuple(labels)
+    """Each joint in words, as the structure names it (:mod:`pipeline.structures.description`): "base of
+    column 2", "bed joint under drum 3", "capital 2 / epistyle block 1", "head joint blocks 1-2"; a joint
+    of a layout made by hand without labels by its kind and index ("bearing joint 3")."""
+    return tuple(c.label or f"{c.kind} joint {j}" for j, c in enumerate(layout.contacts))
 
 
 def joint_diameters(asm):

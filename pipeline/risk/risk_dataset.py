@@ -187,7 +187,7 @@ def site_risk(frag, hazard, years=DEFAULT_YEARS, n_grid=301):
             ds[name].attrs["comment"] = ("NaN: the fragility file has no bootstrap replicates (median_bootstrap); "
                                          "rerun 'frustum fragility --bootstrap N'")
     ds.attrs.update(
-        title="Risk of damage states of free-standing columns at sites",
+        title=F.structures_title("Risk of damage states at sites", frag.attrs),
         summary="Mean annual frequency of each damage state, column and model of a fragility at each site of a "
                 "hazard curve: lambda = integral P(DS | a) |dH/da| da, the hazard curve interpolated log-log, "
                 "each segment integrated in closed form against the lognormal fragility; the part beyond the "
@@ -206,7 +206,7 @@ def site_risk(frag, hazard, years=DEFAULT_YEARS, n_grid=301):
         limits=LIMITS + (f" The hazard curve is a power law through code values, extrapolated {hazard.extrapolated}."
                          if hazard.format == "code" else ""),
     )
-    for key in ("results_study", "results_study_digest", "results_title"):
+    for key in ("results_study", "results_study_digest", "results_title", "structures"):
         if key in frag.attrs:
             ds.attrs[key] = str(frag.attrs[key])
     append_history(ds, f"pipeline.risk hazard={os.path.basename(hazard.source)} "
@@ -288,7 +288,7 @@ def _coords(frag, hazard, grid, years, im, units):
         if name in frag.coords:
             coords[name] = ("state", frag[name].values, dict(frag[name].attrs))
     for name in ("column_R", "column_r", "column_h", "slenderness", "theta_crit", "column_beta", "latitude",
-                 "longitude"):
+                 "longitude", *F.STRUCTURE_COORDS):
         if name in frag.coords and frag[name].dims == ("column",):
             coords[name] = ("column", frag[name].values, dict(frag[name].attrs))
     return coords

@@ -7,7 +7,9 @@
   blocks, its blocks, bearings and head joints, and the rigid frame's equivalent block;
 * :mod:`pipeline.structures.named`: the named real columns of ``pipeline/data/columns.toml``
   (the named colonnades of ``pipeline/data/colonnades.toml``: ``named_colonnade``);
-* :mod:`pipeline.structures.kinds`: the kinds of structure a model declares it runs.
+* :mod:`pipeline.structures.kinds`: the kinds of structure a model declares it runs;
+* :mod:`pipeline.structures.description`: what a structure is in words and attributes, and its
+  bodies' and joints' labels, written once for every file, report, figure and summary.
 
 Nothing here imports a model, a kernel or anything above the ground floor (units, errors).
 """

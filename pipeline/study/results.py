@@ -15,8 +15,10 @@ import numpy as np
 import xarray as xr
 
 from pipeline import __version__
+from pipeline import models as MD
 from pipeline.dataset import STUDY_VARIABLES, annotate
 from pipeline.models import REGISTRY
+from pipeline.structures import description as D
 
 FLOAT_VARIABLES = ("peak_theta", "peak_theta_ratio", "peak_time", "overturn_time", "uplift_time", "peak_mu_mob",
                    "residual_rotation", "residual_displacement", "work_ground", "energy_balance_error")
@@ -92,6 +94,12 @@ def assemble(study, motions, measures, factors, arrays):
     }
     if any(c.stack is not None or c.colonnade is not None for c in study.columns):
         coords["structure"] = ("column", [c.describe() for c in study.columns])
+    if any(c.colonnade is not None for c in study.columns):  # the rows' numbers (a column alone: 1, NaN, 0)
+        numbers = [D.dimensions(_stands(c)) for c in study.columns]
+        for name, _unit, _value in D.DIMENSIONS:
+            coords[name] = ("column", np.array([n[name] for n in numbers]))
+    if any(c.source for c in study.columns):
+        coords["structure_source"] = ("column", [c.source for c in study.columns])
     if any(math.isfinite(c.latitude) for c in study.columns):
         coords["latitude"] = ("column", [c.latitude for c in study.columns])
         coords["longitude"] = ("column", [c.longitude for c in study.columns])
@@ -119,6 +127,8 @@ def assemble(study, motions, measures, factors, arrays):
         coords["bed_restitution"] = ("column", [b[1] for b in bed], {
             "units": "1", "long_name": "planar restitution the calibrated dashpots reach, given to every model"})
     ds = ds.assign_coords(coords)
+    if n_joints:
+        _labels(ds, study)
     annotate(ds, STUDY_VARIABLES)
     if study.intensity is not None:
         units = {"pga": "m s-2", "pgv": "m s-1"}[study.intensity.measure]
@@ -138,10 +148,11 @@ def assemble(study, motions, measures, factors, arrays):
         + ["the rigid models run a column of drums as a monolith of its shaft"])
     ds.attrs.update({
         "title": study.title,
-        "summary": study.summary or (
-            f"Earthquake response of {len(cols)} free-standing column(s) modelled as rigid conical frustums "
-            f"to {len(motions)} record(s), {len(study.angles)} incidence angle(s), {len(study.levels)} scale "
-            f"level(s), model(s) {', '.join(study.models)}."),
+        # the opening line of its report: what stood and which models ran it, then the study's own words
+        "summary": (f"Earthquake response of {what_ran(study)}, to {len(motions)} record(s), {len(study.angles)} "
+                    f"incidence angle(s), {len(study.levels)} scale level(s).") + (f" {study.summary}" if study.summary
+                                                                                   else ""),
+        "structures": "; ".join(f"{c.label}: {D.title(_stands(c))}" for c in study.columns),
         "source": f"frustum-pipeline {__version__} (pipeline.study)",
         "study_file": os.path.basename(study.path),
         "study_path": study.path,
@@ -153,3 +164,65 @@ def assemble(study, motions, measures, factors, arrays):
         "energy_units": "energies and work per unit weight, E/(m g) [m]",
     })
     return ds
+
+
+def _stands(info):
+    """What stands in a column entry of a study: its colonnade, its drums, or the column alone."""
+    return info.colonnade or info.stack or info.column
+
+
+def what_ran(study):
+    """Each structure of a study with the models that ran it, as each ran it: ``"a colonnade of 6 columns ...
+    (row) run by the 3D compliant drums on joints (3d-compliant); a monolithic column (the column of row
+    alone) run by the 3D rolling frustum (3d)"``; columns alike, run by the same models, said once with
+    their labels (:func:`pipeline.structures.description.what_ran`)."""
+    runs = {}  # (the structure in words, how it was run, the models that ran it) -> the columns' labels
+    for info in study.columns:
+        bodies = {}
+        for m in study.models:
+            variant = study.variant(m)
+            body = info.body(variant)
+            # what stands, or a part of it: a colonnade's column alone, a column of drums as one body
+            part = "" if body is _stands(info) else ("column" if info.colonnade is not None else "shaft")
+            words = D.title(body, named=not part)
+            bodies.setdefault((words, part), []).append((MD.title(variant.model), m))
+        for (words, part), models in sorted(bodies.items(), key=lambda item: bool(item[0][1])):  # what stands first
+            runs.setdefault((words, part, tuple(models)), []).append(info.label)
+    said = []
+    for (words, part, models), labels in runs.items():
+        names = ", ".join(labels[:-1]) + " and " + labels[-1] if len(labels) > 1 else labels[0]
+        many = len(labels) > 1
+        if part == "column":
+            said.append((f"{words} (the {'columns' if many else 'column'} of {names}{', each' if many else ''} alone)",
+                         models))
+        elif part == "shaft":
+            said.append((f"{words} (the {'shafts' if many else 'shaft'} of {names}{', each' if many else ''} as one "
+                         "body)", models))
+        else:
+            labels = [label for label in labels if f"({label}: " not in words]  # a named one says its id
+            said.append((f"{words} ({', '.join(labels)})" if labels else words, models))
+    return D.what_ran(said)
+
+
+def _labels(ds, study):
+    """Each column's joints by name (``joint_label``, a string variable on (column, joint): CF takes a label
+    coordinate of one dimension only) and, per run, the body that fell first (``overturn_body``: the label
+    of ``overturn_drum`` in what the model ran, the whole structure for a model that runs it as one body)."""
+    n_joints = ds.sizes["joint"]
+    joints = np.full((len(study.columns), n_joints), "", dtype=object)
+    for ci, info in enumerate(study.columns):
+        labels = D.joint_labels(_stands(info))
+        joints[ci, :len(labels)] = labels
+    ds["joint_label"] = (("column", "joint"), joints)
+    drum = ds["overturn_drum"].values
+    fell = np.full(drum.shape, "", dtype=object)
+    for mi, m in enumerate(study.models):
+        variant = study.variant(m)
+        per_body = "overturn_drum" in REGISTRY[variant.model].results
+        for ci, info in enumerate(study.columns):
+            body = info.body(variant)
+            names = D.body_labels(body) if per_body else (D.whole_label(body),)
+            cell = drum[ci, ..., mi]
+            index = np.where(cell >= 0, cell if per_body else 0, -1)
+            fell[ci, ..., mi] = np.where(index >= 0, np.asarray(names, dtype=object)[np.clip(index, 0, None)], "")
+    ds["overturn_body"] = (DIMS, fell)

@@ -44,6 +44,23 @@ def failed_results_nc(tmp_path_factory):
 
 
 @pytest.fixture(scope="session")
+def old_frame_nc(tmp_path_factory):
+    """A histories file of the rigid frame (2d-frame, 2 columns, SYN-RICKER and 0.5 s of tail) as written before files
+    recorded their structure: without its ``n_columns`` attribute."""
+    import netCDF4
+
+    from pipeline.cli import main
+
+    path = tmp_path_factory.mktemp("frame") / "frame.nc"
+    assert main(["simulate", "--column", "0.5,0.4,4", "--model", "2d-frame", "--colonnade", "2", "--interaxial", "2",
+                 "--epistyle", "0.5", "--record", "SYN-RICKER", "--tail", "0.5", "--output-step", "0.02", "--out",
+                 str(path)]) == 0
+    with netCDF4.Dataset(path, "a") as nc:
+        nc.delncattr("n_columns")
+    return path
+
+
+@pytest.fixture(scope="session")
 def histories_nc(tmp_path_factory):
     """A histories file of ``frustum simulate`` (3D model, SYN-RICKER and 0.5 s of tail)."""
     from pipeline.cli import main

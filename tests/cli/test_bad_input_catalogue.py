@@ -123,6 +123,8 @@ CATALOGUE = [
     # files that cannot be read
     ("animate-truncated-netcdf", ["animate", "{truncated}", OUT, "{tmp}/a.gif"], 2,
      ["cannot be read as netCDF", "run it again"]),
+    ("animate-frame-that-does-not-say-its-row", ["animate", "{old_frame}", OUT, "{tmp}/a.gif"], 2,
+     ["the 2d-frame run does not say which colonnade ran (no attribute n_columns)", "run 'frustum simulate' again"]),
     # failures that looked like success
     ("report-every-cell-failed", ["report", "{failed}", OUT, "{tmp}/rep", "--bootstrap", "0"], 2,
      ["simulations failed (status 1), so there is nothing to report"]),
@@ -245,12 +247,13 @@ ISSUE_38_HAZARD = {
 
 
 @pytest.fixture
-def files(tmp_path, results_nc, histories_nc, failed_results_nc):
+def files(tmp_path, results_nc, histories_nc, failed_results_nc, old_frame_nc):
     """Every file a catalogue entry names, in a fresh folder: {placeholder: path}."""
     from pipeline import fragility as F
 
     paths = {"tmp": tmp_path}
-    for name, source in (("results", results_nc), ("histories", histories_nc), ("failed", failed_results_nc)):
+    for name, source in (("results", results_nc), ("histories", histories_nc), ("failed", failed_results_nc),
+                         ("old_frame", old_frame_nc)):
         paths[name] = tmp_path / source.name
         shutil.copy(source, paths[name])
     paths["fragility"] = tmp_path / "fragility.nc"

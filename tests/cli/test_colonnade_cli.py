@@ -65,8 +65,6 @@ def test_a_named_colonnade_brings_its_column(tmp_path, capsys):
      ["--colonnade parthenon-east is a named colonnade, which brings its column and epistyle: drop --column"]),
     (["simulate", "--model", "2d-frame", "--colonnade", "2", "--interaxial", "2", "--epistyle", "1", "--record",
       "SYN-RICKER"], ["give the column as --column R,r,h"]),
-    (SIM + ROW + ["--model", "2d-frame", "--animate", "{tmp}/a.gif"], ["--animate draws a colonnade body by body",
-                                                                  "--model 2d-frame does not compute"]),
     (["simulate", "--column", "0.5,0.4,4", "--theta0", "5", "--duration", "1"] + ROW, ["--colonnade is read by"]),
 ])
 def test_bad_colonnade_options_are_refused_before_computing(argv, fragments, tmp_path, capsys):

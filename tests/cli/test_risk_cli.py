@@ -208,14 +208,14 @@ def test_report_hazard_section_in_the_same_words(fixed, inputs, tmp_path):
 
     frag = R.open_fragility(fixed[0.02])
     pga = R.read_hazard_curve(inputs[1])
-    text = "\n".join(report._risk_section(R.site_risk(frag, pga), pga, frag))
+    text = "\n".join(report.risk_section(R.site_risk(frag, pga), pga, frag, report._fmt))
     assert "| site-0 | paper | 3D | 99.7 % | almost certain (more than 19 in 20) | 8.7 years | n/a |" in text
     steep = tmp_path / "steep.csv"
     steep.write_text(plain_text(np.array([0.1, 0.2, 0.5]), (1e300, 1e200, 1e100)))
     curve = R.read_hazard_curve(steep)
     with warnings.catch_warnings():
         warnings.simplefilter("error", RuntimeWarning)
-        text = "\n".join(report._risk_section(R.site_risk(frag, curve), curve, frag))
+        text = "\n".join(report.risk_section(R.site_risk(frag, curve), curve, frag, report._fmt))
     assert "| site-0 | paper | 3D | n/a | integral overflows | | | |" in text
     assert ("- At site site-0, column 'paper' (3D): no risk is stated: the hazard curve's first segment (0.1 to "
             "0.2 g) falls as a^-332;") in text

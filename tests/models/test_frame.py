@@ -443,3 +443,25 @@ def test_a_frame_model_refuses_a_column_and_the_others_refuse_a_colonnade():
     with pytest.raises(InputError, match="model = '2d' runs monolithic columns: a colonnade of 2 columns needs one "
                                          "of 3d-compliant, 2d-frame"):
         simulate(Colonnade(PAPER, 2, 1.5, 0.3), record, Excitation(), ModelSettings(model="2d"))
+
+
+def test_the_frames_file_says_which_colonnade_ran_and_reads_back_to_it():
+    """Issue 47, item 1: the frame's histories name the colonnade and the model in their title and hold the row in
+    their attributes, which read back to the same frame (what frustum animate draws); an overturned frame fell as
+    one body, the colonnade (before: the title explained the variables, the row was colonnade_columns,
+    colonnade_interaxial_m, ..., and no run said which body fell)."""
+    from pipeline.structures.description import colonnade_from_attributes
+
+    row = Colonnade(WITH_CAPITAL, 3, 2.0, 0.5, 0.9, 0.2)
+    pulse = one_sine_pulse(8.0, 1.0, dt=0.01, record_id="pulse")
+    run = simulate(row, pulse, Excitation(), frame_settings(tail=2.0))
+    attrs = run.histories.attrs
+    assert attrs["title"] == ("Response to ground motion of a colonnade of 3 monolithic columns with capitals carrying "
+                              "2 epistyle blocks run by the 2D rigid frame of a colonnade (2d-frame)")
+    assert "colonnade_columns" not in attrs and attrs["comment"].startswith("2d-frame, the colonnade as a rigid planar")
+    back = colonnade_from_attributes(attrs, PAPER)
+    assert back.frame == row.frame and back.axes() == row.axes() and back.block_height == pytest.approx(0.7)
+    assert attrs["theta_crit_rad"] == row.frame.alpha
+    assert run.summary["overturned"] and run.summary["overturn_body"] == "the colonnade"  # the premise and the word
+    still = simulate(row, one_sine_pulse(0.5, 1.0, dt=0.01, record_id="pulse"), Excitation(), frame_settings())
+    assert not still.summary["overturned"] and still.summary["overturn_body"] == ""
