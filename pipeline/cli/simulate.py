@@ -13,7 +13,7 @@ from pipeline.models.rigid import ROLLING_FRUSTUM
 from pipeline.models.options import OPTIONS
 from pipeline.limits import check_tolerance
 from pipeline.paths import check_output_file, check_plot_file
-from pipeline.response import outcome
+from pipeline.cli.summary_lines import run_lines
 from pipeline.settings import FREE_MOTION, ModelSettings
 from pipeline.structures.colonnade import named_colonnades
 from pipeline.units import MARBLE_DENSITY
@@ -242,14 +242,7 @@ def run_simulate(args):
     for body in dict.fromkeys(bodies.values()):
         print(body.describe())
     for (histories, summary), model in zip(runs, models):
-        line = f"{model}: peak theta = {math.degrees(summary['peak_theta']):.3f} deg"
-        if args.record:
-            line += (f" ({summary['peak_theta_ratio']:.2f} theta_crit), "
-                     f"{outcome(summary)}, "
-                     f"{summary['n_impacts']} impacts, peak mu_mob = {summary['peak_mu_mob']:.2f}")
-            if REGISTRY[model].drums:
-                line += _joints_line(summary)
-        print(line)
+        print("\n".join(run_lines(model, summary, record=bool(args.record))))
     print(f"wrote {args.out}")
     if args.plot:
         from pipeline.plotting import plot_response
@@ -283,17 +276,6 @@ def _models(text):
         raise InputError(f"--model {text}: give one or more of {', '.join(REGISTRY)}, comma-separated (e.g. "
                          f"{','.join(list(REGISTRY)[:2])})")
     return models
-
-
-def _joints_line(summary):
-    """The compliant model's slip and, for drums, their peak tilts and residual joint slips."""
-    line = f", slip at the base {summary['slip']:.3g} m"
-    if len(summary["joint_slip"]) > 1:  # bed joints: drums, or a capital on the monolith
-        line += "; drum peak tilts " + ", ".join(f"{math.degrees(t):.2f}" for t in summary["drum_peak_theta"])
-        slips = ", ".join(f"{x * 1e3:.1f}" for x in summary["joint_slip"][1:])
-        line += (f" deg; residual slips of the bed joints {slips} mm "
-                 f"(largest {100 * summary['dislocation_ratio']:.2f} % of its diameter)")
-    return line
 
 
 def _drum_column(args, column):
