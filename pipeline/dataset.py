@@ -553,8 +553,19 @@ def histories_file(runs, column, record, summaries=None):
     first = runs[0].attrs
     names = list(dict.fromkeys(n for run in runs for n in run.data_vars))
     shapes = {n: run[n] for run in reversed(runs) for n in run.data_vars}  # a run that has each variable
+    # a run that ended sooner (it came to rest, or fell, while another still moved) is NaN after its end,
+    # in the phase it ended in: the runs share the time grid of the longest, of which theirs is the start
+    grid = max((run["time"] for run in runs), key=len)
     stacked = []
     for run in runs:
+        if run.sizes["time"] < grid.size and np.array_equal(run["time"].values, grid.values[:run.sizes["time"]]):
+            last = run["phase"].isel(time=-1) if "phase" in run else None
+            per_second = float(run["tau"][-1] / run["time"][-1]) if "tau" in run.coords else None
+            run = run.reindex(time=grid)
+            if last is not None:
+                run["phase"] = run["phase"].fillna(last)
+            if per_second is not None:  # tau = t sqrt(g/R) of its own R on the whole grid
+                run = run.assign_coords(tau=("time", grid.values * per_second))
         run = run.copy()
         for name in names:  # 2D has no spin or base-centre path, the rigid models no drums: NaN there
             if name not in run:

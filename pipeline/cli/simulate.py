@@ -8,7 +8,7 @@ import numpy as np
 
 from pipeline.cli.records import add_record_options, load_record, record_inputs
 from pipeline.errors import InputError
-from pipeline.models import DEFAULT, REGISTRY
+from pipeline.models import DEFAULT, REGISTRY, unrun_part
 from pipeline.models.rigid import ROLLING_FRUSTUM
 from pipeline.models.options import OPTIONS
 from pipeline.limits import check_tolerance
@@ -100,7 +100,7 @@ def register(subparsers):
                      "abacus side, 2 r without --capital)")
     row.add_argument("--course", type=float, default=None, metavar="HEIGHT",
                      help="a course on the epistyle (frieze and cornice) as a height [m] of its width and density, "
-                     "carried as mass (default 0: none)")
+                     "carried as mass (default 0: none; a named colonnade takes one too)")
     add_model_options(p)
     free = p.add_argument_group("initial state (free motion)")
     for name, unit, default, text in [  # noqa: B007
@@ -207,13 +207,16 @@ def run_simulate(args):
             check_tolerance(name, getattr(args, name), f"--{name}")
     colonnade = _named_row(args, models)
     if colonnade is not None:  # it brings its column
-        column = colonnade.column.column
+        stack = colonnade.column
     else:
         if args.column is None:
             raise InputError("give the column as --column R,r,h in metres (e.g. 0.5,0.4,4), or a named --colonnade")
-        column = _drum_column(args, Column.parse(args.column, density=args.density))
-        colonnade = _row(args, column)
-    bodies = {m: colonnade if (colonnade is not None and REGISTRY[m].runs("colonnade")) else column for m in models}
+        stack = _drum_column(args, Column.parse(args.column, density=args.density))
+        colonnade = _row(args, stack)
+    _refuse_unrun_drums(args, models, colonnade)
+    column = getattr(stack, "column", stack)  # the shaft's outline, a monolith
+    # what each model runs: the colonnade, the drums or the shaft alone, as a study gives it (Model.structure)
+    bodies = {m: REGISTRY[m].structure(column, stack if stack is not column else None, colonnade) for m in models}
     flat = [m for m in models if bodies[m] is colonnade and "drum_dx" not in REGISTRY[m].histories]
     if args.animate and colonnade is not None and flat:
         raise InputError(f"--animate draws a colonnade body by body, which --model {flat[0]} does not compute (its "
@@ -226,12 +229,11 @@ def run_simulate(args):
     if args.record:
         runs = _earthquake(args, bodies, models)
     else:
-        if models != [ROLLING_FRUSTUM.name] or not isinstance(column, Column) or colonnade is not None:
+        if models != [ROLLING_FRUSTUM.name] or stack is not column or colonnade is not None:
             raise InputError(f"--model {args.model}: a free motion is the {ROLLING_FRUSTUM.title} only (drop --model, "
                              "the drum options and --colonnade)")
         runs = [_free(args, column)]
-    outline = getattr(column, "column", column)
-    label = f"R{outline.R:g}-r{outline.r:g}-h{outline.h:g}"
+    label = f"R{column.R:g}-r{column.r:g}-h{column.h:g}"
     if colonnade is not None:
         label = colonnade.name or f"{label}-x{colonnade.n_columns}"
     # the summary goes into the file too: what the console prints must not be all there is of it
@@ -315,9 +317,7 @@ def _named_row(args, models):
                              f"(or a named colonnade, e.g. --colonnade {sorted(named_colonnades())[0]})")
         return None
     if not runs_rows:
-        readers = ", ".join(m.name for m in REGISTRY.values() if m.runs("colonnade"))
-        raise InputError(f"--colonnade is read by --model {readers}; --model {args.model} does not run colonnades "
-                         "(drop --colonnade, or run a model that reads it)")
+        raise InputError(unrun_part("colonnade", models, "--colonnade", "the run", "drop"))
     text = str(args.colonnade).strip()
     if _number(text) is not None:
         missing = [flag for flag, value in (("--interaxial", args.interaxial), ("--epistyle", args.epistyle))
@@ -329,12 +329,27 @@ def _named_row(args, models):
     if text not in named_colonnades():
         raise InputError(f"--colonnade {text}: give a whole number of columns (at least 2), or the name of a named "
                          f"colonnade ({', '.join(sorted(named_colonnades()))})")
-    mine = given + [f"--{name.replace('_', '-')}" for name in ("column", "drums", "drum_heights", "capital")
-                    if getattr(args, name) is not None]
+    # a course (frieze and cornice) may be added to a named colonnade, which has none of its own
+    mine = [flag for flag in given if flag != "--course"] + [
+        f"--{name.replace('_', '-')}" for name in ("column", "drums", "drum_heights", "capital")
+        if getattr(args, name) is not None]
     if mine:
-        raise InputError(f"--colonnade {text} is a named colonnade, which brings its column and epistyle: drop "
-                         f"{mine[0]}, or describe the row yourself with --colonnade N --interaxial S --epistyle HEIGHT")
-    return named_colonnade(text)
+        raise InputError(f"--colonnade {text} is a named colonnade, which brings its column and epistyle (--course "
+                         f"may be added): drop {mine[0]}, or describe the row yourself with --colonnade N --interaxial "
+                         "S --epistyle HEIGHT")
+    return named_colonnade(text, course_height=args.course)
+
+
+def _refuse_unrun_drums(args, models, colonnade):
+    """Refuse drums (``--drums``, ``--drum-heights``, ``--capital``) that no model of the run runs, as a
+    study refuses them: a capital is read too by a model of colonnades that runs the row given."""
+    if any(REGISTRY[m].drums for m in models):
+        return
+    rows = colonnade is not None and any(REGISTRY[m].runs("colonnade") for m in models)
+    flags = [f"--{name.replace('_', '-')}" for name in ("drums", "drum_heights", "capital")
+             if getattr(args, name) is not None and not (name == "capital" and rows)]
+    if flags:
+        raise InputError(unrun_part("drums", models, flags[0], "the run", "drop"))
 
 
 def _number(text):
@@ -384,17 +399,20 @@ def _earthquake(args, bodies, models):
     if args.theta0 is not None:
         raise InputError("--theta0 starts a free motion; an earthquake response starts at rest (drop --theta0)")
     excitation = Excitation(angle=args.angle, scale=args.scale, vertical=not args.no_vertical)
+    _refuse_unread(args, {name for model in models for name in REGISTRY[model].options}, f"--model {args.model}")
+    settings = {model: _model_settings(args, model, output_step=args.output_step) for model in models}
+    for model in models:  # what any run would refuse, before the first one computes (as a study checks)
+        REGISTRY[model].check(bodies[model], settings[model])
     motion = load_record(args)
     tail = _given(args.tail, DEFAULTS.tail)
     _check_output_step(args.output_step, motion.duration + tail,
                        f"record {motion.duration:g} s + --tail {tail:g} s", "--tail")
     _check_history_memory(len(models) * (motion.duration + tail), args.output_step,
                           "the record and --tail" + (" for each model" if len(models) > 1 else ""))
-    _refuse_unread(args, {name for model in models for name in REGISTRY[model].options}, f"--model {args.model}")
     runs = []
     for model in models:
-        settings = _model_settings(args, model, output_step=args.output_step)
-        response = simulate(bodies[model], motion, excitation, settings, progress=_progress_line(model, settings))
+        response = simulate(bodies[model], motion, excitation, settings[model],
+                            progress=_progress_line(model, settings[model]))
         runs.append((response.histories, response.summary))
     return runs
 
