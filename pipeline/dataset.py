@@ -594,6 +594,8 @@ def histories_file(runs, column, record, summaries=None):
     runs = _on_one_grid(runs)
     names = list(dict.fromkeys(n for run in runs for n in run.data_vars))
     shapes = {n: run[n] for run in reversed(runs) for n in run.data_vars}  # a run that has each variable
+    # a run that ended sooner (it came to rest, or fell, while another still moved) is NaN after its end,
+    # in the phase it ended in: the runs share the time grid of the longest, of which theirs is the start
     stacked = []
     for run in runs:
         run = run.copy()
@@ -629,7 +631,8 @@ def histories_file(runs, column, record, summaries=None):
 
 def _on_one_grid(runs):
     """The runs on the longest one's time grid: every other's rows are its first ones (the models of one file
-    share one output grid, to the bit), NaN after a run's end; anything else is a caller's bug."""
+    share one output grid, to the bit), NaN after a run's end (a run that came to rest, or fell, while another
+    still moved), its phase the one it ended in; anything else is a caller's bug."""
     longest = max(runs, key=lambda run: run.sizes["time"])
     time = longest["time"].values
     out = []
@@ -638,8 +641,14 @@ def _on_one_grid(runs):
         if not np.array_equal(run["time"].values, time[:n]):
             raise ValueError(f"the runs of one file have different output instants ({run.attrs.get('model')} "
                              f"against {longest.attrs.get('model')})")
-        if n < time.size:
-            run = run.drop_vars("tau").reindex(time=time).assign_coords(tau=longest["tau"])
+        if n < time.size:  # in the phase it ended in, tau = t sqrt(g/R) of its own R on the whole grid
+            last = run["phase"].isel(time=-1) if "phase" in run else None
+            per_second = float(run["tau"][-1] / run["time"][-1]) if "tau" in run.coords else None
+            run = run.reindex(time=time)
+            if last is not None:
+                run["phase"] = run["phase"].fillna(last)
+            if per_second is not None:
+                run = run.assign_coords(tau=("time", time * per_second))
         out.append(run)
     return out
 

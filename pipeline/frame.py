@@ -42,7 +42,7 @@ from pipeline.structures.colonnade import Colonnade
 from pipeline.structures.description import history_attributes, whole_label
 from pipeline.units import G, deg_to_rad, time_scale
 
-__all__ = ["simulate_frame", "frame_constants", "frame_options", "frame_lying_tilt", "frame_restitution",
+__all__ = ["simulate_frame", "check_frame", "frame_constants", "frame_options", "frame_lying_tilt", "frame_restitution",
            "frame_patch"]
 
 
@@ -132,6 +132,21 @@ def frame_options(colonnade, settings):
     return kernel_options(settings, frame_lying_tilt(colonnade), nu, theta_k, patch_damping, theta_c)
 
 
+def check_frame(colonnade, settings):
+    """Refuse, before anything is computed, a colonnade the frame cannot run (the registry's ``Model.checker``
+    of ``2d-frame``, called by :func:`simulate_frame` too): one that is no colonnade, a column out of range,
+    or columns that would lie on the ground before the frame tips over."""
+    if not isinstance(colonnade, Colonnade):
+        raise InputError(f"model = {settings.model!r} runs a colonnade, got {type(colonnade).__name__}")
+    check_column(colonnade.column.column)
+    theta_lie, alpha = frame_lying_tilt(colonnade), colonnade.frame.alpha
+    if not theta_lie > alpha:
+        raise InputError(f"{colonnade.name or 'colonnade'}: its columns would lie on the ground (at "
+                         f"{math.degrees(theta_lie):.1f} deg) before the frame tips over (at "
+                         f"{math.degrees(alpha):.1f} deg); a capital this wide on a column this squat is "
+                         "outside the frame model: give a narrower capital or a more slender column")
+
+
 def simulate_frame(colonnade, motion, excitation, settings, histories=True, progress=None):
     """The response of a colonnade as the rigid planar frame (``2d-frame``), rocking in the row's plane.
 
@@ -139,16 +154,9 @@ def simulate_frame(colonnade, motion, excitation, settings, histories=True, prog
     :class:`pipeline.structures.colonnade.Colonnade`: it rocks in the vertical plane of its row (x),
     driven by the X component of the pair turned by the incidence angle. ``progress`` is not called.
     """
-    if not isinstance(colonnade, Colonnade):
-        raise InputError(f"model = {settings.model!r} runs a colonnade, got {type(colonnade).__name__}")
-    check_column(colonnade.column.column)
+    check_frame(colonnade, settings)
     frame = colonnade.frame
     theta_lie = frame_lying_tilt(colonnade)
-    if not theta_lie > frame.alpha:
-        raise InputError(f"{colonnade.name or 'colonnade'}: its columns would lie on the ground (at "
-                         f"{math.degrees(theta_lie):.1f} deg) before the frame tips over (at "
-                         f"{math.degrees(frame.alpha):.1f} deg); a capital this wide on a column this squat is "
-                         "outside the frame model: give a narrower capital or a more slender column")
     length = frame.b_e  # the kernel's unit of length: the equivalent block's pivot to base centre
     t_scale = time_scale(length)
     record = kernel_record(motion, excitation, planar=True)

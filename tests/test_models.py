@@ -163,3 +163,17 @@ def test_a_model_of_monoliths_refuses_drums_naming_the_models_that_run_them(puls
     for model in monoliths:
         with pytest.raises(InputError, match=f"a column of 3 drum\\(s\\) needs one of {drum_models}"):
             simulate(DrumColumn.equal(PAPER, 3), pulse, Excitation(), ModelSettings(model=model.name))
+
+
+@pytest.mark.parametrize("model", models.names())
+def test_a_model_runs_of_a_column_what_its_entry_says_simulate_and_a_study_alike(model):
+    """Issue 47, item 4: Model.structure, the one rule simulate and a study share: the colonnade if the model
+    runs colonnades, the drums if it runs drums, else the shaft alone; and its checker passes what it gets."""
+    entry = models.REGISTRY[model]
+    row = example("colonnade")
+    shaft, stack = row.column.column, row.column
+    given = entry.structure(shaft, stack, row)
+    assert given is (row if entry.runs("colonnade") else stack if entry.drums else shaft)
+    assert entry.structure(shaft, None, None) is shaft and entry.structure(shaft, stack, None) is (
+        stack if entry.drums else shaft)
+    entry.check(given, ModelSettings(model=model))

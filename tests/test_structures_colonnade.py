@@ -152,6 +152,19 @@ def test_head_joints_sit_over_the_inner_axes_with_a_horizontal_normal():
     (dict(epistyle_height=math.nan), ["colonnade epistyle_height = nan m", "positive finite"]),
     (dict(epistyle_width=-0.5), ["colonnade epistyle_width = -0.5 m", "positive"]),
     (dict(course_height=-0.1), ["colonnade course_height = -0.1 m", "0 or more"]),
+    # issue 47, item 4: plausibility limits, each with its reason (the paper's column: base diameter 1 m,
+    # abacus 1 m, 4.4 m to the abacus top)
+    (dict(interaxial=100.0), ["colonnade interaxial = 100 m is more than 10 m", "Artemision's west front",
+                              "at most 10 m"]),
+    (dict(interaxial=5.5, epistyle_height=1.0), ["colonnade interaxial = 5.5 m is more than 5 base diameters (5 m)",
+                                                  "araeostyle", "or a thicker column"]),
+    (dict(epistyle_height=50.0), ["colonnade epistyle_height = 50 m is more than 0.5 of the columns' height 4.4 m",
+                                  "at most 2.2 m high"]),
+    (dict(epistyle_height=0.001), ["colonnade epistyle_height = 0.001 m is less than 1/10 of its span (interaxial "
+                                   "2 m)", "at least 0.2 m high"]),
+    (dict(epistyle_width=0.01), ["colonnade epistyle_width = 0.01 m is outside 0.5 to 2 times the abacus side 1 m",
+                                 "stand on a strip of their capitals", "from 0.5 to 2 m"]),
+    (dict(epistyle_width=2.5), ["colonnade epistyle_width = 2.5 m is outside", "overhang their capitals"]),
 ])
 def test_bad_rows_are_refused_naming_the_field_and_the_fix(kwargs, fragments):
     given = dict(column=DrumColumn(PAPER, capital=CAPITAL), n_columns=2, interaxial=S, epistyle_height=0.5)
@@ -179,6 +192,33 @@ def test_the_named_parthenon_front_is_8_columns_carrying_7_blocks():
     assert front.epistyle_mass == pytest.approx(MARBLE_DENSITY * (7 * 4.3 + 2.0) * 2.0 * 1.35, rel=1e-14)
     with pytest.raises(InputError, match="'nope' is not a named colonnade; known: parthenon-east"):
         named_colonnade("nope")
+
+
+def test_the_limits_keep_every_colonnade_the_project_names_and_their_edges():
+    """The named front and the rows of the studies stand inside the limits; each limit holds at its edge and
+    refuses just past it (the paper's column: base diameter 1 m, abacus 1 m, 4.4 m to the abacus top)."""
+    front = named_colonnade("parthenon-east")
+    assert front.interaxial / front.epistyle_height < 10 and front.epistyle_height < 0.5 * front.abacus_top
+    column = DrumColumn(PAPER, capital=CAPITAL)
+    for kwargs in (dict(interaxial=5.0, epistyle_height=0.5), dict(interaxial=2.0, epistyle_height=0.2),
+                   dict(interaxial=2.0, epistyle_height=2.2), dict(interaxial=2.0, epistyle_height=0.5,
+                                                                   epistyle_width=0.5),
+                   dict(interaxial=2.0, epistyle_height=0.5, epistyle_width=2.0)):
+        Colonnade(column, 2, **kwargs)
+    for kwargs in (dict(interaxial=5.0 + 1e-9, epistyle_height=0.5), dict(interaxial=2.0, epistyle_height=0.2 - 1e-9),
+                   dict(interaxial=2.0, epistyle_height=2.2 + 1e-9),
+                   dict(interaxial=2.0, epistyle_height=0.5, epistyle_width=0.5 - 1e-9)):
+        with pytest.raises(InputError):
+            Colonnade(column, 2, **kwargs)
+
+
+def test_a_named_colonnade_takes_a_course_and_nothing_else_changes():
+    front, crowned = named_colonnade("parthenon-east"), named_colonnade("parthenon-east", course_height=1.9)
+    assert front.course_height == 0.0 and crowned.course_height == 1.9
+    assert (crowned.n_columns, crowned.interaxial, crowned.epistyle_height, crowned.epistyle_width, crowned.column) == \
+        (front.n_columns, front.interaxial, front.epistyle_height, front.epistyle_width, front.column)
+    # the course rides on the blocks as mass of the epistyle's width and density: (1.35 + 1.9) / 1.35 as heavy
+    assert crowned.epistyle_mass == pytest.approx(front.epistyle_mass * (1.35 + 1.9) / 1.35, rel=1e-14)
 
 
 def test_every_kind_of_structure_is_named_and_has_an_example():

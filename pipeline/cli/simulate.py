@@ -8,12 +8,12 @@ import numpy as np
 
 from pipeline.cli.records import add_record_options, load_record, record_inputs
 from pipeline.errors import InputError
-from pipeline.models import DEFAULT, REGISTRY
+from pipeline.models import DEFAULT, REGISTRY, unrun_part
 from pipeline.models.rigid import ROLLING_FRUSTUM
 from pipeline.models.options import OPTIONS
 from pipeline.limits import check_tolerance
 from pipeline.paths import check_output_file, check_plot_file
-from pipeline.response import outcome
+from pipeline.cli.summary_lines import run_lines
 from pipeline.settings import FREE_MOTION, ModelSettings
 from pipeline.structures.colonnade import named_colonnades
 from pipeline.units import MARBLE_DENSITY
@@ -100,7 +100,7 @@ def register(subparsers):
                      "abacus side, 2 r without --capital)")
     row.add_argument("--course", type=float, default=None, metavar="HEIGHT",
                      help="a course on the epistyle (frieze and cornice) as a height [m] of its width and density, "
-                     "carried as mass (default 0: none)")
+                     "carried as mass (default 0: none; a named colonnade takes one too)")
     add_model_options(p)
     free = p.add_argument_group("initial state (free motion)")
     for name, unit, default, text in [  # noqa: B007
@@ -207,13 +207,16 @@ def run_simulate(args):
             check_tolerance(name, getattr(args, name), f"--{name}")
     colonnade = _named_row(args, models)
     if colonnade is not None:  # it brings its column
-        column = colonnade.column.column
+        stack = colonnade.column
     else:
         if args.column is None:
             raise InputError("give the column as --column R,r,h in metres (e.g. 0.5,0.4,4), or a named --colonnade")
-        column = _drum_column(args, Column.parse(args.column, density=args.density))
-        colonnade = _row(args, column)
-    bodies = {m: colonnade if (colonnade is not None and REGISTRY[m].runs("colonnade")) else column for m in models}
+        stack = _drum_column(args, Column.parse(args.column, density=args.density))
+        colonnade = _row(args, stack)
+    _refuse_unrun_drums(args, models, colonnade)
+    column = getattr(stack, "column", stack)  # the shaft's outline, a monolith
+    # what each model runs: the colonnade, the drums or the shaft alone, as a study gives it (Model.structure)
+    bodies = {m: REGISTRY[m].structure(column, stack if stack is not column else None, colonnade) for m in models}
     if args.animate:
         from pipeline.animate import check_animation_path
 
@@ -221,12 +224,11 @@ def run_simulate(args):
     if args.record:
         runs = _earthquake(args, bodies, models)
     else:
-        if models != [ROLLING_FRUSTUM.name] or not isinstance(column, Column) or colonnade is not None:
+        if models != [ROLLING_FRUSTUM.name] or stack is not column or colonnade is not None:
             raise InputError(f"--model {args.model}: a free motion is the {ROLLING_FRUSTUM.title} only (drop --model, "
                              "the drum options and --colonnade)")
         runs = [_free(args, column)]
-    outline = getattr(column, "column", column)
-    label = f"R{outline.R:g}-r{outline.r:g}-h{outline.h:g}"
+    label = f"R{column.R:g}-r{column.r:g}-h{column.h:g}"
     if colonnade is not None:
         label = colonnade.name or f"{label}-x{colonnade.n_columns}"
     # the summary goes into the file too: what the console prints must not be all there is of it
@@ -237,14 +239,7 @@ def run_simulate(args):
     for body in dict.fromkeys(bodies.values()):
         print(body.describe())
     for (histories, summary), model in zip(runs, models):
-        line = f"{model}: peak theta = {math.degrees(summary['peak_theta']):.3f} deg"
-        if args.record:
-            line += (f" ({summary['peak_theta_ratio']:.2f} theta_crit), "
-                     f"{outcome(summary)}, "
-                     f"{summary['n_impacts']} impacts, peak mu_mob = {summary['peak_mu_mob']:.2f}")
-            if REGISTRY[model].drums:
-                line += _joints_line(summary)
-        print(line)
+        print("\n".join(run_lines(model, summary, record=bool(args.record))))
     print(f"wrote {args.out}")
     if args.plot:
         from pipeline.plotting import plot_response
@@ -278,17 +273,6 @@ def _models(text):
         raise InputError(f"--model {text}: give one or more of {', '.join(REGISTRY)}, comma-separated (e.g. "
                          f"{','.join(list(REGISTRY)[:2])})")
     return models
-
-
-def _joints_line(summary):
-    """The compliant model's slip and, for drums, their peak tilts and residual joint slips."""
-    line = f", slip at the base {summary['slip']:.3g} m"
-    if len(summary["joint_slip"]) > 1:  # bed joints: drums, or a capital on the monolith
-        line += "; drum peak tilts " + ", ".join(f"{math.degrees(t):.2f}" for t in summary["drum_peak_theta"])
-        slips = ", ".join(f"{x * 1e3:.1f}" for x in summary["joint_slip"][1:])
-        line += (f" deg; residual slips of the bed joints {slips} mm "
-                 f"(largest {100 * summary['dislocation_ratio']:.2f} % of its diameter)")
-    return line
 
 
 def _drum_column(args, column):
@@ -328,9 +312,7 @@ def _named_row(args, models):
                              f"(or a named colonnade, e.g. --colonnade {sorted(named_colonnades())[0]})")
         return None
     if not runs_rows:
-        readers = ", ".join(m.name for m in REGISTRY.values() if m.runs("colonnade"))
-        raise InputError(f"--colonnade is read by --model {readers}; --model {args.model} does not run colonnades "
-                         "(drop --colonnade, or run a model that reads it)")
+        raise InputError(unrun_part("colonnade", models, "--colonnade", "the run", "drop"))
     text = str(args.colonnade).strip()
     if _number(text) is not None:
         missing = [flag for flag, value in (("--interaxial", args.interaxial), ("--epistyle", args.epistyle))
@@ -342,12 +324,27 @@ def _named_row(args, models):
     if text not in named_colonnades():
         raise InputError(f"--colonnade {text}: give a whole number of columns (at least 2), or the name of a named "
                          f"colonnade ({', '.join(sorted(named_colonnades()))})")
-    mine = given + [f"--{name.replace('_', '-')}" for name in ("column", "drums", "drum_heights", "capital")
-                    if getattr(args, name) is not None]
+    # a course (frieze and cornice) may be added to a named colonnade, which has none of its own
+    mine = [flag for flag in given if flag != "--course"] + [
+        f"--{name.replace('_', '-')}" for name in ("column", "drums", "drum_heights", "capital")
+        if getattr(args, name) is not None]
     if mine:
-        raise InputError(f"--colonnade {text} is a named colonnade, which brings its column and epistyle: drop "
-                         f"{mine[0]}, or describe the row yourself with --colonnade N --interaxial S --epistyle HEIGHT")
-    return named_colonnade(text)
+        raise InputError(f"--colonnade {text} is a named colonnade, which brings its column and epistyle (--course "
+                         f"may be added): drop {mine[0]}, or describe the row yourself with --colonnade N --interaxial "
+                         "S --epistyle HEIGHT")
+    return named_colonnade(text, course_height=args.course)
+
+
+def _refuse_unrun_drums(args, models, colonnade):
+    """Refuse drums (``--drums``, ``--drum-heights``, ``--capital``) that no model of the run runs, as a
+    study refuses them: a capital is read too by a model of colonnades that runs the row given."""
+    if any(REGISTRY[m].drums for m in models):
+        return
+    rows = colonnade is not None and any(REGISTRY[m].runs("colonnade") for m in models)
+    flags = [f"--{name.replace('_', '-')}" for name in ("drums", "drum_heights", "capital")
+             if getattr(args, name) is not None and not (name == "capital" and rows)]
+    if flags:
+        raise InputError(unrun_part("drums", models, flags[0], "the run", "drop"))
 
 
 def _number(text):
@@ -397,17 +394,20 @@ def _earthquake(args, bodies, models):
     if args.theta0 is not None:
         raise InputError("--theta0 starts a free motion; an earthquake response starts at rest (drop --theta0)")
     excitation = Excitation(angle=args.angle, scale=args.scale, vertical=not args.no_vertical)
+    _refuse_unread(args, {name for model in models for name in REGISTRY[model].options}, f"--model {args.model}")
+    settings = {model: _model_settings(args, model, output_step=args.output_step) for model in models}
+    for model in models:  # what any run would refuse, before the first one computes (as a study checks)
+        REGISTRY[model].check(bodies[model], settings[model])
     motion = load_record(args)
     tail = _given(args.tail, DEFAULTS.tail)
     _check_output_step(args.output_step, motion.duration + tail,
                        f"record {motion.duration:g} s + --tail {tail:g} s", "--tail")
     _check_history_memory(len(models) * (motion.duration + tail), args.output_step,
                           "the record and --tail" + (" for each model" if len(models) > 1 else ""))
-    _refuse_unread(args, {name for model in models for name in REGISTRY[model].options}, f"--model {args.model}")
     runs = []
     for model in models:
-        settings = _model_settings(args, model, output_step=args.output_step)
-        response = simulate(bodies[model], motion, excitation, settings, progress=_progress_line(model, settings))
+        response = simulate(bodies[model], motion, excitation, settings[model],
+                            progress=_progress_line(model, settings[model]))
         runs.append((response.histories, response.summary))
     return runs
 

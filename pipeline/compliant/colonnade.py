@@ -63,7 +63,8 @@ def colonnade_layout(colonnade, settings):
             carried[b.column] += colonnade.block_mass(k) * b.area / sum(c.area for c in bearings)
     parts, contacts, tops = [], [], []
     for i, x in enumerate(colonnade.axes()):
-        p, c = column_layout(stack, x, len(parts), i, settings, row=True, carried=carried[i])
+        p, c = column_layout(stack, x, len(parts), i, settings, row=True, carried=carried[i],
+                             columns=colonnade.n_columns)
         parts += p
         contacts += c
         tops.append(len(parts) - 1)

@@ -24,7 +24,7 @@ from pipeline.dynamics.compliant.layout import (
 from pipeline.errors import InputError
 from pipeline.units import G
 
-__all__ = ["Raw", "fixed_step", "check_fixed_step", "integrate", "BOUNCE_STEP", "MAX_STEP_OVER_LIMIT"]
+__all__ = ["Raw", "fixed_step", "check_run", "integrate", "BOUNCE_STEP", "MAX_STEP_OVER_LIMIT"]
 
 # The default step with the springs at the step's end is at most this fraction of 2 / omega_b, omega_b the
 # bounce of the most lightly loaded base on its bed (sqrt(g / delta), delta its static sinking): backward
@@ -104,28 +104,32 @@ def fixed_step(asm, params, y, settings):
     return step, limit
 
 
-def check_fixed_step(structure, settings):
-    """Refuse a fixed step that a structure's run would refuse (:func:`fixed_step`), as its run would.
+def check_run(structure, settings):
+    """Refuse, before anything is computed, what a run of a structure with these settings would refuse,
+    as its run would.
 
-    The registry's check of the compliant model (``Model.checker``): a study calls it for every
-    column (monolith, drums, colonnade) a model runs, so that a step its runs would refuse is
-    refused by ``frustum study check`` and before ``frustum study run`` computes, with the words
-    of ``frustum simulate``. Nothing is checked (nor assembled) without a given step, unless the springs
-    are at the step's start and ``step_safety`` is 1 or more, or with an adaptive integrator.
-    The joints' dashpots do not enter the limit (they are implicit in the fixed-step scheme).
+    The registry's check of the compliant model (``Model.checker``): ``frustum simulate`` calls it
+    for every model before the first run, and a study for every column (monolith, drums, colonnade)
+    each model runs, so that ``frustum study check`` refuses what ``frustum study run`` would fail
+    cell by cell, with the words of ``frustum simulate``. The structure is always assembled (its
+    layout and joints refuse a colonnade without capitals and a per-joint list that does not fit,
+    :func:`pipeline.compliant.parts.per_joint`); its fixed step is checked (:func:`fixed_step`) with a
+    given step, or with the springs at the step's start and ``step_safety`` 1 or more. The joints'
+    dashpots do not enter the limit (they are implicit in the fixed-step scheme).
 
     Raises
     ------
     pipeline.errors.InputError
-        ``step = ... s is at or above the stability limit ... s ...`` (:func:`fixed_step`).
+        ``step = ... s is at or above the stability limit ... s ...`` (:func:`fixed_step`), or the
+        layout's and joints' own refusals.
     """
+    probe = assemble(structure, settings, 0.0)
     choices = numerics(settings)
     if settings.integrator != "semi-implicit" or (
             settings.step is None and (choices["springs"] == "implicit" or choices["step_safety"] < 1.0)):
         return
     from pipeline.compliant.rest import laid_state
 
-    probe = assemble(structure, settings, 0.0)
     fixed_step(probe, probe.params(), laid_state(probe), settings)
 
 

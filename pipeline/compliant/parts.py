@@ -187,7 +187,7 @@ def rectangle_nodes(settings):
     return max(3, settings.contact_sectors // 4)
 
 
-def column_layout(stack, x0, first, column, settings, row=False, carried=0.0):
+def column_layout(stack, x0, first, column, settings, row=False, carried=0.0, columns=1):
     """The bodies and joints of one column of drums (and its capital) whose axis stands at (x0, 0).
 
     Parameters
@@ -206,6 +206,8 @@ def column_layout(stack, x0, first, column, settings, row=False, carried=0.0):
     carried : float
         Mass resting on its capital (its share of an epistyle) [kg]: every joint of the column
         carries it too.
+    columns : int
+        Columns of the structure it stands in (a per-joint list is one column's: :func:`per_joint`).
 
     Returns
     -------
@@ -215,7 +217,7 @@ def column_layout(stack, x0, first, column, settings, row=False, carried=0.0):
     density = stack.density
     drums = stack.drums()
     n = stack.n_bodies
-    inner = [settings.base_anathyrosis] + _per_joint(settings.anathyrosis, n - 1, "anathyrosis", 0.0)
+    inner = [settings.base_anathyrosis] + per_joint(settings.anathyrosis, n - 1, "anathyrosis", 0.0, columns)
     parts, contacts = [], []
     labels, joint_labels = column_labels(stack, column if row else None)
     base = 0.0
@@ -249,12 +251,21 @@ def column_layout(stack, x0, first, column, settings, row=False, carried=0.0):
     return parts, contacts
 
 
-def _per_joint(value, n, name, default):
-    """One value per bed joint (n of them) from None, a number or a sequence."""
+def per_joint(value, n, name, default, columns=1):
+    """One value per bed joint (n of them) from None, a number or a sequence.
+
+    The one rule of the options given per bed joint (``joint_friction``, ``anathyrosis``): a
+    sequence gives one value per bed joint of a single column, bottom first; a colonnade
+    (``columns`` > 1) takes one number for all its joints, every column alike.
+    """
     if value is None:
         return [default] * n
     if isinstance(value, (int, float)):
         return [float(value)] * n
+    if columns > 1:
+        raise InputError(f"{name}: a list gives one value per bed joint of a single column; a colonnade of "
+                         f"{columns} columns takes one number for all its joints: give one {name}, or run its "
+                         "column alone")
     values = [float(v) for v in value]
     if len(values) != n:
         raise InputError(f"{name} has {len(values)} values for {n} bed joint(s): give one number, or one per joint")

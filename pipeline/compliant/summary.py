@@ -96,6 +96,9 @@ def summary(structure_column, asm, params, settings, raw, damping, restitution):
         "n_bodies": n_b,
         "body_label": tuple(p.label for p in layout.parts),
         "joint_label": joint_labels(layout),
+        # each joint's kind (base, bed, capital, bearing, head) and each body's column (-1: an epistyle block)
+        "joint_kind": tuple(c.kind for c in layout.contacts),
+        "body_column": np.array([p.column for p in layout.parts]),
         "drum_peak_theta": raw.body_stats[:, BS_PEAK].copy(),
         "drum_residual_rotation": raw.body_stats[:, BS_ROTATION].copy(),
         "overturn_drum": body,

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pipeline.compliant.layouts import layout_of
+from pipeline.compliant.parts import per_joint
 from pipeline.dynamics.compliant import assembly as sk
 from pipeline.dynamics.compliant import linear_system as ls
 from pipeline.dynamics.compliant.layout import (
@@ -25,7 +26,6 @@ from pipeline.dynamics.compliant.layout import (
     J_DELTA, J_F, J_FA, J_FB, J_G, J_IMPLICIT, J_KN, J_KS, J_LAND, J_LOWER, J_MU, J_OX, J_RIM, J_SHAPE, J_TAU,
     J_UFLOOR, J_UPPER, J_UX, N_BODY_COLS, N_JOINT_COLS, N_POINT_COLS, SHAPE_DISC,
 )
-from pipeline.errors import InputError
 from pipeline.units import G
 
 __all__ = ["Assembly", "assemble", "numerics"]
@@ -94,28 +94,17 @@ def numerics(settings):
 def _joint_law(contacts, settings):
     """Per joint: (stiffness [Pa/m], friction [1]) from the settings, by the joint's kind."""
     beds = [c for c in contacts if c.kind in ("bed", "capital")]
-    columns = {c.column for c in contacts}
-    listed = settings.joint_friction is not None and not isinstance(settings.joint_friction, (int, float))
-    if listed and len(columns) > 1:
-        raise InputError("joint_friction: a list gives one value per bed joint of a single column; a colonnade "
-                         "takes one value for all its joints between stones")
-    if listed and len(settings.joint_friction) != len(beds):
-        raise InputError(f"joint_friction has {len(settings.joint_friction)} values for {len(beds)} bed joint(s): "
-                         "give one number, or one per joint")
-    per_bed = iter(settings.joint_friction) if listed else None
+    columns = len({c.column for c in contacts if c.column >= 0})  # an epistyle's joints are of no column
+    per_bed = iter(per_joint(settings.joint_friction, len(beds), "joint_friction", settings.friction, columns))
+    # a list is refused above for a colonnade, the only structure with joints between stones that are no bed joints
+    stones = settings.friction if settings.joint_friction is None else settings.joint_friction
     law = []
     for c in contacts:
         if c.kind == "base":
             law.append((settings.normal_stiffness, settings.friction))
             continue
         stiffness = settings.joint_stiffness or settings.normal_stiffness
-        if per_bed is not None and c.kind in ("bed", "capital"):
-            mu = float(next(per_bed))
-        elif settings.joint_friction is not None and not listed:
-            mu = float(settings.joint_friction)
-        else:
-            mu = settings.friction
-        law.append((stiffness, mu))
+        law.append((stiffness, float(next(per_bed)) if c.kind in ("bed", "capital") else float(stones)))
     return law
 
 

@@ -17,12 +17,44 @@ from pipeline.models.options import OPTIONS, Option
 from pipeline.models.spec import Model, ModelDescription, StateLayout
 
 __all__ = ["Model", "ModelDescription", "StateLayout", "Option", "OPTIONS", "REGISTRY", "DEFAULT", "names", "get", "describe", "title", "markdown",
-           "style", "planar_pair", "base_of", "of_results", "flag", "results_title", "variant_text"]
+           "style", "planar_pair", "base_of", "of_results", "flag", "results_title", "variant_text", "unrun_part"]
 
 #: The models by name, in the order help and reports list them.
 REGISTRY = {m.name: m for m in (ROLLING_FRUSTUM, PLANAR_ROCKING, COMPLIANT_DRUMS, RIGID_FRAME)}
 #: The model run when none is named: the paper's.
 DEFAULT = ROLLING_FRUSTUM.name
+
+
+#: What a model that does not run a kind of structure runs of it instead, and the kind's name in the plural.
+_INSTEAD = {"drums": ("each column as one rigid body", "drums"), "colonnade": ("the column alone", "colonnades")}
+
+
+def unrun_part(kind, names_, key, run, fix):
+    """The refusal of a part of a structure that only models of ``kind`` read (drums, a capital: ``"drums"``;
+    a colonnade: ``"colonnade"``), given as ``key`` where none of the models ``names_`` runs that kind.
+
+    One message for ``frustum simulate`` and a study file, each with its own words for the run and the fix;
+    the caller knows that none of its models runs the kind (a study's variant may run a model of drums on
+    the outline).
+
+    Parameters
+    ----------
+    kind : str
+        ``"drums"`` or ``"colonnade"``.
+    names_ : sequence of str
+        The models as the run names them (a study's variants by their own names).
+    key : str
+        How the part was given: ``"--drums"``, ``"drums"``.
+    run : str
+        ``"the run"``, ``"the study"``.
+    fix : str
+        The verb of the fix: ``"drop"``, ``"remove"``.
+    """
+    instead, plural = _INSTEAD[kind]
+    runners = ", ".join(m.name for m in REGISTRY.values() if m.runs(kind))
+    verb = "runs" if len(names_) == 1 else "run"
+    return (f"no model of {run} runs {plural} ({', '.join(names_)} {verb} {instead}), so {key} would be ignored; "
+            f"{plural} are run by {runners}: {fix} {key}, or run a model of {plural}")
 
 
 def names():

@@ -93,7 +93,8 @@ COMPLIANT_DRUMS = Model(
                  "joint_stiffness", "stiffness_ratio", "contact_rings", "contact_sectors", "joint_friction",
                  "anathyrosis", "base_anathyrosis", "monitor_step", "integrator", "step", "rtol", "atol"),
     calibration="pipeline.compliant:calibrated_damping",
-    # a given fixed step above a structure's stability limit (pipeline.compliant.fixed_step, which its
-    # run calls too), refused before a study computes
-    checker="pipeline.compliant.integrate:check_fixed_step",
+    # what its run would refuse of a structure (a colonnade without capitals, a per-joint list that does not
+    # fit, a given fixed step above the stability limit: the layout, joints and pipeline.compliant.fixed_step
+    # its run calls too), refused before simulate or a study computes
+    checker="pipeline.compliant.integrate:check_run",
 )

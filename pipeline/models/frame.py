@@ -56,4 +56,6 @@ RIGID_FRAME = Model(
     style=MappingProxyType(dict(ls=":", marker="v", filled=True, band_alpha=0.07)),
     # the 2d model's options, each on the frame's terms (pipeline.frame.frame_options)
     options=PLANAR_ROCKING.options,
+    # a colonnade whose columns would lie down before the frame tips, refused before simulate or a study computes
+    checker="pipeline.frame:check_frame",
 )

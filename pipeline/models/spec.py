@@ -187,6 +187,26 @@ class Model:
         """Whether it runs structures of ``kind`` (one of :data:`pipeline.structures.kinds.KINDS`)."""
         return kind in self.bodies
 
+    def structure(self, column, stack=None, colonnade=None):
+        """What it runs of a column given as its shaft, its drums and the colonnade it stands in: the colonnade
+        if it runs colonnades, the drums if it runs drums, else the shaft as a monolith (``frustum simulate``
+        and a study alike).
+
+        Parameters
+        ----------
+        column : pipeline.structures.column.Column
+            The shaft's outline.
+        stack : pipeline.structures.drums.DrumColumn, optional
+            The column as drums and a capital (None: the monolith).
+        colonnade : pipeline.structures.colonnade.Colonnade, optional
+            The row it stands in (None: it stands alone).
+        """
+        if colonnade is not None and self.runs("colonnade"):
+            return colonnade
+        if stack is not None and self.drums:
+            return stack
+        return column
+
     @property
     def numerics(self):
         """Its numerical choices' defaults, ``{name: value}``."""

@@ -34,10 +34,33 @@ from pipeline.structures.drums import DrumColumn, named_drum_column
 from pipeline.units import G
 
 __all__ = ["Colonnade", "RigidColumn", "FrameBlock", "Bearing", "HeadJoint", "rigid_column", "frame_block",
-           "named_colonnade", "named_colonnades", "MAX_COLUMNS"]
+           "named_colonnade", "named_colonnades", "MAX_COLUMNS", "MAX_INTERAXIAL", "MAX_INTERAXIAL_DIAMETERS",
+           "MAX_SPAN_DEPTH", "MAX_EPISTYLE_FRACTION", "EPISTYLE_WIDTH_RANGE"]
 
 #: The longest row accepted (the Parthenon's flanks have 17 columns).
 MAX_COLUMNS = 64
+
+# Plausibility limits of a colonnade of stone (Colonnade.__post_init__, _check_plausible): wide margins around
+# what was built, so that a slip of a digit is refused while every real colonnade passes.
+#: The widest interaxial spacing in base diameters [1]: a clear intercolumniation of 4 diameters, the araeostyle,
+#: which no stone architrave spans (Vitruvius, De architectura 3.3.4-5: stone architraves already break at 3
+#: diameters, the diastyle; the araeostyle takes timber beams; its 4 diameters as in Rich 1849, "Diastylos").
+MAX_INTERAXIAL_DIAMETERS = 5.0
+#: The widest interaxial spacing [m]: the widest span quoted for a Greek stone architrave is the central span
+#: of the Artemision's west front at Ephesus, 8.75 m axis to axis (Lethaby 1908, Greek Buildings Represented by
+#: Fragments in the British Museum, p. 27, after the Austrian survey: "these spans are immense").
+MAX_INTERAXIAL = 10.0
+#: The longest span over the epistyle's depth [1]: the Parthenon's architrave spans 3.2 times its depth (4.3 m
+#: over 1.35 m), the Artemision's 7.5 (8.75 m over 1.17 m, Lethaby 1908, p. 21: "3 ft 10 deep").
+MAX_SPAN_DEPTH = 10.0
+#: The highest epistyle over the columns' height to the abacus top [1]: the Parthenon's is about an eighth of
+#: it (1.35 m on 10.43 m), Vitruvius's Doric one a fourteenth (one module on 14, De architectura 4.3).
+MAX_EPISTYLE_FRACTION = 0.5
+#: The epistyle's width over the abacus side [1]: the architrave as wide as the abacus, or as the shaft's
+#: upper diameter (0.74 of the Parthenon's abacus, the Doric rule of colonnades.toml's source), overhanging it
+#: by a few inches at Ephesus (Lethaby 1908, p. 21); narrower than half, the blocks would stand on a strip of
+#: their capitals, wider than twice, overhang them by more than the abacus on each side.
+EPISTYLE_WIDTH_RANGE = (0.5, 2.0)
 
 
 class RigidColumn(NamedTuple):
@@ -340,6 +363,42 @@ class Colonnade:
             raise InputError(f"colonnade interaxial = {spacing:g} m is less than the base diameter {bases:g} m: "
                              f"neighbouring columns would overlap at their bases; give an interaxial spacing of at "
                              f"least {bases:g} m")
+        self._check_plausible()
+
+    def _check_plausible(self):
+        """Refuse dimensions no stone colonnade has, each with its reason (the limits' sources are the module's
+        ``MAX_*`` and :data:`EPISTYLE_WIDTH_RANGE`)."""
+        spacing, height, width = self.interaxial, self.epistyle_height, self.epistyle_width
+        diameter = 2.0 * self.column.column.R
+        if spacing > MAX_INTERAXIAL:
+            raise InputError(f"colonnade interaxial = {spacing:g} m is more than {MAX_INTERAXIAL:g} m: no stone "
+                             "epistyle is known to span so far (the widest, 8.75 m axis to axis, is the central span "
+                             "of the Artemision's west front at Ephesus); give an interaxial spacing of at most "
+                             f"{MAX_INTERAXIAL:g} m")
+        widest = MAX_INTERAXIAL_DIAMETERS * diameter
+        if spacing > widest:
+            raise InputError(f"colonnade interaxial = {spacing:g} m is more than {MAX_INTERAXIAL_DIAMETERS:g} base "
+                             f"diameters ({widest:g} m): a clear intercolumniation beyond 4 diameters is Vitruvius's "
+                             "araeostyle, which no stone architrave spans (De architectura 3.3.5); give an interaxial "
+                             f"spacing of at most {widest:g} m, or a thicker column")
+        if height < spacing / MAX_SPAN_DEPTH:
+            raise InputError(f"colonnade epistyle_height = {height:g} m is less than 1/{MAX_SPAN_DEPTH:g} of its span "
+                             f"(interaxial {spacing:g} m): no stone architrave spans more than about {MAX_SPAN_DEPTH:g} "
+                             "times its depth (the Parthenon's 3.2, the Artemision's at Ephesus 7.5); give an "
+                             f"epistyle at least {spacing / MAX_SPAN_DEPTH:g} m high")
+        tallest = MAX_EPISTYLE_FRACTION * self.abacus_top
+        if height > tallest:
+            raise InputError(f"colonnade epistyle_height = {height:g} m is more than {MAX_EPISTYLE_FRACTION:g} of the "
+                             f"columns' height {self.abacus_top:g} m (to the abacus top): an architrave is an eighth "
+                             "(the Parthenon's) to a fourteenth (Vitruvius's Doric) of it; give an epistyle at most "
+                             f"{tallest:g} m high")
+        lo, hi = (f * self.abacus_side for f in EPISTYLE_WIDTH_RANGE)
+        if not lo <= width <= hi:
+            why = ("the blocks would stand on a strip of their capitals" if width < lo else
+                   "the blocks would overhang their capitals by more than the abacus on each side")
+            raise InputError(f"colonnade epistyle_width = {width:g} m is outside {EPISTYLE_WIDTH_RANGE[0]:g} to "
+                             f"{EPISTYLE_WIDTH_RANGE[1]:g} times the abacus side {self.abacus_side:g} m: {why}; give "
+                             f"a width from {lo:g} to {hi:g} m (default: the abacus side)")
 
     # The row -------------------------------------------------------------------
     @property
@@ -490,13 +549,22 @@ def named_colonnades():
     return tomllib.loads(text)
 
 
-def named_colonnade(key):
+def named_colonnade(key, course_height=None):
     """A named colonnade of ``pipeline/data/colonnades.toml``: its named column (with its drums and capital),
-    the number of columns, the interaxial spacing and the epistyle (and course)."""
+    the number of columns, the interaxial spacing and the epistyle (and course).
+
+    Parameters
+    ----------
+    key : str
+    course_height : float, optional
+        A course (frieze and cornice) on its epistyle [m], instead of the entry's (its ``course_height``,
+        0 if it has none): what a study or ``frustum simulate --course`` may add to a named colonnade.
+    """
     presets = named_colonnades()
     if key not in presets:
         raise InputError(f"{key!r} is not a named colonnade; known: {', '.join(sorted(presets))}")
     p = presets[key]
+    course = p.get("course_height", 0.0) if course_height is None else course_height
     return Colonnade(named_drum_column(p["column"]), p["columns"], p["interaxial"], p["epistyle_height"],
-                     p.get("epistyle_width"), p.get("course_height", 0.0), key)
+                     p.get("epistyle_width"), course, key)
 

@@ -139,9 +139,8 @@ class ColumnInfo:
     def body(self, variant):
         """What a :class:`ModelVariant` runs: the colonnade for a model of colonnades, the drums for a model of
         drums, else the shaft as a monolith."""
-        if self.colonnade is not None and variant.colonnade:
-            return self.colonnade
-        return self.stack if (self.stack is not None and variant.drums) else self.column
+        stack = None if variant.body == "outline" else self.stack
+        return REGISTRY[variant.model].structure(self.column, stack, self.colonnade)
 
 
 @dataclass(frozen=True)

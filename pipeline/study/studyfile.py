@@ -41,7 +41,8 @@ see docs/studies.md for the full reference)::
     capital = [1.0, 0.4]
     colonnade = {columns = 2, interaxial = 2.0, epistyle_height = 0.5}   # epistyle_width, course_height
     [[columns]]
-    colonnade = "parthenon-east"     # a named colonnade (pipeline/data/colonnades.toml): its column too
+    colonnade = "parthenon-east"     # a named colonnade (pipeline/data/colonnades.toml): its column too;
+                                     # {named = "parthenon-east", course_height = 1.9} adds a course on it
 
     [column_grid]                    # ... and/or a grid: R x slenderness h/R x beta r/R
     R = 0.5
@@ -82,7 +83,7 @@ from pipeline.structures.colonnade import Colonnade, named_colonnades
 from pipeline.structures.drums import Capital, DrumColumn
 from pipeline.errors import InputError
 from pipeline.structures.column import Column
-from pipeline.models import DEFAULT, REGISTRY
+from pipeline.models import DEFAULT, REGISTRY, unrun_part
 from pipeline.models.options import OPTIONS
 from pipeline.settings import check_column
 from pipeline.study.spec import (BED_OPTIONS, BODIES, ColumnInfo, Intensity, ModelVariant, RecordSpec, Study,
@@ -98,6 +99,8 @@ _DRUMS = {"drums", "drum_heights", "capital"}  # a column of drums (the complian
 # a row of the column carrying an epistyle (pipeline.structures.colonnade), for the models that run colonnades:
 # a table of these, or the name of a colonnade of pipeline/data/colonnades.toml
 _COLONNADE = {"columns", "interaxial", "epistyle_height", "epistyle_width", "course_height"}
+# a named colonnade (pipeline/data/colonnades.toml) as a table, with a course added on its epistyle
+_NAMED_COLONNADE = {"named", "course_height"}
 _GRID = {"R", "slenderness", "beta"}
 _GRID_OPTIONAL = {"drums"}  # a grid axis of drum counts (equal drums, no capital)
 _RECORDS = {"ids", "sets", "files", "synthetic"}
@@ -273,7 +276,7 @@ def parse_study(data, path="<study>", digest=""):
         sa_period=sa_period, options=options, block_columns=block, variants=variants, calibration=calibration,
     )
     _refuse_unread(ck, data, study)
-    _check_runs(ck, study)
+    _check_runs(ck, study, len(data.get("columns", [])))
     return study
 
 
@@ -287,8 +290,10 @@ def _refuse_unread(ck, data, study):
       beside a given ``step``);
     * with ``[calibration] bed``: ``contact_damping`` (every model gets the bed's dashpots) and a
       variant's ``restitution`` (every model but the bed gets the restitution the bed reaches);
-    * drums (``drums``, ``drum_heights``, ``capital``, ``[column_grid] drums``) in a study whose
-      models all run monoliths.
+    * a colonnade in a study none of whose models runs colonnades, and drums (``drums``,
+      ``drum_heights``, ``capital``, ``[column_grid] drums``) in a study none of whose models runs drums
+      (a colonnade's capital is read by a model of colonnades), in the words of ``frustum simulate``
+      (:func:`pipeline.models.unrun_part`).
     """
     variants = [study.variant(m) for m in study.models]
     bed = study.calibration
@@ -325,9 +330,12 @@ def _refuse_unread(ck, data, study):
             if why:
                 ck.fail(f"models.{v.name}.numerics.{key}", f"{v.name} does not read {key} with {why}"
                         f"{_when(numerics[key])}: give one of them")
+    rows = any(v.colonnade for v in variants)
+    if not rows:
+        fields = [f"columns[{i}].colonnade" for i, entry in enumerate(data.get("columns", [])) if "colonnade" in entry]
+        if fields:
+            ck.fail(fields[0], unrun_part("colonnade", study.models, "colonnade", "the study", "remove"))
     if not any(v.drums for v in variants):
-        runners = ", ".join(m.name for m in REGISTRY.values() if m.drums)
-        rows = any(REGISTRY[v.model].runs("colonnade") for v in variants)
         # a colonnade's capital is read by a model of colonnades (the rigid frame's column carries it)
         fields = [(f"columns[{i}].{k}", k) for i, entry in enumerate(data.get("columns", []))
                   for k in sorted(_DRUMS) if k in entry and not (k == "capital" and rows and "colonnade" in entry)]
@@ -335,9 +343,7 @@ def _refuse_unread(ck, data, study):
             fields.append(("column_grid.drums", "drums"))
         if fields:
             field, key = fields[0]
-            ck.fail(field, f"no model of the study runs drums ({', '.join(study.models)} "
-                    f"{'runs' if len(variants) == 1 else 'run'} the shaft as a monolith), so {key} would be ignored; "
-                    f"drums are run by {runners}: remove {key}, or run a model of drums")
+            ck.fail(field, unrun_part("drums", study.models, key, "the study", "remove"))
 
 
 def _when(option):
@@ -346,31 +352,39 @@ def _when(option):
     return f" (read {text})" if text else ""
 
 
-def _check_runs(ck, study):
+def _check_runs(ck, study, n_entries):
     """Refuse, before any record is loaded or anything computed, what a model's runs would refuse of
-    a column (``Model.check``: a fixed step above the stability limit), for every column as each model
-    runs it (its drums, or the monolith), naming the field of the option at fault."""
+    a column (``Model.check``: a colonnade the model cannot run, a fixed step above the stability
+    limit), for every column as each model runs it (its colonnade, its drums, or the monolith), naming
+    the field of the option at fault, or the column's (``n_entries`` of them are ``[[columns]]``
+    entries, the rest ``[column_grid]``'s) when the column is."""
     for name in study.models:
         variant = study.variant(name)
         model = REGISTRY[variant.model]
         if not model.checker:
             continue
         settings = study.settings(name)
-        for info in study.columns:
+        for k, info in enumerate(study.columns):
             try:
                 model.check(info.body(variant), settings)
             except InputError as exc:
-                ck.fail(_field_at_fault(study, variant, str(exc)), f"column {info.label!r}, model {name}: {exc}")
+                column = f"columns[{k}]" if k < n_entries else "column_grid"
+                ck.fail(_field_at_fault(study, variant, str(exc), column),
+                        f"column {info.label!r}, model {name}: {exc}")
 
 
-def _field_at_fault(study, variant, message):
+def _field_at_fault(study, variant, message, column):
     """The field of the option a message begins with (``step = ...``): the variant's own options, else
-    ``[options]``; the variant's table, or ``options``, if it names none of them."""
+    ``[options]``; the variant's table, or ``options``, if it names a numerical choice of the model; else
+    the ``column``'s own field, whose structure the model refuses."""
     for prefix, given in ((f"models.{variant.name}.options", variant.options), ("options", study.options)):
         for key, _ in given:
             if message.startswith(f"{key} = "):
                 return f"{prefix}.{key}"
-    return f"models.{variant.name}" if study.variants else "options"
+    numerics = REGISTRY[variant.model].numeric_options
+    if any(message.startswith(f"{key} = ") for key in numerics) or message.startswith("step = "):
+        return f"models.{variant.name}" if study.variants else "options"
+    return column
 
 
 def _options(ck, table, field, allowed):
@@ -599,16 +613,34 @@ def _drum_column(ck, entry, info, preset, field):
     return replace(info, stack=stack)
 
 
-def _named_colonnade_column(ck, entry, field):
-    """``entry``, and for ``colonnade = "ID"`` (a named colonnade, which brings its column) with its column
-    named (``named = `` the colonnade's column, ``name = `` the colonnade's id unless given)."""
-    value = entry.get("colonnade")
+def _named_colonnade(ck, value, where):
+    """The id of a named colonnade given as ``colonnade = "ID"`` or ``colonnade = {named = "ID", course_height
+    = H}`` (a course, frieze and cornice, added on its epistyle), or None for a table of dimensions."""
+    if isinstance(value, dict) and "named" in value:
+        added = sorted(set(value) - _NAMED_COLONNADE)
+        if added:
+            ck.fail(f"{where}.{added[0]}", "a named colonnade brings its columns, interaxial and epistyle: only "
+                    "course_height may be added to it (or describe the row with colonnade = {columns = N, "
+                    "interaxial = S, epistyle_height = H})")
+        if "course_height" in value:
+            ck.number(value["course_height"], f"{where}.course_height")
+        value = ck.string(value["named"], f"{where}.named")
     if not isinstance(value, str):
-        return entry
+        return None
     presets = named_colonnades()
     if value not in presets:
-        ck.fail(f"{field}.colonnade", f"{value!r} is not a named colonnade; known: {', '.join(sorted(presets))} (or "
+        ck.fail(where, f"{value!r} is not a named colonnade; known: {', '.join(sorted(presets))} (or "
                 "give a table {columns = N, interaxial = S, epistyle_height = H})")
+    return value
+
+
+def _named_colonnade_column(ck, entry, field):
+    """``entry``, and for a named colonnade (which brings its column, :func:`_named_colonnade`) with its column
+    named (``named = `` the colonnade's column, ``name = `` the colonnade's id unless given)."""
+    value = _named_colonnade(ck, entry.get("colonnade"), f"{field}.colonnade")
+    if value is None:
+        return entry
+    presets = named_colonnades()
     mine = sorted(set(entry) & ({"named", "R", "r", "h"} | _DRUMS))
     if mine:
         ck.fail(f"{field}.{mine[0]}", f"colonnade = {value!r} is a named colonnade, which brings its column: drop "
@@ -628,9 +660,12 @@ def _colonnade(ck, entry, info, field):
     if value is None:
         return info
     where = f"{field}.colonnade"
-    if isinstance(value, str):
-        preset = named_colonnades()[value]
+    named = _named_colonnade(ck, value, where)
+    if named is not None:
+        preset = named_colonnades()[named]
         table = {k: preset[k] for k in _COLONNADE if k in preset}
+        if isinstance(value, dict) and "course_height" in value:
+            table["course_height"] = value["course_height"]
         source = preset.get("source", "")
     else:
         table = ck.table(value, where, _COLONNADE)

@@ -20,6 +20,10 @@ from pipeline.cli import main
 OUT = "--out"
 SIM = ["simulate", "--column", "0.5,0.4,4", "--record", "SYN-RICKER"]
 HAZARD = Path(__file__).parents[1] / "data" / "hazard" / "hazard_curve-mean-PGA_1.csv"
+# a compliant row of two columns of two drums and a capital, and a frame of two bare columns at 2 m
+DRUM_ROW = SIM + ["--model", "3d-compliant", "--drums", "2", "--capital", "1.0,0.4", "--colonnade", "2",
+                  "--interaxial", "2", "--epistyle", "0.5"]
+FRAME = SIM + ["--model", "2d-frame", "--colonnade", "2", "--interaxial"]
 
 
 # (id, argv with {placeholders} of the files fixture, exit status, fragments of the error line)
@@ -220,6 +224,50 @@ CATALOGUE = [
      ["--hazard-slope is 0.2; slopes of a hazard curve's power law lie between 0.5 and 10", "give one inside, e.g. 3"]),
     ("risk-years-twice", ["risk", "{fragility}", "--hazard-pga", "475:0.16", "--years", "50,50", OUT, "{tmp}/r.nc"],
      2, ["--years 50,50: a period is given twice; give each once, e.g. 50,2100"]),
+    # issue 47, item 4: a check refuses what a run would fail cell by cell or silently ignore, in the words of
+    # simulate (the one place of each refusal called from both)
+    ("study-check-compliant-colonnade-without-capitals", ["study", "check", "{study_bare_row}"], 2,
+     ["field columns[0]: column 'paper', model 3d-compliant: the compliant model runs a colonnade whose columns have "
+      "capitals", "give the column a capital, or run the rigid frame (2d-frame)"]),
+    ("simulate-compliant-colonnade-without-capitals", SIM + ["--model", "3d-compliant", "--colonnade", "2",
+                                                             "--interaxial", "2", "--epistyle", "0.5", OUT,
+                                                             "{tmp}/h.nc"], 2,
+     ["frustum: error: the compliant model runs a colonnade whose columns have capitals"]),
+    ("study-check-colonnade-of-rigid-models", ["study", "check", "{study_rigid_row}"], 2,
+     ["field columns[0].colonnade: no model of the study runs colonnades (3d runs the column alone), so colonnade "
+      "would be ignored; colonnades are run by 3d-compliant, 2d-frame: remove colonnade, or run a model of "
+      "colonnades"]),
+    ("simulate-colonnade-of-rigid-models", SIM + ["--model", "3d", "--colonnade", "2", "--interaxial", "2",
+                                                  "--epistyle", "0.5", OUT, "{tmp}/h.nc"], 2,
+     ["frustum: error: no model of the run runs colonnades (3d runs the column alone), so --colonnade would be "
+      "ignored; colonnades are run by 3d-compliant, 2d-frame: drop --colonnade, or run a model of colonnades"]),
+    ("simulate-drums-of-the-frame", FRAME + ["2", "--epistyle", "0.5", "--drums", "3", OUT, "{tmp}/h.nc"], 2,
+     ["frustum: error: no model of the run runs drums (2d-frame runs each column as one rigid body), so --drums would "
+      "be ignored; drums are run by 3d-compliant: drop --drums, or run a model of drums"]),
+    ("study-check-drums-of-the-frame", ["study", "check", "{study_frame_drums}"], 2,
+     ["field columns[0].drums: no model of the study runs drums (2d-frame runs each column as one rigid body), so "
+      "drums would be ignored; drums are run by 3d-compliant: remove drums, or run a model of drums"]),
+    ("simulate-joint-friction-list-of-a-colonnade", DRUM_ROW + ["--joint-friction", "0.6,0.5", OUT, "{tmp}/h.nc"], 2,
+     ["frustum: error: joint_friction: a list gives one value per bed joint of a single column; a colonnade of 2 "
+      "columns takes one number for all its joints: give one joint_friction, or run its column alone"]),
+    ("simulate-anathyrosis-list-of-a-colonnade", DRUM_ROW + ["--anathyrosis", "0.2,0.3", OUT, "{tmp}/h.nc"], 2,
+     ["frustum: error: anathyrosis: a list gives one value per bed joint of a single column; a colonnade of 2 "
+      "columns takes one number for all its joints: give one anathyrosis, or run its column alone"]),
+    ("study-check-frame-whose-columns-lie-down-first", ["study", "check", "{study_squat_frame}"], 2,
+     ["field columns[0]: column 'squat', model 2d-frame: squat: its columns would lie on the ground (at 26.6 deg) "
+      "before the frame tips over (at 64.8 deg)", "give a narrower capital or a more slender column"]),
+    # plausibility limits of a colonnade, each with its reason
+    ("simulate-interaxial-100-m", FRAME + ["100", "--epistyle", "1", OUT, "{tmp}/h.nc"], 2,
+     ["colonnade interaxial = 100 m is more than 10 m: no stone epistyle is known to span so far",
+      "Artemision's west front at Ephesus", "give an interaxial spacing of at most 10 m"]),
+    ("simulate-epistyle-50-m-high", FRAME + ["2", "--epistyle", "50", OUT, "{tmp}/h.nc"], 2,
+     ["colonnade epistyle_height = 50 m is more than 0.5 of the columns' height 4 m", "at most 2 m high"]),
+    ("simulate-epistyle-1-mm-high", FRAME + ["2", "--epistyle", "0.001", OUT, "{tmp}/h.nc"], 2,
+     ["colonnade epistyle_height = 0.001 m is less than 1/10 of its span (interaxial 2 m)",
+      "give an epistyle at least 0.2 m high"]),
+    ("study-check-epistyle-1-cm-wide", ["study", "check", "{study_thin_epistyle}"], 2,
+     ["field columns[0].colonnade: colonnade epistyle_width = 0.01 m is outside 0.5 to 2 times the abacus side 0.8 m: "
+      "the blocks would stand on a strip of their capitals; give a width from 0.4 to 1.6 m"]),
 ]
 
 #: Study files of the catalogue: the tiny study with one line replaced ({placeholder: (old, new)}).
@@ -235,6 +283,16 @@ STUDIES = {
     "study_explicit_limit": ('models = ["3d"]', '[models.a]\nmodel = "3d-compliant"\n'
                              'numerics = {springs = "explicit", step_safety = 1.0}'),
     "study_springs_unknown": ('models = ["3d"]', '[models.a]\nmodel = "3d-compliant"\nnumerics = {springs = "backward"}'),
+    "study_bare_row": ('"3d"', '"3d-compliant"', 'named = "paper"',
+                       'named = "paper"\ncolonnade = {columns = 2, interaxial = 2.0, epistyle_height = 0.5}'),
+    "study_rigid_row": ('named = "paper"', 'named = "paper"\ncapital = [1.0, 0.4]\n'
+                        'colonnade = {columns = 2, interaxial = 2.0, epistyle_height = 0.5}'),
+    "study_frame_drums": ('"3d"', '"2d-frame"', 'named = "paper"', 'named = "paper"\ndrums = 3\n'
+                          'colonnade = {columns = 2, interaxial = 2.0, epistyle_height = 0.5}'),
+    "study_squat_frame": ('"3d"', '"2d-frame"', 'named = "paper"', 'name = "squat"\nR = 0.5\nr = 0.4\nh = 0.5\n'
+                          'capital = [3.0, 0.2]\ncolonnade = {columns = 2, interaxial = 3.0, epistyle_height = 0.3}'),
+    "study_thin_epistyle": ('"3d"', '"2d-frame"', 'named = "paper"', 'named = "paper"\ncolonnade = {columns = 2, '
+                            'interaxial = 2.0, epistyle_height = 0.5, epistyle_width = 0.01}'),
 }
 
 #: Hazard files of the issue 38 entries: the committed engine export, edited as a spreadsheet or a hand would.

@@ -7,6 +7,7 @@ the option and the fix, with no file written.
 
 import math
 
+import numpy as np
 import pytest
 import xarray as xr
 
@@ -42,11 +43,47 @@ def test_a_named_colonnade_brings_its_column(tmp_path, capsys):
     assert list(ds.column.values) == ["parthenon-east"] and float(ds.column_R.values[0]) == 0.9525
 
 
+def test_the_frame_beside_the_column_runs_as_in_a_study(tmp_path, capsys):
+    """Issue 47, item 4: --model 2d,2d-frame with a capital runs as the same pair runs in a study (docs/studies.md):
+    the frame runs the row, the 2d model the shaft alone, as if no capital were given. Before, it was refused
+    blaming the capital. Here the column slides (friction 0.3) and rests sooner than the frame: the file holds
+    both, the column's histories ending where its run did."""
+    pulse = ["--record", "SYN-ONESINE", "--scale", "3", "--friction", "0.3", "--tail", "1"]
+    both, alone = tmp_path / "both.nc", tmp_path / "alone.nc"
+    assert main(["simulate", "--column", "0.5,0.4,4", "--capital", "1.0,0.4", "--colonnade", "3", "--interaxial", "2",
+                 "--epistyle", "0.5", "--model", "2d,2d-frame", *pulse, "--out", str(both)]) == 0
+    text = capsys.readouterr().out
+    assert "2d: peak theta = 5.043 deg (0.33 theta_crit), stands, slid 93.7 mm" in text
+    assert "2d-frame: peak theta = 4.441 deg (0.34 theta_crit), stands, slid 40.6 mm" in text
+    assert main(["simulate", "--column", "0.5,0.4,4", "--model", "2d", *pulse, "--out", str(alone)]) == 0
+    with xr.open_dataset(both) as ds, xr.open_dataset(alone) as one:
+        column = ds.sel(model="2d").squeeze()
+        single = one.sel(model="2d").squeeze()
+        n = single.sizes["time"]
+        assert ds.sizes["time"] > n  # the frame ran on
+        np.testing.assert_array_equal(column.theta.values[:n], single.theta.values)
+        assert np.isnan(column.theta.values[n:]).all() and (column.phase.values[n:] == single.phase.values[-1]).all()
+        assert float(column.peak_theta) == float(single.peak_theta)
+
+
+def test_a_named_colonnade_takes_a_course(tmp_path, capsys):
+    out = tmp_path / "crowned.nc"
+    assert main(["simulate", "--model", "2d-frame", "--colonnade", "parthenon-east", "--course", "1.9", "--record",
+                 "SYN-RICKER", "--out", str(out)]) == 0
+    assert named_colonnade("parthenon-east", course_height=1.9).describe() in capsys.readouterr().out
+    with xr.open_dataset(out) as ds:
+        assert "--colonnade parthenon-east --course 1.9" in ds.attrs["history"]
+        crowned = named_colonnade("parthenon-east", course_height=1.9)
+        run = ds.squeeze()
+        assert float(run.peak_theta_ratio) == pytest.approx(float(run.peak_theta) / crowned.frame.alpha, rel=1e-12)
+        assert crowned.frame.alpha != named_colonnade("parthenon-east").frame.alpha  # the course weighs
+
+
 @pytest.mark.parametrize("argv, fragments", [
     (SIM + ["--model", "2d-frame"], ["--model 2d-frame runs a colonnade", "give --colonnade N --interaxial S "
                                      "--epistyle HEIGHT", "--colonnade parthenon-east"]),
-    (SIM + ROW + ["--model", "2d"], ["--colonnade is read by --model 3d-compliant, 2d-frame", "--model 2d does not run colonnades",
-                                     "drop --colonnade"]),
+    (SIM + ROW + ["--model", "2d"], ["no model of the run runs colonnades (2d runs the column alone), so --colonnade "
+                                     "would be ignored; colonnades are run by 3d-compliant, 2d-frame: drop --colonnade"]),
     (SIM + ["--model", "2d-frame", "--colonnade", "2", "--interaxial", "2"], ["--colonnade 2: give --epistyle too"]),
     (SIM + ["--model", "2d-frame", "--colonnade", "2.5", "--interaxial", "2", "--epistyle", "1"],
      ["--colonnade 2.5: give a whole number of columns", "parthenon-east"]),
@@ -62,10 +99,12 @@ def test_a_named_colonnade_brings_its_column(tmp_path, capsys):
      ["colonnade course_height = -1.0 m", "0 or more"]),
     (SIM + ["--interaxial", "2"], ["--interaxial describes a colonnade: give --colonnade N"]),
     (SIM + ["--model", "2d-frame", "--colonnade", "parthenon-east"],
-     ["--colonnade parthenon-east is a named colonnade, which brings its column and epistyle: drop --column"]),
+     ["--colonnade parthenon-east is a named colonnade, which brings its column and epistyle (--course may be "
+      "added): drop --column"]),
     (["simulate", "--model", "2d-frame", "--colonnade", "2", "--interaxial", "2", "--epistyle", "1", "--record",
       "SYN-RICKER"], ["give the column as --column R,r,h"]),
-    (["simulate", "--column", "0.5,0.4,4", "--theta0", "5", "--duration", "1"] + ROW, ["--colonnade is read by"]),
+    (["simulate", "--column", "0.5,0.4,4", "--theta0", "5", "--duration", "1"] + ROW,
+     ["no model of the run runs colonnades (3d runs the column alone)"]),
 ])
 def test_bad_colonnade_options_are_refused_before_computing(argv, fragments, tmp_path, capsys):
     out = tmp_path / "x.nc"

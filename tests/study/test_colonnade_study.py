@@ -62,6 +62,18 @@ def test_a_study_runs_the_frame_on_each_columns_row_and_the_2d_model_on_the_colu
     assert not np.allclose(frame, alone)
 
 
+def test_a_named_colonnade_takes_a_course_as_its_comment_says(write_study):
+    """colonnades.toml: "a study may add them as course_height" (the frieze and cornice it leaves out)."""
+    text = STUDY.replace('colonnade = "parthenon-east"', 'colonnade = {named = "parthenon-east", course_height = 1.9}')
+    study = load_study(write_study(text), load_records=False)
+    front = study.columns[1]
+    crowned, row = named_colonnade("parthenon-east", course_height=1.9), front.colonnade
+    assert front.label == "parthenon-east" and row.course_height == 1.9
+    assert (row.n_columns, row.interaxial, row.epistyle_height, row.epistyle_width, row.epistyle_mass) == \
+        (crowned.n_columns, crowned.interaxial, crowned.epistyle_height, crowned.epistyle_width, crowned.epistyle_mass)
+    assert front.source == load_study(write_study(STUDY), load_records=False).columns[1].source
+
+
 @pytest.mark.parametrize("change, fragments", [
     (("colonnade = {columns = 3", "colonnade = {columns = 1"), ["columns[0].colonnade", "colonnade columns = 1"]),
     (("columns = 3, interaxial = 2.0", "columns = 3, interaxial = 0.5"),
@@ -75,6 +87,20 @@ def test_a_study_runs_the_frame_on_each_columns_row_and_the_2d_model_on_the_colu
      ["columns[1].R", "is a named colonnade, which brings its column"]),
     (('[[columns]]\ncolonnade = "parthenon-east"\n', '[[columns]]\nnamed = "paper"\n'),
      ["field columns", "model '2d-frame' runs colonnades, and column 'paper' carries none"]),
+    # issue 47, item 4: a named colonnade takes a course, nothing else
+    (('colonnade = "parthenon-east"', 'colonnade = {named = "parthenon-east", interaxial = 4.0}'),
+     ["field columns[1].colonnade.interaxial", "a named colonnade brings its columns, interaxial and epistyle: only "
+      "course_height may be added to it"]),
+    (('colonnade = "parthenon-east"', 'colonnade = {named = "parthenon-east", course_height = -1.0}'),
+     ["field columns[1].colonnade", "course_height = -1.0 m", "0 or more"]),
+    (('colonnade = "parthenon-east"', 'colonnade = {named = "nope", course_height = 1.0}'),
+     ["field columns[1].colonnade", "'nope' is not a named colonnade"]),
+    # and plausible dimensions, each with its reason
+    (("interaxial = 2.0, epistyle_height = 0.5", "interaxial = 2.0, epistyle_height = 0.001"),
+     ["field columns[0].colonnade", "epistyle_height = 0.001 m is less than 1/10 of its span"]),
+    # a study of rigid columns alone ignores no colonnade: it refuses it, in simulate's words
+    (('models = ["2d", "2d-frame"]', 'models = ["2d"]'),
+     ["field columns[0].colonnade: no model of the study runs colonnades (2d runs the column alone)"]),
 ])
 def test_a_bad_colonnade_names_its_field(write_study, change, fragments):
     text = STUDY.replace(*change)

@@ -324,9 +324,9 @@ UNREAD = {  # (replacements of CHECKS, field, fragment of the message)
          (_TAIL, _TAIL + "\nstep = 0.001")), "models.a.numerics.step_safety", "with step = 0.001"),
     "drum heights of rigid models": (
         ((_MODELS, 'models = ["3d", "2d"]'), ("h = 4.0", "h = 4.0\ndrum_heights = [2.0, 2.0]")),
-        "columns[0].drum_heights", "no model of the study runs drums (3d, 2d run the shaft"),
+        "columns[0].drum_heights", "no model of the study runs drums (3d, 2d run each column as one rigid body)"),
     "a capital on rigid models": (((_MODELS, 'models = ["2d"]'), ("h = 4.0", "h = 4.0\ncapital = [1.2, 0.5]")),
-                                  "columns[0].capital", "(2d runs the shaft as a monolith)"),
+                                  "columns[0].capital", "(2d runs each column as one rigid body)"),
     "a grid of drums of rigid models": (
         ((_MODELS, 'models = ["3d"]'), ("[records]", "[column_grid]\nR = 0.5\nslenderness = 8.0\nbeta = 0.8\n"
                                                      "drums = [1, 4]\n\n[records]")),
