@@ -264,7 +264,8 @@ FLAGS = {
     "overturned": ([0, 1], "stands overturned", "the column overturned"),
     "undecided": ([0, 1], "decided undecided",
                   "the column could still overturn when the run reached its settle limit after the tail "
-                  "(neither standing nor overturned; fragility counts it as its undecided_runs attribute says)"),
+                  "(neither standing nor overturned; fragility and reports count it as a stated choice, standing by "
+                  "default, and say what counting it as overturned moves)"),
     "uplifted": ([0, 1], "never_uplifted uplifted", "the base left full contact with the ground"),
     "sliding_onset": ([0, 1], "no_sliding sliding_onset",
                       "the base or the rim slid on the ground (friction reached mu N)"),
