@@ -91,9 +91,11 @@ COMPLIANT_DRUMS = Model(
     # joints' points and law, the integrator and its step (rtol, atol: the adaptive ones)
     options=read("restitution", "friction", "normal_stiffness", "contact_damping", "tail", "settle_limit",
                  "joint_stiffness", "stiffness_ratio", "contact_rings", "contact_sectors", "joint_friction",
-                 "anathyrosis", "base_anathyrosis", "monitor_step", "integrator", "step", "rtol", "atol"),
+                 "anathyrosis", "base_anathyrosis", "imperfections", "seed", "friction_range", "monitor_step",
+                 "integrator", "step", "rtol", "atol"),
     calibration="pipeline.compliant:calibrated_damping",
-    # a given fixed step above a structure's stability limit (pipeline.compliant.fixed_step, which its
-    # run calls too), refused before a study computes
-    checker="pipeline.compliant.integrate:check_fixed_step",
+    # imperfections its structure cannot take (a tolerance too large for its beds, a bed leaning past
+    # its joint's friction angle) and a given fixed step above a structure's stability limit
+    # (pipeline.compliant.fixed_step, which its run calls too), refused before a study computes
+    checker="pipeline.compliant.tables:check_structure",
 )
