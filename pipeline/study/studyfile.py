@@ -258,6 +258,7 @@ def parse_study(data, path="<study>", digest=""):
     angles, scales, intensity, vertical, sa_period = _excitation(data.get("excitation"), ck)
     options = _options(ck, data.get("options", {}), "options", _OPTIONS)
     named = {v.name: v for v in variants}  # empty for a list of registry names
+    imperfections = _imperfections(data.get("imperfections"), ck, models, named, options)
     for m in models:
         try:
             variant_settings(named.get(m, ModelVariant(m, m)), options)
@@ -265,7 +266,6 @@ def parse_study(data, path="<study>", digest=""):
             ck.fail(f"models.{m}" if m in named else "options", str(exc))
     _check_bodies(ck, models, named, columns)
     calibration = _calibration(data.get("calibration"), ck, models, named)
-    imperfections = _imperfections(data.get("imperfections"), ck, models, named, options)
     execution = ck.table(data.get("execution", {}), "execution", _EXECUTION)
     block = execution.get("block_columns")
     if block is not None and (isinstance(block, bool) or not isinstance(block, int) or block < 1):
