@@ -146,3 +146,18 @@ def test_what_a_study_of_imperfect_drums_cannot_run_is_refused_naming_the_field(
         load_study(write_study(text), load_records=False)
     message = str(caught.value)
     assert f"field {field}: " in message and words in message, message
+
+
+def test_the_study_plot_draws_the_seeds_and_the_report_says_it_cannot_yet(seeded, tmp_path):
+    """frustum study run --plot draws every seed's runs as it draws the angles' (a marker each); frustum
+    report, whose tables read cells without a seed, refuses the file naming what reads it instead."""
+    from pipeline.plotting import plot_study
+    from pipeline.report import write_report
+
+    _, ds = seeded
+    plot_study(ds, tmp_path / "seeds.png")
+    assert (tmp_path / "seeds.png").stat().st_size > 0
+    with pytest.raises(InputError, match="a study of imperfect drums \\(dimension seed\\) is not yet reported; "
+                                         "'frustum fragility' fits it"):
+        write_report(ds, tmp_path / "report")
+    assert not (tmp_path / "report").exists()
