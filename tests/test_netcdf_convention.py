@@ -39,6 +39,18 @@ records = {synthetic = [{generator = "one_sine_pulse", id = "pulse", ap = 6.0, t
 columns = [{named = "pompeys-pillar"}, {name = "paper", R = 0.5, r = 0.4, h = 4.0}]
 """
 
+# a study of imperfect drums (issue 48): the dimension seed and the draws on (column, seed, joint)
+SEEDED = """\
+title = "one file of each kind: a study of imperfect drums"
+output = "seeded.nc"
+models = ["3d", "3d-compliant"]
+options = {tail = 0.2, contact_sectors = 8}
+excitation = {scales = [1.0]}
+records = {synthetic = [{generator = "one_sine_pulse", id = "pulse", ap = 3.0, tp = 0.6, dt = 0.01}]}
+columns = [{name = "two", R = 0.5, r = 0.4, h = 4.0, drums = 2}]
+imperfections = {tolerance = 0.002, seeds = [1, 2], friction_range = [0.5, 0.7]}
+"""
+
 
 @pytest.fixture(scope="module")
 def files(tmp_path_factory):
@@ -54,7 +66,9 @@ def files(tmp_path_factory):
     (folder / "study.toml").write_text(STUDY, encoding="utf-8")
     run_study(load_study(folder / "study.toml"), serial=True, progress=False)
     F.write(F.fragility(F.open_results(folder / "study.nc"), bootstrap=5), folder / "fragility.nc")
-    return {kind: folder / f"{kind}.nc" for kind in ("simulate", "study", "fragility")}
+    (folder / "seeded.toml").write_text(SEEDED, encoding="utf-8")
+    run_study(load_study(folder / "seeded.toml"), serial=True, progress=False)
+    return {kind: folder / f"{kind}.nc" for kind in ("simulate", "study", "fragility", "seeded")}
 
 
 def test_simulate_file_selects_by_label_in_plain_xarray(files):
@@ -102,7 +116,7 @@ def _cfchecks():
     return checker
 
 
-@pytest.mark.parametrize("kind", ["simulate", "study", "fragility"])
+@pytest.mark.parametrize("kind", ["simulate", "study", "fragility", "seeded"])
 def test_cf_checker_finds_no_error(files, kind, tmp_path):
     """cfchecks 4.1 knows CF up to 1.8: it checks a copy whose Conventions reads CF-1.8.
 

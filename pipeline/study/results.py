@@ -188,6 +188,7 @@ def _drawn(study, n_joints):
                 drawn = recorded[name][:n_joints]
                 values[name][ci, k, :drawn.size] = drawn
     coords = {"seed": ("seed", np.asarray(spec.seeds, dtype=np.int64)),
-              "seeded": ("model", np.array([study.seeded(m) for m in study.models], dtype=np.int8))}
+              # a flag as a coordinate: cfchecks wants its units (CF 3.1)
+              "seeded": ("model", np.array([study.seeded(m) for m in study.models], dtype=np.int8), {"units": "1"})}
     coords.update({name: (("column", "seed", "joint"), values[name]) for name in DRAWN_VARIABLES})
     return coords
