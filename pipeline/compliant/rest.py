@@ -83,7 +83,7 @@ def _heads(asm):
 
 def _without(asm, params, drop, y):
     """Kernel parameters and a state of the structure without the joints ``drop`` (their points gone):
-    ``(params, state, length of the bodies' part of the state)``."""
+    ``(params, state, length of the bodies' part of the state, the kept points' indices)``."""
     from pipeline.dynamics.compliant.assembly import make_params
 
     bodies, points, starts, joints = params[:4]
@@ -136,11 +136,17 @@ def _settle_sticking(params, y, weights, n_bodies, labels):
     laid = _face_places(params, y)[:, :2]
     loads = np.empty((n_bodies, 6))
     scale, before = float(np.max(np.abs(weights))), np.inf
-    for _ in range(STICKING_STEPS):
+
+    def stick():
+        """Each pressed point's shear state its slide since it was laid, the others' 0."""
         places = _face_places(params, y)
         pressed = (places[:, 2] > 0.0) & (places[:, 3] > 0.0)
         slide = np.where(pressed[:, None], places[:, :2] - laid, 0.0)
         y[shear:shear + 2 * len(points)] = slide.ravel()
+        return places, pressed, slide
+
+    for _ in range(STICKING_STEPS):
+        places, pressed, slide = stick()
         sk.joint_loads(y, params, loads)
         residual = loads + weights
         now = float(np.max(np.abs(residual)))
@@ -149,6 +155,8 @@ def _settle_sticking(params, y, weights, n_bodies, labels):
         before = now
         K = ls.spring_matrices(params, y)[0]
         _turn_bodies(y, np.linalg.solve(K, residual.ravel()).reshape(-1, 6), n_bodies)
+    else:  # the last step's state, its shear states set (its residual is what the holding loads take)
+        places, pressed, slide = stick()
     joint_start = params[2]
     for j in range(joints.shape[0]):
         p = np.arange(joint_start[j], joint_start[j + 1])
