@@ -157,8 +157,9 @@ class Option:
             if lo <= hi:
                 return lo, hi
         unit = "" if self.unit == "1" else f" {self.unit}"
-        raise InputError(f"{label} = {value!r}{unit}: the {self.words} must be two numbers LO,HI with LO <= HI, each in "
-                         f"{self.range_text()}{f' ({self.note})' if self.note else ''}")
+        note = f" ({self.note})" if self.note else ""
+        raise InputError(f"{label} = {value!r}{unit}: the {self.words} must be two numbers LO,HI with LO <= HI, "
+                         f"each in {self.range_text()}{note}")
 
     def _number(self, value, label, omit=True):
         ok = isinstance(value, (int, float)) and not isinstance(value, bool)

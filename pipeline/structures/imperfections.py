@@ -124,7 +124,8 @@ def check_friction_range(value, label="friction_range"):
         isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and lo <= v <= hi for v in value)
     if not ok or value[0] > value[1]:
         raise InputError(f"{label} = {value!r}: give two friction coefficients LO,HI with LO <= HI, each in "
-                         f"[{lo:g}, {hi:g}] (e.g. 0.5,0.7); each joint of a column draws its own uniformly between them")
+                         f"[{lo:g}, {hi:g}] (e.g. 0.5,0.7); each joint of a column draws its own uniformly "
+                         "between them")
     return float(value[0]), float(value[1])
 
 
@@ -220,8 +221,8 @@ def check_tolerance(imperfections, structure):
     most = MAX_TOLERANCE_RATIO * smallest
     if imperfections.tolerance > most:
         raise InputError(f"imperfections = {imperfections.tolerance:g} m is more than {100 * MAX_TOLERANCE_RATIO:g} % "
-                         f"of the smallest bed diameter of the columns ({smallest:g} m): a bed that far out of level or "
-                         f"off the drum below is a dislocated column, not a tolerance; give at most {most:.4g} m "
+                         f"of the smallest bed diameter of the columns ({smallest:g} m): a bed that far out of level "
+                         f"or off the drum below is a dislocated column, not a tolerance; give at most {most:.4g} m "
                          "(millimetres: classical drums were set within about 1 mm)")
 
 

@@ -175,13 +175,13 @@ def _drawn(study, n_joints):
     runs it): a model that runs fewer joints of it (the column alone, its outline) draws their first
     ones alike (:mod:`pipeline.structures.imperfections`, the draw order).
     """
-    from pipeline.structures.imperfections import Imperfections, draw
+    from pipeline.structures.imperfections import Imperfections, bed_diameters, draw
 
     spec = study.imperfections
     values = {name: np.full((len(study.columns), len(spec.seeds), n_joints), np.nan) for name in DRAWN_VARIABLES}
     for ci, info in enumerate(study.columns):
         bodies = [info.body(study.variant(m)) for m in spec.models]
-        body = max(bodies, key=lambda b: 0 if not hasattr(b, "n_columns") else b.n_columns)
+        body = max(bodies, key=lambda b: bed_diameters(b).size)  # the one with the most joints
         for k, seed in enumerate(spec.seeds):
             recorded = draw(Imperfections(spec.tolerance, seed, spec.friction_range), body).recorded()
             for name in DRAWN_VARIABLES:

@@ -33,7 +33,8 @@ def test_seeds_pool_as_angles_do_fits_counts_and_bootstrap_alike():
         np.testing.assert_array_equal(by_seed[name].values, by_angle[name].values, err_msg=name)
     # the angle-invariant model counted once per record and stripe on both sides
     runs = by_seed.n_runs.sel(state="overturning")
-    assert int(runs.sel(column="paper", model="3d")) == 12 * 6 and int(runs.sel(column="paper", model="2d")) == 12 * 6 * 3
+    assert int(runs.sel(column="paper", model="3d")) == 12 * 6
+    assert int(runs.sel(column="paper", model="2d")) == 12 * 6 * 3
     assert by_seed.attrs["seeds_pooled"] == "1 2 3" and by_seed.seeded.values.tolist() == [0, 1]
 
 

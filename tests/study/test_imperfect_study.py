@@ -124,7 +124,8 @@ def test_fragility_pools_the_seeds_as_samples_of_one_structure(seeded):
     (('models = ["imperfect"]', 'models = ["rigid"]'), "imperfections.models[0]",
      "imperfections.models[0] = 'rigid' draws imperfect drums (beds offset and tilted within a tolerance, joint "
      "friction from a range), which only 3d-compliant runs; model 3d runs perfect structures"),
-    (('models = ["imperfect"]', 'models = ["other"]'), "imperfections.models[0]", "'other' is not a model of the study"),
+    (('models = ["imperfect"]', 'models = ["other"]'), "imperfections.models[0]",
+     "'other' is not a model of the study"),
     (("seeds = [5, 9]", "seeds = [5, 5]"), "imperfections.seeds", "seed 5 is given twice"),
     (("seeds = [5, 9]", "seeds = [5, -9]"), "imperfections.seeds[1]", "must be a whole number in [0, 4294967295]"),
     (("seeds = [5, 9]", "seeds = []"), "imperfections.seeds", "must be a non-empty list of whole numbers"),
