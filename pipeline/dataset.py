@@ -166,6 +166,25 @@ VARIABLES = {
     "course_height": Var("m", "course above the epistyle carried as mass, as a height of its width (NaN: the "
                          "column stands alone)"),
     "n_blocks": Var("1", "number of epistyle blocks (0: the column stands alone)"),
+    # imperfect drums (pipeline.structures.imperfections): what was drawn, the joints' per joint
+    "seed": Var("1", "seed of the imperfections' draw (a study's [imperfections] seeds)"),
+    "imperfection_tolerance": Var("m", "tolerance of the imperfect drums: each bed offset within a disc of this "
+                                  "radius and out of level by up to it across its diameter (NaN: perfect drums)"),
+    "imperfection_seed": Var("1", "seed of the imperfections' draw (-1: perfect drums)"),
+    "imperfection_friction_min": Var("1", "lower end of the range the columns' joints drew their friction from "
+                                     "(NaN: no range, the friction given)"),
+    "imperfection_friction_max": Var("1", "upper end of the range the columns' joints drew their friction from "
+                                     "(NaN: no range, the friction given)"),
+    "bed_offset_x": Var("m", "drawn X offset of the axis of the joint's upper body from the lower body's (0 at a "
+                        "base on the ground; NaN: a joint that draws no imperfection, an epistyle's)"),
+    "bed_offset_y": Var("m", "drawn Y offset of the axis of the joint's upper body from the lower body's (0 at a "
+                        "base on the ground; NaN: a joint that draws no imperfection, an epistyle's)"),
+    "bed_tilt": Var("rad", "drawn lean of the joint's bed from level: tan(tilt) is how far it is out of level "
+                    "over its diameter (NaN: a joint that draws no imperfection)", degrees=True),
+    "bed_tilt_azimuth": Var("rad", "drawn direction in which the joint's bed descends, counter-clockwise from X "
+                            "(NaN: a joint that draws no imperfection)"),
+    "bed_friction": Var("1", "drawn friction coefficient of the joint (NaN: no friction range, or a joint that "
+                        "draws none)"),
     "structure": Var("1", "what stands, in words: the colonnade the column stands in (its number of columns, "
                      "interaxial spacing, epistyle), its drums and capital, or the column alone"),
     # the summary of one compliant run (pipeline.compliant) in a simulate file, beside the names above
@@ -272,6 +291,8 @@ FLAGS = {
     "lift_off": ([0, 1], "no_lift_off lift_off",
                  "the normal contact force reached zero and the column flew"),
     "status": ([0, 1], "ok failed", "status of the simulation (failed: values are NaN or 0)"),
+    "seeded": ([0, 1], "perfect seeded", "the model's runs draw imperfect drums from each seed (perfect: it runs "
+               "perfect drums once, repeated along seed)"),
     "risk_flag": ([0, 1, 2, 3, 4, 5], "ok median_beyond_hazard_curve no_median_no_exceedance_observed "
                   "no_median_every_run_exceeds no_fit integral_overflows",
                   "how far the site risk rests on the data: the fragility's median beyond the hazard curve's last "
@@ -480,13 +501,15 @@ SUMMARY_VARIABLES = (
     "peak_theta", "peak_theta_ratio", "peak_time", "overturned", "undecided", "overturn_time", "uplifted",
     "uplift_time", "n_impacts", "peak_mu_mob", "min_normal_force_hat", "sliding_onset", "sliding_time", "lift_off",
     "lift_off_time", "residual_rotation", "residual_displacement", "energy_friction", "energy_balance_error",
-    "restitution", "contact_damping", "dislocation_ratio", "overturn_drum",
+    "restitution", "contact_damping", "dislocation_ratio", "overturn_drum", "imperfection_tolerance",
+    "imperfection_seed", "imperfection_friction_min", "imperfection_friction_max",
 )
-SUMMARY_JOINT_VARIABLES = ("joint_slip", "joint_twist", "joint_tilt", "joint_opening")
+SUMMARY_JOINT_VARIABLES = ("joint_slip", "joint_twist", "joint_tilt", "joint_opening", "bed_offset_x", "bed_offset_y",
+                           "bed_tilt", "bed_tilt_azimuth", "bed_friction")
 SUMMARY_DRUM_VARIABLES = ("drum_peak_theta",)
 # the integer ones (the rest are float64); a flag or count a run does not report is 0, except
 # overturn_drum: a rigid column is one body, which fell if anything did (as in study results)
-_SUMMARY_INTEGERS = {"n_impacts": np.int32, "overturn_drum": np.int32,
+_SUMMARY_INTEGERS = {"n_impacts": np.int32, "overturn_drum": np.int32, "imperfection_seed": np.int64,
                      **{name: np.int8 for name in ("overturned", "undecided", "uplifted", "sliding_onset", "lift_off")}}
 
 
@@ -495,6 +518,8 @@ def _summary_value(summary, name):
         return summary[name]
     if name == "overturn_drum" and "overturned" in summary:
         return 0 if summary["overturned"] else -1
+    if name == "imperfection_seed":
+        return -1  # perfect drums
     return 0 if name in _SUMMARY_INTEGERS else np.nan
 
 
@@ -531,6 +556,8 @@ def add_summaries(ds, summaries):
     n_joints = max((len(s["joint_slip"]) for s in summaries if "joint_slip" in s), default=0)
     if n_joints:
         for name in SUMMARY_JOINT_VARIABLES:
+            if not any(name in s for s in summaries):
+                continue  # the drawn imperfections of perfect drums
             values = np.full((len(summaries), n_joints), np.nan)
             for m, s in enumerate(summaries):
                 if name in s:
@@ -739,6 +766,15 @@ def catalog_markdown():
         "(column, joint), as CF takes a label coordinate of one dimension only) and `overturn_body`",
         "names the body that fell first. A simulate file holds each model's critical tilt as",
         "`theta_crit_model` (a rigid frame's is the frame's), `theta_crit` the column's own.",
+        "A compliant run of imperfect drums (`--imperfections TOL_M --seed N [--friction-range LO,HI]`,",
+        "`pipeline/structures/imperfections.py`) also carries what it drew: `imperfection_tolerance`,",
+        "`imperfection_seed`, `imperfection_friction_min` and `_max` on (column, record, model), and per",
+        "`joint` the drawn `bed_offset_x`, `bed_offset_y`, `bed_tilt`, `bed_tilt_azimuth` and `bed_friction`",
+        "(NaN for the joints that draw none, an epistyle's); its dislocations are measured from the rest",
+        "state, where its drums stand off. A study with `[imperfections]` has the dimension `seed` (integer",
+        "seeds, after `model`), the flag `seeded` on `model` (a model of perfect drums runs once and is",
+        "repeated along `seed`), the drawn values as coordinates on (column, seed, joint) and the tolerance",
+        "and friction range as the attributes `imperfection_tolerance_m` and `imperfection_friction_range`.",
         "",
         "The rigid frame of a colonnade (`2d-frame`) writes the same names for the whole frame:",
         "`theta` is the common tilt of its columns, `x_b` and `x_p` every column's base centre and pivot",

@@ -14,7 +14,11 @@ function fitting using dynamic structural analysis data, Earthquake Spectra
 probability above. Records and incidence angles are pooled at every scale
 stripe; a study that scales each record by a factor (rather than to a target
 level) gives one IM level per record and stripe, and the same binomial
-likelihood applies to those levels.
+likelihood applies to those levels. A study of imperfect drums (dimension
+``seed``) pools its seeds as it pools angles: the runs of every seed of a
+column and model are samples of the imperfect structure's population, and a
+model that runs perfect drums (``seeded`` 0: one run repeated along the seeds)
+is counted once.
 
 The fit is a probit regression ``P = Phi(a + b ln x)`` (``beta = 1/b``,
 ``median = exp(-a/b)``) solved by Newton's method. Its log-likelihood is
@@ -33,7 +37,7 @@ slip of a bed joint reaches s times the joint's diameter, or overturned". Every
 state is a boolean per run (:func:`exceedance`) fitted by the same likelihood.
 
 Confidence bounds come from a bootstrap over records (each replicate draws
-the study's records with replacement, keeping all angles and scales of a
+the study's records with replacement, keeping all angles, seeds and scales of a
 record together, seeded and reproducible) and are percentile intervals at a
 stated confidence level.
 
@@ -500,25 +504,50 @@ def intensity(results, im="pga"):
     return out
 
 
+def _sample_dims(results):
+    """The result dims in the order the fits read them: with a ``seed`` dimension, it follows ``angle``."""
+    return RESULT_DIMS[:3] + ("seed",) + RESULT_DIMS[3:] if "seed" in results.dims else RESULT_DIMS
+
+
+def _pooled(values, results):
+    """An array over :func:`_sample_dims` (any leading axes) with the seeds pooled into the angles: over
+    (column, record, angle x seed, scale, model), the samples a record gives at a stripe."""
+    if "seed" not in results.dims:
+        return values
+    *lead, c, r, a, n, k, m = values.shape
+    return values.reshape(*lead, c, r, a * n, k, m)
+
+
+def _once(results):
+    """1 for each run a fit counts, 0 for a repeat: an angle-invariant model's results do not depend on
+    the incidence angle (axisymmetric column), a model of perfect drums (``seeded`` 0) on the seed; each
+    is counted once. Over :func:`_sample_dims`, seeds pooled (:func:`_pooled`)."""
+    dims = _sample_dims(results)
+    like = results[_first_response(results)].transpose(*dims)
+    weight = xr.ones_like(like, dtype=float)
+    invariant = [getattr(of_results(results, str(m)), "angle_invariant", False) for m in results["model"].values]
+    weight = weight * xr.where((results["angle"] != results["angle"][0])
+                               & xr.DataArray(invariant, dims="model"), 0.0, 1.0)
+    if "seed" in results.dims:
+        seeded = results["seeded"] if "seeded" in results.variables else xr.ones_like(results["model"], dtype=int)
+        weight = weight * xr.where((results["seed"] != results["seed"][0]) & (seeded == 0), 0.0, 1.0)
+    return _pooled(weight.transpose(*dims).values, results)
+
+
 def _per_record(results, im, labels):
-    """Arrays for fitting: im (column, record, angle, scale, model) and exceed (state, ...)."""
-    like = results[_first_response(results)].transpose(*RESULT_DIMS)
-    x = intensity(results, im).transpose(*RESULT_DIMS).values
-    valid = _valid(results).broadcast_like(like).transpose(*RESULT_DIMS).values
+    """Arrays for fitting: im (column, record, angle, scale, model) and exceed (state, ...); the seeds of a
+    study of imperfect drums pooled into the angles (:func:`_pooled`)."""
+    dims = _sample_dims(results)
+    like = results[_first_response(results)].transpose(*dims)
+    x = _pooled(intensity(results, im).transpose(*dims).values, results)
+    valid = _pooled(_valid(results).broadcast_like(like).transpose(*dims).values, results)
     bad_im = valid & ~(np.isfinite(x) & (x > 0))
     if bad_im.any():
         raise InputError(f"{_where(results)}: intensity measure '{im}' is zero, negative or missing for "
                          f"{int(bad_im.sum())} valid run(s); a lognormal fragility needs positive IM values")
-    exceed = np.stack([exceedance(results, s).broadcast_like(like).transpose(*RESULT_DIMS).values
-                       for s in labels])
-    models = [str(m) for m in results["model"].values]
-    # an angle-invariant model's results do not depend on the incidence angle (axisymmetric
-    # column): count each run once
-    angle_weight = np.ones((len(models), results.sizes["angle"]))
-    for i, m in enumerate(models):
-        if getattr(of_results(results, m), "angle_invariant", False):
-            angle_weight[i, 1:] = 0.0
-    weight = valid * angle_weight.T[None, None, :, None, :]  # (column, record, angle, scale, model)
+    exceed = _pooled(np.stack([exceedance(results, s).broadcast_like(like).transpose(*dims).values
+                               for s in labels]), results)
+    weight = valid * _once(results)  # (column, record, angle, scale, model)
     return x, exceed, weight
 
 
@@ -526,12 +555,10 @@ def _undecided_runs(results):
     """Runs undecided at their settle limit, counted as the fits count runs: (column, model)."""
     if "undecided" not in results.variables:
         return np.zeros((results.sizes["column"], results.sizes["model"]), np.int32)
-    like = results[_first_response(results)].transpose(*RESULT_DIMS)
+    dims = _sample_dims(results)
+    like = results[_first_response(results)].transpose(*dims)
     undecided = (_ok(results) & (results["undecided"].fillna(0) > 0)).broadcast_like(like)
-    undecided = undecided.transpose(*RESULT_DIMS).values.astype(float)
-    for i, m in enumerate(str(m) for m in results["model"].values):
-        if getattr(of_results(results, m), "angle_invariant", False):
-            undecided[:, :, 1:, :, i] = 0.0  # counted once, as the fits count such a model's runs
+    undecided = _pooled(undecided.transpose(*dims).values.astype(float), results) * _once(results)
     return undecided.sum(axis=(1, 2, 3)).astype(np.int32)
 
 
@@ -726,6 +753,13 @@ def fragility(results, im="pga", states=DEFAULT_STATES, bootstrap=0, seed=0, con
 
     if bootstrap:
         _bootstrap(ds, x, exceed, weight, grid, bootstrap, seed, confidence)
+    if "seed" in results.dims:  # a study of imperfect drums: its seeds pooled
+        ds.attrs["seeds_pooled"] = " ".join(str(int(v)) for v in results["seed"].values)
+        for name in ("imperfection_tolerance_m", "imperfection_friction_range", "imperfection_models"):
+            if name in results.attrs:
+                ds.attrs[name] = results.attrs[name]
+        if "seeded" in results.variables:
+            ds.coords["seeded"] = ("model", results["seeded"].values, dict(results["seeded"].attrs))
 
     ds.attrs.update(
         title=structures_title("Lognormal fragility curves", results.attrs),
@@ -741,8 +775,8 @@ def fragility(results, im="pga", states=DEFAULT_STATES, bootstrap=0, seed=0, con
                        "are left out (excluded)",
         bootstrap_replicates=bootstrap,
         bootstrap_seed=int(seed),
-        bootstrap_method="records resampled with replacement (all angles and scales of a record together); "
-                         "percentile intervals",
+        bootstrap_method="records resampled with replacement (all angles, seeds and scales of a record "
+                         "together); percentile intervals",
         method="Baker J.W. (2015) Efficient analytical fragility function fitting using dynamic structural "
                "analysis data, Earthquake Spectra 31(1) 579-599; probit regression solved by Newton's method",
         damage_states="overturning (for a column of drums: any drum lay down or fell); theta_ratio_s: peak "
@@ -833,7 +867,9 @@ def ida(results, im="pga", model=None, column=None, angle="max"):
         Select one model / column (default: the first).
     angle : "max", "median" or float
         How to reduce over incidence angles: the largest or median ratio over
-        angles, or the angle [deg] nearest the given one.
+        angles, or the angle [deg] nearest the given one (the seeds of imperfect
+        drums with them: the largest or median over angles and seeds, the largest
+        over the seeds at that angle).
 
     Returns
     -------
@@ -853,13 +889,16 @@ def ida(results, im="pga", model=None, column=None, angle="max"):
     over = exceedance(one, "overturning") & _valid(one)
     ratio = xr.where(over, np.inf, ratio)
     x = intensity(one, im)
+    pool = ("angle", "seed") if "seed" in one.dims else "angle"  # the seeds of imperfect drums as angles
     if angle == "max":
-        r, o, xi = ratio.max("angle"), over.any("angle"), x.max("angle")
+        r, o, xi = ratio.max(pool), over.any(pool), x.max(pool)
     elif angle == "median":
-        r, o, xi = ratio.median("angle"), over.mean("angle") >= 0.5, x.median("angle")
+        r, o, xi = ratio.median(pool), over.mean(pool) >= 0.5, x.median(pool)
     else:
         pick = dict(angle=float(angle), method="nearest")
         r, o, xi = ratio.sel(**pick), over.sel(**pick), x.sel(**pick)
+        if "seed" in r.dims:  # the seeds at that angle: the largest
+            r, o, xi = r.max("seed"), o.any("seed"), xi.max("seed")
     return xr.Dataset({"peak_theta_ratio": r, "overturned": o, im: xi})
 
 

@@ -168,11 +168,11 @@ def study_figure(ds):
     top = float(standing.max()) if standing.notnull().any() else 1.0
     for mi, model in enumerate(ds.model.values):
         sub = first.sel(model=model)
-        pga = np.broadcast_to(sub.pga.transpose("record", "scale").values[:, None, :],
-                              sub.peak_theta_ratio.transpose("record", "angle", "scale").shape)
-        ratio = sub.peak_theta_ratio.transpose("record", "angle", "scale").values
-        over = sub.overturned.transpose("record", "angle", "scale").values == 1
-        good = sub.status.transpose("record", "angle", "scale").values == 0
+        cells = sub.peak_theta_ratio  # (record, angle, scale[, seed]): the seeds of imperfect drums as angles
+        pga = sub.pga.broadcast_like(cells).transpose(*cells.dims).values
+        ratio = cells.values
+        over = sub.overturned.broadcast_like(cells).transpose(*cells.dims).values == 1
+        good = sub.status.broadcast_like(cells).transpose(*cells.dims).values == 0
         ax1.scatter((pga / G)[good & ~over], ratio[good & ~over], s=14, marker=markers[mi % 5], alpha=0.7,
                     label=f"{model}: stands")
         if (good & over).any():
@@ -184,7 +184,7 @@ def study_figure(ds):
     ax1.set_ylim(0, max(1.12, 1.12 * top))
     ax1.set_title(str(first.column.values.item()), fontsize=10)  # its label: a column or a colonnade
     ax1.legend(fontsize=8)
-    frac = (ds.overturned.where(ok)).mean(dim=("record", "angle"))
+    frac = (ds.overturned.where(ok)).mean(dim=("record", "angle") + (("seed",) if "seed" in ds.dims else ()))
     xlabel, levels = "scale factor on the record [1]", ds.scale.values
     units = ds.scale.attrs.get("units", "1")
     if units != "1":  # target levels: an acceleration in g, as on the left and in reports

@@ -482,6 +482,10 @@ def write_report(results, out_dir, pga_levels_g=DEFAULT_PGA_LEVELS_G, states=F.D
         Paths written (``report``, ``csv``, ``geojson`` or None,
         ``fragility``, ``figures``) and the fragility Dataset (``frag``).
     """
+    if "seed" in results.dims:  # its tables and model comparisons read cells without a seed (issue 48)
+        raise InputError(f"{results.attrs.get('source_file', 'the results')}: a study of imperfect drums (dimension "
+                         "seed) is not yet reported; 'frustum fragility' fits it (its seeds pooled as angles) and "
+                         "'frustum risk' reads that fit, or select one seed: xr.open_dataset(f).sel(seed=N)")
     dest = os.fspath(out_dir)
     with atomic_folder(dest) as tmp:
         out = _write_report_into(F.resolve_undecided(results, undecided), tmp, pga_levels_g, states, bootstrap, seed,

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 from pipeline import models
 from pipeline.errors import InputError
 from pipeline.models.options import INTEGRATORS, OPTIONS
+from pipeline.structures.imperfections import Imperfections
 from pipeline.units import G, deg_to_rad
 
 # Geometry the model is meant for: free-standing columns and drums, from
@@ -156,6 +157,10 @@ class ModelSettings:
         ``monitor_step`` is the adaptive integrators' sampling). With
         ``numerics`` ``springs = "explicit"`` a step at or above that limit is
         refused before computing.
+    imperfections, seed, friction_range
+        Imperfect drums (the compliant model): the tolerance of their beds [m], the seed of the
+        draw and the range of the joints' friction [1] (:attr:`imperfect`,
+        :mod:`pipeline.structures.imperfections`).
     joint_stiffness, stiffness_ratio, contact_rings, contact_sectors, joint_friction, \
 anathyrosis, base_anathyrosis, monitor_step
         Options of the compliant-contact model ``"3d-compliant"`` (there
@@ -185,6 +190,9 @@ anathyrosis, base_anathyrosis, monitor_step
     joint_friction: float | tuple | None = _DEFAULT["joint_friction"]
     anathyrosis: float | tuple = _DEFAULT["anathyrosis"]
     base_anathyrosis: float = _DEFAULT["base_anathyrosis"]
+    imperfections: float | None = _DEFAULT["imperfections"]
+    seed: int | None = _DEFAULT["seed"]
+    friction_range: tuple | None = _DEFAULT["friction_range"]
     monitor_step: float = _DEFAULT["monitor_step"]
     integrator: str = _DEFAULT["integrator"]
     step: float | None = _DEFAULT["step"]
@@ -197,6 +205,15 @@ anathyrosis, base_anathyrosis, monitor_step
             object.__setattr__(self, name, option.check(getattr(self, name)))
         _check_numerics(self.numerics, model)
         _check_across(self, model)
+        _check_imperfections(self)
+
+    @property
+    def imperfect(self):
+        """The structure's imperfections (:class:`pipeline.structures.imperfections.Imperfections`) these
+        settings draw, or None (perfect drums)."""
+        if self.imperfections is None:
+            return None
+        return Imperfections(self.imperfections, self.seed, self.friction_range)
 
 
 def _check_numerics(numerics, model):
@@ -224,6 +241,28 @@ def _check_across(settings, model):
         if not math.isfinite(settings.friction):
             raise InputError("friction = inf is the rigid models' rolling without slip; the compliant model "
                              "needs a finite friction coefficient at the base (e.g. 10 for no sliding)")
+
+
+def _check_imperfections(settings):
+    """Imperfections need a tolerance and a seed together, and no other per-joint friction beside a
+    friction range (:mod:`pipeline.structures.imperfections`). A model that does not draw them does
+    not read them (a study's ``[options]`` are every model's); ``frustum simulate`` and a study refuse
+    them where no model draws them (:func:`pipeline.models.check_imperfect`)."""
+    given = [name for name in models.IMPERFECTIONS if getattr(settings, name) is not None]
+    if not given:
+        return
+    first = f"{given[0]} = {getattr(settings, given[0])!r}"
+    if settings.imperfections is None:
+        raise InputError(f"{first} draws imperfect drums: give imperfections too, the tolerance of their beds [m] "
+                         "(0: the geometry perfect, only the friction drawn), or drop it")
+    if settings.seed is None:
+        raise InputError(f"imperfections = {settings.imperfections:g} m are drawn from a seed: give seed too, a whole "
+                         "number (the same seed draws the same imperfections; several seeds: a study's "
+                         "[imperfections] seeds)")
+    if settings.friction_range is not None and isinstance(settings.joint_friction, tuple):
+        raise InputError(f"friction_range = {settings.friction_range[0]:g},{settings.friction_range[1]:g} draws the "
+                         "friction of every joint of a column, and joint_friction gives a list of its own: give one "
+                         "of them")
 
 
 @dataclass(frozen=True)

@@ -47,6 +47,18 @@ records = {synthetic = [{generator = "one_sine_pulse", id = "pulse", ap = 6.0, t
 columns = [{named = "pompeys-pillar"}, {name = "paper", R = 0.5, r = 0.4, h = 4.0}]
 """
 
+# a study of imperfect drums (issue 48): the dimension seed and the draws on (column, seed, joint)
+SEEDED = """\
+title = "one file of each kind: a study of imperfect drums"
+output = "seeded.nc"
+models = ["3d", "3d-compliant"]
+options = {tail = 0.2, contact_sectors = 8}
+excitation = {scales = [1.0]}
+records = {synthetic = [{generator = "one_sine_pulse", id = "pulse", ap = 3.0, tp = 0.6, dt = 0.01}]}
+columns = [{name = "two", R = 0.5, r = 0.4, h = 4.0, drums = 2}]
+imperfections = {tolerance = 0.002, seeds = [1, 2], friction_range = [0.5, 0.7]}
+"""
+
 
 # a row of two of the paper's columns with capitals under one epistyle block, run by the models of colonnades and
 # (its column alone) by the 3D model; the compliant run rocks on for longer than the frame's (settle limit)
@@ -66,7 +78,7 @@ capital = [1.1, 0.3]
 colonnade = {columns = 2, interaxial = 2.5, epistyle_height = 0.8}
 """
 ROW = Colonnade(DrumColumn(Column(0.5, 0.4, 4.0), capital=Capital(1.1, 0.3)), 2, 2.5, 0.8)
-KINDS = ["simulate", "study", "fragility", "row_simulate", "row_study", "row_fragility", "row_risk"]
+KINDS = ["simulate", "study", "fragility", "row_simulate", "row_study", "row_fragility", "row_risk", "seeded"]
 
 
 @pytest.fixture(scope="module")
@@ -94,6 +106,8 @@ def files(tmp_path_factory):
     F.write(F.fragility(F.open_results(folder / "row_study.nc"), bootstrap=5), folder / "row_fragility.nc")
     frag = R.open_fragility(folder / "row_fragility.nc")
     R.write(R.site_risk(frag, R.read_hazard_curve(HAZARD)), folder / "row_risk.nc")
+    (folder / "seeded.toml").write_text(SEEDED, encoding="utf-8")
+    run_study(load_study(folder / "seeded.toml"), serial=True, progress=False)
     return {kind: folder / f"{kind}.nc" for kind in KINDS}
 
 

@@ -8,7 +8,7 @@ import numpy as np
 
 from pipeline.cli.records import add_record_options, load_record, record_inputs
 from pipeline.errors import InputError
-from pipeline.models import DEFAULT, REGISTRY, unrun_part
+from pipeline.models import DEFAULT, IMPERFECTIONS, REGISTRY, check_imperfect, unrun_part
 from pipeline.models.rigid import ROLLING_FRUSTUM
 from pipeline.models.options import OPTIONS
 from pipeline.limits import check_tolerance
@@ -37,6 +37,10 @@ examples:
   the compliant-contact model: the same column as 6 drums on joints of contact points:
     frustum simulate --column 0.5,0.4,4 --model 3d-compliant --drums 6 --joint-friction 0.6 \\
         --record FEMA-FF-01 --out drums.nc
+  the same drums imperfect: beds offset and out of level by up to 2 mm, joint friction from 0.5 to 0.7,
+  drawn from seed 7 (the same seed draws the same drums):
+    frustum simulate --column 0.5,0.4,4 --model 3d-compliant --drums 6 --imperfections 0.002 --seed 7 \\
+        --friction-range 0.5,0.7 --record FEMA-FF-01 --out imperfect.nc
   the rigid frame of two such columns with capitals carrying an epistyle 0.5 m high, axes 2 m apart:
     frustum simulate --column 0.5,0.4,4 --capital 1.0,0.4 --model 2d-frame --colonnade 2 --interaxial 2 \\
         --epistyle 0.5 --record FEMA-FF-01 --out frame.nc
@@ -159,7 +163,7 @@ def add_model_options(parser):
             elif option.kind == "choice":
                 group.add_argument(flag, choices=option.choices, default=None, help=help_)
             else:
-                kind = {"number": float, "whole": int, "numbers": _numbers}[option.kind]
+                kind = {"number": float, "whole": int, "numbers": _numbers, "range": _numbers}[option.kind]
                 group.add_argument(flag, type=kind, default=None, metavar=option.metavar or None, help=help_)
 
 
@@ -404,6 +408,10 @@ def _earthquake(args, bodies, models):
                        f"record {motion.duration:g} s + --tail {tail:g} s", "--tail")
     _check_history_memory(len(models) * (motion.duration + tail), args.output_step,
                           "the record and --tail" + (" for each model" if len(models) > 1 else ""))
+    for name in IMPERFECTIONS:  # in the words a study's [imperfections] gets (pipeline.models.check_imperfect)
+        if getattr(args, name) is not None:
+            check_imperfect(models, "--" + name.replace("_", "-"))
+    _refuse_unread(args, {name for model in models for name in REGISTRY[model].options}, f"--model {args.model}")
     runs = []
     for model in models:
         response = simulate(bodies[model], motion, excitation, settings[model],

@@ -81,8 +81,9 @@ def describe(study):
 
     nc, nr, na, ns, nm = study.shape
     levels = "scales" if study.scales is not None else f"target {study.intensity.measure} levels"
+    seeds = f" x {len(study.seeds)} seed(s) of imperfect drums" if study.seeds else ""
     text = (f"{study.title}: {what_ran(study)}\n{nc} column(s) x {nr} record(s) x {na} angle(s) x {ns} {levels} x "
-            f"{nm} model(s) = {study.n_simulations} results; {block_size(study)} column(s) per task")
+            f"{nm} model(s){seeds} = {study.n_simulations} results; {block_size(study)} column(s) per task")
     variants = [study.variant(m) for m in study.models if study.variant(m).name != study.variant(m).model
                 or study.variant(m).describe()]
     if variants:

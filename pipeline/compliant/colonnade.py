@@ -12,7 +12,7 @@ and blocks along the row (cap 1, block 1, cap 2, block 2, ...), which fills in n
 import numpy as np
 
 from pipeline.compliant.parts import (
-    END_FACE, IDENTITY, KIND_BLOCK, KIND_CAPITAL, Contact, Layout, Part, column_layout, rectangle_nodes,
+    END_FACE, IDENTITY, KIND_BLOCK, KIND_CAPITAL, Contact, Layout, Part, column_layout, drawn, rectangle_nodes,
 )
 from pipeline.dynamics.compliant import joint as jl
 from pipeline.dynamics.compliant.layout import SHAPE_RECT
@@ -62,9 +62,10 @@ def colonnade_layout(colonnade, settings):
         for b in bearings:
             carried[b.column] += colonnade.block_mass(k) * b.area / sum(c.area for c in bearings)
     parts, contacts, tops = [], [], []
+    beds = drawn(colonnade, settings)  # imperfect drums, or None
     for i, x in enumerate(colonnade.axes()):
         p, c = column_layout(stack, x, len(parts), i, settings, row=True, carried=carried[i],
-                             columns=colonnade.n_columns)
+                             columns=colonnade.n_columns, beds=beds)
         parts += p
         contacts += c
         tops.append(len(parts) - 1)
@@ -75,8 +76,12 @@ def colonnade_layout(colonnade, settings):
     for k in range(colonnade.n_blocks):
         x0, x1 = colonnade.block_extent(k)
         half = (0.5 * (x1 - x0), 0.5 * colonnade.epistyle_width, height)
+        centre = colonnade.block_centre(k)
+        if beds is not None:  # laid level between its capitals' tops, off their perfect height by microns
+            rise = [parts[tops[i]].centre[2] + cap_top - colonnade.abacus_top for i in (k, k + 1)]
+            centre = (centre[0], centre[1], centre[2] + 0.5 * (rise[0] + rise[1]))
         parts.append(Part(block_label(k), KIND_BLOCK, colonnade.block_mass(k), colonnade.block_inertia(k),
-                          colonnade.block_centre(k), 0.5 * height, height, 0.5 * np.pi, False, half, -1))
+                          centre, 0.5 * height, height, 0.5 * np.pi, False, half, -1))
     axes = colonnade.axes()
     for k in range(colonnade.n_blocks):
         block = first_block + k
@@ -112,4 +117,4 @@ def colonnade_layout(colonnade, settings):
         row.append(top)
         if i < colonnade.n_blocks:
             row.append(first_block + i)
-    return Layout(tuple(parts), tuple(contacts), tuple(tops), tuple(drums + row), stack.column.R)
+    return Layout(tuple(parts), tuple(contacts), tuple(tops), tuple(drums + row), stack.column.R, beds)

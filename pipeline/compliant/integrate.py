@@ -112,8 +112,9 @@ def check_run(structure, settings):
     for every model before the first run, and a study for every column (monolith, drums, colonnade)
     each model runs, so that ``frustum study check`` refuses what ``frustum study run`` would fail
     cell by cell, with the words of ``frustum simulate``. The structure is always assembled (its
-    layout and joints refuse a colonnade without capitals and a per-joint list that does not fit,
-    :func:`pipeline.compliant.parts.per_joint`); its fixed step is checked (:func:`fixed_step`) with a
+    layout and joints refuse a colonnade without capitals, a per-joint list that does not fit,
+    :func:`pipeline.compliant.parts.per_joint`, and imperfections its beds cannot take: a tolerance too
+    large for them, a bed leaning past its joint's friction angle); its fixed step is checked (:func:`fixed_step`) with a
     given step, or with the springs at the step's start and ``step_safety`` 1 or more. The joints'
     dashpots do not enter the limit (they are implicit in the fixed-step scheme).
 

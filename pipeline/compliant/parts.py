@@ -12,6 +12,15 @@ The bodies' axes are principal and a drum's or a capital's axis is z; a block's 
 the row. At rest (before the joints are pressed) every body stands on the face below it with
 its bearing face on that face: the static solve (:mod:`pipeline.compliant.rest`) then presses
 the joints in.
+
+Imperfect drums (``settings.imperfect``, :mod:`pipeline.structures.imperfections`): each body of a
+column stands off the one below by its joint's drawn offset, on a bed plane that leans by its
+joint's drawn tilt through the centre of the lower body's top face (the ground's plane through
+the column's axis for the base); the bodies stay upright, so the two faces of a joint share the
+lean: the lower face's axes and the upper body's bearing face are the same tilted frame
+(:func:`face_axes`), and the upper body's bearing face centre (on its axis) lies on the plane, a
+hair above or below the perfect height (the offset along the lean). The layout keeps the draw
+(:attr:`Layout.imperfections`).
 """
 
 import math
@@ -25,8 +34,9 @@ from pipeline.errors import InputError
 from pipeline.structures.column import Column
 from pipeline.structures.description import column_labels
 from pipeline.structures.drums import DrumColumn
+from pipeline.structures.imperfections import draw
 
-__all__ = ["Part", "Contact", "Layout", "as_stack", "stack_layout", "lying_tilt"]
+__all__ = ["Part", "Contact", "Layout", "as_stack", "stack_layout", "lying_tilt", "face_axes", "drawn"]
 
 # Drawing codes of a body's shape (pipeline.dataset's drum_kind).
 KIND_DRUM, KIND_CAPITAL, KIND_BLOCK = 0, 1, 2
@@ -147,6 +157,9 @@ class Layout:
     watched: tuple
     order: tuple
     length: float  # the reference length L [m]: the first column's base radius
+    # the imperfections drawn for it (pipeline.structures.imperfections.JointDraw: its first joints,
+    # the columns' in their order), or None: perfect drums
+    imperfections: object = None
 
     @property
     def n_bodies(self):
@@ -172,13 +185,51 @@ def as_stack(column):
     raise InputError(f"column must be a Column or a DrumColumn, got {type(column).__name__}")
 
 
-def disc_points(radius, inner_ratio, settings, height):
-    """Contact points of a disc (or annulus) at ``height`` below the body's centre: (n, 6) rows."""
+def disc_points(radius, inner_ratio, settings, height, axes=None):
+    """Contact points of a disc (or annulus) whose centre is ``height`` below the body's centre, in the
+    plane of ``axes`` (its x, y and normal as columns, in the body's axes; None: level): (n, 6) rows."""
     pts = jl.contact_points(radius, inner_ratio * radius, settings.contact_rings, settings.contact_sectors)
     rows = np.zeros((len(pts), 6))
     rows[:, 0], rows[:, 1], rows[:, 2] = pts[:, 0], pts[:, 1], -height
+    if axes is not None:  # the face leans: each point at its (u, v) in the face's plane
+        rows[:, :3] = pts[:, :2] @ np.asarray(axes)[:, :2].T
+        rows[:, 2] -= height
     rows[:, 3], rows[:, 4], rows[:, 5] = pts[:, 0], pts[:, 1], pts[:, 2]
     return rows
+
+
+def face_axes(normal):
+    """The axes of a face whose unit normal is ``normal`` (x, y, z) [1], as columns (x, y, normal): the
+    level axes turned by the least rotation that takes the vertical to the normal (no twist about
+    it), exactly the identity for a level face."""
+    a, b, c = normal
+    k = 1.0 / (1.0 + c)
+    return np.array([[1.0 - a * a * k, -a * b * k, a], [-a * b * k, 1.0 - b * b * k, b], [-a, -b, c]])
+
+
+def drawn(structure, settings):
+    """The imperfections ``settings`` draw for ``structure``
+    (:class:`pipeline.structures.imperfections.JointDraw`), or None for perfect drums."""
+    imperfect = getattr(settings, "imperfect", None)
+    return None if imperfect is None else draw(imperfect, structure)
+
+
+def _places(heights, x0, beds, first):
+    """Where each body of a column stands at rest: ``(axis x, axis y, height of its bed's centre)`` [m],
+    bottom up; with ``beds`` (a :class:`JointDraw`, the column's joints from row ``first``) each body
+    off the one below by its joint's offset, its bed's centre on the leaning plane."""
+    axis_x, axis_y, bottom = x0, 0.0, 0.0
+    places = []
+    for k, _ in enumerate(heights):
+        if k > 0:
+            bottom += heights[k - 1]
+            if beds is not None:
+                ex, ey = float(beds.offset_x[first + k]), float(beds.offset_y[first + k])
+                axis_x, axis_y = axis_x + ex, axis_y + ey
+                # the plane through the lower top's centre with normal (s_x, s_y, 1): z falls by s . e
+                bottom -= float(beds.slope_x[first + k]) * ex + float(beds.slope_y[first + k]) * ey
+        places.append((axis_x, axis_y, bottom))
+    return places
 
 
 def rectangle_nodes(settings):
@@ -187,7 +238,7 @@ def rectangle_nodes(settings):
     return max(3, settings.contact_sectors // 4)
 
 
-def column_layout(stack, x0, first, column, settings, row=False, carried=0.0, columns=1):
+def column_layout(stack, x0, first, column, settings, row=False, carried=0.0, columns=1, beds=None):
     """The bodies and joints of one column of drums (and its capital) whose axis stands at (x0, 0).
 
     Parameters
@@ -208,6 +259,9 @@ def column_layout(stack, x0, first, column, settings, row=False, carried=0.0, co
         carries it too.
     columns : int
         Columns of the structure it stands in (a per-joint list is one column's: :func:`per_joint`).
+    beds : pipeline.structures.imperfections.JointDraw, optional
+        The structure's imperfections: this column's joints are its rows ``column * n`` onward
+        (n the column's bodies); None: perfect drums.
 
     Returns
     -------
@@ -220,32 +274,36 @@ def column_layout(stack, x0, first, column, settings, row=False, carried=0.0, co
     inner = [settings.base_anathyrosis] + per_joint(settings.anathyrosis, n - 1, "anathyrosis", 0.0, columns)
     parts, contacts = [], []
     labels, joint_labels = column_labels(stack, column if row else None)
-    base = 0.0
+    first_joint = column * n  # this column's first joint in the draw
+    places = _places([d.h for d in drums] + ([stack.capital.height] if stack.capital is not None else []), x0, beds,
+                     first_joint)
     for k, d in enumerate(drums):
         m = density * d.volume
         a, c = d.central_inertia_hat
         it, ia = a * m * d.R ** 2, c * m * d.R ** 2
-        parts.append(Part(labels[k], KIND_DRUM, m, (it, it, ia), (x0, 0.0, base + d.z_cm), d.z_cm, d.h,
+        px, py, bottom = places[k]
+        parts.append(Part(labels[k], KIND_DRUM, m, (it, it, ia), (px, py, bottom + d.z_cm), d.z_cm, d.h,
                           lying_tilt(d.R, d.r, d.h), k == 0, (d.R, d.r, d.h), column))
-        base += d.h
     if stack.capital is not None:
         cap = stack.capital
         it, ia = cap.inertia(density)
         half = 0.5 * cap.side
+        px, py, bottom = places[-1]
         parts.append(Part(labels[-1], KIND_CAPITAL, cap.mass(density), (it, it, ia),
-                          (x0, 0.0, base + 0.5 * cap.height), 0.5 * cap.height, cap.height, 0.5 * math.pi,
+                          (px, py, bottom + 0.5 * cap.height), 0.5 * cap.height, cap.height, 0.5 * math.pi,
                           False, (half, half, cap.height), column))
     above = np.cumsum([p.mass for p in parts][::-1])[::-1] + carried
     for k, part in enumerate(parts):
         radius = drums[0].R if k == 0 else drums[k - 1].r  # the face below: the ground's base, a drum's top
-        points = disc_points(radius, inner[k], settings, part.zc)
+        axes = IDENTITY if beds is None else face_axes(beds.normal(first_joint + k))
+        points = disc_points(radius, inner[k], settings, part.zc, None if beds is None else axes)
         if k == 0:
             lower, origin, kind = GROUND, (x0, 0.0, 0.0), "base"
         else:
             below = parts[k - 1]
             lower, origin = first + k - 1, (0.0, 0.0, below.height - below.zc)
             kind = "capital" if part.kind == KIND_CAPITAL else "bed"
-        contacts.append(Contact(kind, lower, first + k, origin, IDENTITY, (0.0, 0.0, -part.zc), IDENTITY,
+        contacts.append(Contact(kind, lower, first + k, origin, axes, (0.0, 0.0, -part.zc), axes,
                                 SHAPE_DISC, (math.inf if k == 0 else radius, 0.0), points, float(above[k]),
                                 column, True, joint_labels[k]))
     return parts, contacts
@@ -275,6 +333,7 @@ def per_joint(value, n, name, default, columns=1):
 def stack_layout(column, settings):
     """A monolith or a column of drums (and a capital) on the ground, its axis at the origin."""
     stack = as_stack(column)
-    parts, contacts = column_layout(stack, 0.0, 0, 0, settings)
+    beds = drawn(stack, settings)
+    parts, contacts = column_layout(stack, 0.0, 0, 0, settings, beds=beds)
     n = len(parts)
-    return Layout(tuple(parts), tuple(contacts), (n - 1,), tuple(range(n)), stack.column.R)
+    return Layout(tuple(parts), tuple(contacts), (n - 1,), tuple(range(n)), stack.column.R, beds)

@@ -53,7 +53,8 @@ def summary(structure_column, asm, params, settings, raw, damping, restitution):
     rims = [j for j, c in enumerate(layout.contacts) if c.rim]
     uplift_times = raw.joint_stats[rims, JS_UPLIFT_TIME]
     uplift = float(np.nanmin(uplift_times)) if np.any(np.isfinite(uplift_times)) else math.nan
-    joints = joint_dislocations(asm, params, raw.y_end)
+    # imperfect drums stand offset at rest: their dislocations are measured from there
+    joints = joint_dislocations(asm, params, raw.y_end, None if layout.imperfections is None else raw.y0)
     diameters = joint_diameters(asm)
     body = int(s[S_OVERTURN_BODY]) if overturned else -1
     out = {
@@ -116,6 +117,8 @@ def summary(structure_column, asm, params, settings, raw, damping, restitution):
     out["epistyle_slip"] = float(np.max(joints["joint_slip"][bearings])) if bearings else math.nan
     out["epistyle_opening"] = float(np.max(joints["joint_opening"][heads])) if heads else \
         (0.0 if bearings else math.nan)
+    if layout.imperfections is not None:  # what was drawn, per joint (pipeline.structures.imperfections)
+        out.update(layout.imperfections.recorded(n_j))
     return out
 
 
@@ -148,11 +151,12 @@ def joint_diameters(asm):
     return np.array(out)
 
 
-def joint_dislocations(asm, params, y):
+def joint_dislocations(asm, params, y, rest=None):
     """Dislocation of every joint of a structure in the state y (the residual one at the end of a run).
 
     Measured in the frame of each joint's face, from the state the run started in for a joint
-    on the ground (where the column stood):
+    on the ground (where the column stood), and for every joint with ``rest`` (imperfect drums,
+    which stand offset at rest: the slip and twist from those of the state ``rest``):
 
     Parameters
     ----------
@@ -174,6 +178,11 @@ def joint_dislocations(asm, params, y):
     n_j, L = asm.n_joints, asm.length
     out = np.zeros((n_j, 4))
     sk.dislocations(y, params, out)  # a base's face is centred where its column stood
+    if rest is not None:
+        start = np.zeros((n_j, 4))
+        sk.dislocations(rest, params, start)
+        out[:, :2] -= start[:, :2]
+        out[:, 2] = (out[:, 2] - start[:, 2] + math.pi) % (2.0 * math.pi) - math.pi
     rot = np.empty((asm.n_bodies, 9))
     for b in range(asm.n_bodies):
         sk.rotation_matrix(*y[NB * b + QW:NB * b + QZ + 1], rot[b])

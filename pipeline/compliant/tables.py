@@ -9,7 +9,10 @@ friction and damping:
 * every joint between stones (bed joints, a capital on its shaft, an epistyle block on a
   capital, two blocks end to end): ``joint_stiffness`` (default the base's) and
   ``joint_friction`` (one value, or one per bed joint of a single column; default the base's);
-* the dashpots keep the base's damping ratio: ``c_n sqrt(k_joint / k_n)`` per unit area.
+* the dashpots keep the base's damping ratio: ``c_n sqrt(k_joint / k_n)`` per unit area;
+* imperfect drums with a friction range (``settings.friction_range``): every joint of a column,
+  its base too, takes its drawn friction (:mod:`pipeline.structures.imperfections`); the
+  epistyle's bearings and head joints keep ``joint_friction``.
 """
 
 import math
@@ -91,8 +94,10 @@ def numerics(settings):
     return {**COMPLIANT_DRUMS.numerics, **dict(settings.numerics)}
 
 
-def _joint_law(contacts, settings):
-    """Per joint: (stiffness [Pa/m], friction [1]) from the settings, by the joint's kind."""
+def _joint_law(contacts, settings, imperfect=None):
+    """Per joint: (stiffness [Pa/m], friction [1]) from the settings, by the joint's kind; with ``imperfect``
+    (the imperfections drawn, :class:`pipeline.structures.imperfections.JointDraw`) and a friction
+    range, the drawn friction of the columns' joints (the first joints, in the draw's order)."""
     beds = [c for c in contacts if c.kind in ("bed", "capital")]
     columns = len({c.column for c in contacts if c.column >= 0})  # an epistyle's joints are of no column
     per_bed = iter(per_joint(settings.joint_friction, len(beds), "joint_friction", settings.friction, columns))
@@ -105,7 +110,28 @@ def _joint_law(contacts, settings):
             continue
         stiffness = settings.joint_stiffness or settings.normal_stiffness
         law.append((stiffness, float(next(per_bed)) if c.kind in ("bed", "capital") else float(stones)))
+    if imperfect is not None and imperfect.imperfections.friction_range is not None:
+        for j, mu in enumerate(imperfect.friction):
+            law[j] = (law[j][0], float(mu))
     return law
+
+
+def _check_tilts(layout, law):
+    """Refuse a bed that leans past its joint's friction angle: its drum would slide off at rest, not stand
+    imperfect (the static solve holds the lean on the shear springs, sticking)."""
+    beds = layout.imperfections
+    if beds is None:
+        return
+    from pipeline.compliant.summary import joint_labels
+
+    labels = joint_labels(layout)
+    for j in range(beds.n_joints):
+        mu = law[j][1]
+        if math.tan(beds.tilt[j]) >= mu:
+            raise InputError(f"imperfections = {beds.imperfections.tolerance:g} m: the {labels[j]} leans "
+                             f"{math.degrees(beds.tilt[j]):.3g} deg (seed {beds.imperfections.seed}), at or past its "
+                             f"friction angle atan({mu:g}) = {math.degrees(math.atan(mu)):.3g} deg: the body on it "
+                             "would slide at rest; give a smaller tolerance or a higher friction")
 
 
 def assemble(structure, settings, damping):
@@ -145,7 +171,9 @@ def assemble(structure, settings, damping):
         bodies[b, B_HOLD + 2] = p.mass / M  # the weight until the rest state sets it
     points, starts = [], [0]
     joints = np.zeros((len(contacts), N_JOINT_COLS))
-    for j, (c, (stiffness, mu)) in enumerate(zip(contacts, _joint_law(contacts, settings))):
+    law = _joint_law(contacts, settings, layout.imperfections)
+    _check_tilts(layout, law)
+    for j, (c, (stiffness, mu)) in enumerate(zip(contacts, law)):
         table = np.zeros((len(c.points), N_POINT_COLS))
         table[:, :5] = c.points[:, :5] / L
         table[:, 5] = c.points[:, 5] / L ** 2
@@ -183,7 +211,7 @@ def assemble(structure, settings, damping):
             row[J_LAND] = 0.5 * radius
         else:
             row[J_RIM] = row[J_LAND] = -1.0
-    barrier, critical = overturning_barriers(layout, contacts, _joint_law(contacts, settings), M, L)
+    barrier, critical = overturning_barriers(layout, contacts, law, M, L)
     pattern = ls.elimination(len(parts), [c.lower for c in contacts], [c.upper for c in contacts], layout.order)
     return Assembly(layout, bodies, np.concatenate(points), np.array(starts, dtype=np.int64), joints, L, M, T,
                     barrier, critical, pattern)

@@ -17,7 +17,8 @@ from pipeline.models.options import OPTIONS, Option
 from pipeline.models.spec import Model, ModelDescription, StateLayout
 
 __all__ = ["Model", "ModelDescription", "StateLayout", "Option", "OPTIONS", "REGISTRY", "DEFAULT", "names", "get", "describe", "title", "markdown",
-           "style", "planar_pair", "base_of", "of_results", "flag", "results_title", "variant_text", "unrun_part"]
+           "style", "planar_pair", "base_of", "of_results", "flag", "results_title", "variant_text", "unrun_part",
+           "IMPERFECTIONS", "imperfect_models", "check_imperfect"]
 
 #: The models by name, in the order help and reports list them.
 REGISTRY = {m.name: m for m in (ROLLING_FRUSTUM, PLANAR_ROCKING, COMPLIANT_DRUMS, RIGID_FRAME)}
@@ -55,6 +56,39 @@ def unrun_part(kind, names_, key, run, fix):
     verb = "runs" if len(names_) == 1 else "run"
     return (f"no model of {run} runs {plural} ({', '.join(names_)} {verb} {instead}), so {key} would be ignored; "
             f"{plural} are run by {runners}: {fix} {key}, or run a model of {plural}")
+
+
+#: The options that make a structure imperfect (:mod:`pipeline.structures.imperfections`).
+IMPERFECTIONS = ("imperfections", "seed", "friction_range")
+
+
+def imperfect_models():
+    """The names of the models that draw imperfections (that read the option ``imperfections``)."""
+    return tuple(m.name for m in REGISTRY.values() if "imperfections" in m.options)
+
+
+def check_imperfect(models, given):
+    """Refuse imperfections given where none of ``models`` draws them: they would be ignored.
+
+    The one check behind ``frustum simulate --imperfections`` (and ``--seed``, ``--friction-range``)
+    and a study's ``[imperfections]`` and ``[options]``, so that both say it in the same words.
+
+    Parameters
+    ----------
+    models : sequence of str
+        Registry names of the models that would run.
+    given : str
+        How the imperfections were given (``"--imperfections"``, ``"[imperfections]"``,
+        ``"options.seed"``).
+    """
+    readers = imperfect_models()
+    models = list(dict.fromkeys(models))
+    if any(m in readers for m in models):
+        return
+    runs = f"model {models[0]} runs" if len(models) == 1 else f"models {', '.join(models)} run"
+    raise InputError(f"{given} draws imperfect drums (beds offset and tilted within a tolerance, joint friction from a "
+                     f"range), which only {' and '.join(readers)} {'runs' if len(readers) == 1 else 'run'}; {runs} "
+                     f"perfect structures, so it would be ignored: drop {given}, or run {' or '.join(readers)}")
 
 
 def names():

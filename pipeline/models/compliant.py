@@ -91,10 +91,11 @@ COMPLIANT_DRUMS = Model(
     # joints' points and law, the integrator and its step (rtol, atol: the adaptive ones)
     options=read("restitution", "friction", "normal_stiffness", "contact_damping", "tail", "settle_limit",
                  "joint_stiffness", "stiffness_ratio", "contact_rings", "contact_sectors", "joint_friction",
-                 "anathyrosis", "base_anathyrosis", "monitor_step", "integrator", "step", "rtol", "atol"),
+                 "anathyrosis", "base_anathyrosis", "imperfections", "seed", "friction_range", "monitor_step",
+                 "integrator", "step", "rtol", "atol"),
     calibration="pipeline.compliant:calibrated_damping",
     # what its run would refuse of a structure (a colonnade without capitals, a per-joint list that does not
-    # fit, a given fixed step above the stability limit: the layout, joints and pipeline.compliant.fixed_step
-    # its run calls too), refused before simulate or a study computes
+    # fit, imperfections its beds cannot take, a given fixed step above the stability limit: the layout,
+    # joints and pipeline.compliant.fixed_step its run calls too), refused before simulate or a study computes
     checker="pipeline.compliant.integrate:check_run",
 )

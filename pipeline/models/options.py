@@ -17,12 +17,13 @@ from types import MappingProxyType
 
 from pipeline.errors import InputError
 from pipeline.limits import ATOL_RANGE, RTOL_RANGE
+from pipeline.structures.imperfections import FRICTION_RANGE, SEED_RANGE
 
 __all__ = ["Option", "KINDS", "OPTIONS", "INTEGRATORS", "declared", "defaults"]
 
 #: What an option's value may be: a number, a whole number, a number or a list of numbers (one per
-#: bed joint), one of a few words, or true/false.
-KINDS = ("number", "whole", "numbers", "choice", "bool")
+#: bed joint), a range of two numbers (lo, hi), one of a few words, or true/false.
+KINDS = ("number", "whole", "numbers", "range", "choice", "bool")
 
 
 @dataclass(frozen=True)
@@ -91,7 +92,8 @@ class Option:
             return "one of " + ", ".join(self.choices)
         if self.kind == "bool":
             return "true or false"
-        text = f"{'(' if self.open_lo else '['}{self.lo:g}, {self.hi:g}{')' if self.hi == math.inf else ']'}"
+        lo, hi = (f"{int(v)}" if self.kind == "whole" and math.isfinite(v) else f"{v:g}" for v in (self.lo, self.hi))
+        text = f"{'(' if self.open_lo else '['}{lo}, {hi}{')' if self.hi == math.inf else ']'}"
         return text + (f", or inf for {self.inf}" if self.inf else "")
 
     def unread_with(self, settings):
@@ -140,11 +142,24 @@ class Option:
             if not isinstance(value, bool):
                 raise InputError(f"{label} = {value!r}: the {self.words} must be true or false")
             return value
+        if self.kind == "range":
+            return self._range(value, label)
         if self.kind == "numbers" and isinstance(value, (list, tuple)):
             if not value:
                 raise InputError(f"{label} is an empty list: give one number, or one per bed joint (bottom first)")
             return tuple(self._number(v, f"{label}[{i}]", omit=False) for i, v in enumerate(value))
         return self._number(value, label)
+
+    def _range(self, value, label):
+        """Two numbers ``lo <= hi``, each in the option's range, as a tuple of floats."""
+        if isinstance(value, (list, tuple)) and len(value) == 2:
+            lo, hi = (self._number(v, f"{label}[{i}]", omit=False) for i, v in enumerate(value))
+            if lo <= hi:
+                return lo, hi
+        unit = "" if self.unit == "1" else f" {self.unit}"
+        note = f" ({self.note})" if self.note else ""
+        raise InputError(f"{label} = {value!r}{unit}: the {self.words} must be two numbers LO,HI with LO <= HI, "
+                         f"each in {self.range_text()}{note}")
 
     def _number(self, value, label, omit=True):
         ok = isinstance(value, (int, float)) and not isinstance(value, bool)
@@ -233,6 +248,15 @@ OPTIONS = declared(
            metavar="RATIO[,...]"),
     Option("base_anathyrosis", 0.0, "1", "number", "inner/outer radius of the base's contact ring", 0.0, 0.95,
            note="0: the full disc", metavar="RATIO"),
+    # imperfect drums (pipeline.structures.imperfections): a tolerance, a seed, a friction range
+    Option("imperfections", None, "m", "number", "tolerance of the drums' beds (each bed offset and out of level by "
+           "up to it, drawn from the seed)", 0.0, 0.5, none="perfect drums",
+           note="at most 5 % of the smallest bed diameter; with seed", metavar="TOL_M"),
+    Option("seed", None, "1", "whole", "seed of the imperfections' draw", *SEED_RANGE,
+           none="no imperfections", note="the same seed draws the same imperfections", metavar="N"),
+    Option("friction_range", None, "1", "range", "range of friction coefficients each joint of a column draws from",
+           *FRICTION_RANGE, none="the friction and joint_friction given",
+           note="with imperfections; replaces friction and joint_friction at the columns' joints", metavar="LO,HI"),
     Option("monitor_step", 0.001, "s", "number",
            "sampling interval of the peak and contact statistics of the adaptive integrators", 1e-5, 1.0, metavar="S",
            read_with=(("integrator", _INTEGRATORS[1:]),)),  # the fixed-step one takes them at every step

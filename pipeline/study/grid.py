@@ -1,9 +1,10 @@
 """Planning a study: its grid cut into tasks, the factors on each record, the memory it needs.
 
-The grid is columns x records x angles x scales x models. One task runs one record on a block
-of columns for every angle, scale and model, so that a task lasts long enough (about a second)
-for Dask's per-task cost (a few ms) to stay far below 5 %. An angle-invariant model runs once
-per (column, record, scale) and is broadcast over the angles (:mod:`pipeline.study.run`).
+The grid is columns x records x angles x scales x models (x seeds, with ``[imperfections]``). One
+task runs one record on a block of columns for every angle, scale, model and seed, so that a task
+lasts long enough (about a second) for Dask's per-task cost (a few ms) to stay far below 5 %. An
+angle-invariant model runs once per (column, record, scale) and is broadcast over the angles, a
+model that does not draw imperfections once and broadcast over the seeds (:mod:`pipeline.study.run`).
 """
 
 import math
@@ -53,6 +54,10 @@ class Task:
     colonnades : tuple
         Per column, its colonnade (:class:`pipeline.structures.colonnade.Colonnade`), which the
         models of colonnades run, or None; empty: no column carries one.
+    seeds : tuple of int
+        The study's seeds of imperfect drums (the last dimension of the task's arrays), or empty.
+    seeded : tuple of bool
+        Per model, whether it draws its drums from each seed (else it runs once, repeated along them).
     """
 
     index: int
@@ -69,16 +74,21 @@ class Task:
     drums: tuple = ()
     beds: tuple = ()
     colonnades: tuple = ()
+    seeds: tuple = ()
+    seeded: tuple = ()
 
     @property
     def shape(self):
-        """Shape of the task's result arrays: (columns, angles, scales, models)."""
-        return (len(self.columns), len(self.angles), len(self.factors), len(self.settings))
+        """Shape of the task's result arrays: (columns, angles, scales, models[, seeds])."""
+        return (len(self.columns), len(self.angles), len(self.factors), len(self.settings)) + \
+            ((len(self.seeds),) if self.seeds else ())
 
     @property
     def n_simulations(self):
-        """Simulations actually run (an angle-invariant model once over all angles)."""
-        per = sum(1 if REGISTRY[s.model].angle_invariant else len(self.angles) for s in self.settings)
+        """Simulations actually run (an angle-invariant model once over all angles, a model without
+        imperfections once over all seeds)."""
+        per = sum((1 if REGISTRY[s.model].angle_invariant else len(self.angles))
+                  * (len(self.seeds) if self.seeded and self.seeded[m] else 1) for m, s in enumerate(self.settings))
         return len(self.columns) * len(self.factors) * per
 
 
@@ -149,9 +159,10 @@ def memory_estimate(study):
 def check_memory(study):
     """Refuse, before anything is loaded or computed, a study whose grid cannot fit in memory."""
     nc, nr, na, ns, nm = study.shape
+    seeds = f" x {len(study.seeds):,} seeds" if study.seeds else ""
     check_fits(memory_estimate(study),
                f"{study.path}: the results grid of {study.n_simulations:,} cells ({nc:,} columns x {nr:,} records x "
-               f"{na:,} angles x {ns:,} scales x {nm} models, {n_tasks(study):,} tasks)",
+               f"{na:,} angles x {ns:,} scales x {nm} models{seeds}, {n_tasks(study):,} tasks)",
                "split the study into several files (fewer columns, records, angles or scales each)")
 
 
@@ -167,8 +178,8 @@ def block_size(study):
     n = len(study.columns)
     if study.block_columns:
         return min(study.block_columns, n)
-    per_column = len(study.levels) * sum(1 if REGISTRY[study.variant(m).model].angle_invariant else len(study.angles)
-                                         for m in study.models)
+    per_column = len(study.levels) * sum((1 if REGISTRY[study.variant(m).model].angle_invariant else len(study.angles))
+                                         * (len(study.seeds) if study.seeded(m) else 1) for m in study.models)
     size = max(1, min(n, math.ceil(TARGET_SIMULATIONS_PER_TASK / per_column)))
     return math.ceil(n / math.ceil(n / size))
 
@@ -194,6 +205,7 @@ def plan(study, factors):
     columns = [c.column for c in study.columns]
     stacks = [c.stack for c in study.columns]
     rows = [c.colonnade for c in study.columns] if any(c.colonnade for c in study.columns) else []
+    seeded = tuple(study.seeded(m) for m in study.models) if study.seeds else ()
     tasks = []
     for ri in range(len(study.records)):
         for start in range(0, len(columns), size):
@@ -201,7 +213,7 @@ def plan(study, factors):
             tasks.append(Task(len(tasks), ri, start, stop, tuple(columns[start:stop]), angles,
                               tuple(float(f) for f in factors[ri]), settings, study.vertical,
                               tuple(stacks[start:stop]), study.n_joints, drums, tuple(bed[start:stop]),
-                              tuple(rows[start:stop])))
+                              tuple(rows[start:stop]), study.seeds, seeded))
     return tasks
 
 

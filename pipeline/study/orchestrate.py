@@ -202,7 +202,7 @@ def check_study_output(study, out=None, label=None):
 
 def _run_checkpointed(study, out, motions, measures, factors, tasks, ckpt, cluster, serial, progress,
                       keep_checkpoint, window, written):
-    arrays = blank_arrays(study.shape, status=1, n_joints=study.n_joints)  # failures until a task fills them
+    arrays = blank_arrays(study.grid_shape, status=1, n_joints=study.n_joints)  # failures until a task fills them
     done, found, errors = set(), ckpt.done(), []
     for task in tasks:
         if task.index in found:

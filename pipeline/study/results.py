@@ -1,8 +1,9 @@
 """A study's results: the arrays every task fills, and the Dataset the whole grid becomes.
 
-One value per cell of the grid (``DIMS``: column, record, angle, scale, model) for each of
-``RESULT_VARIABLES``; a study that runs the compliant model also holds ``COMPLIANT_VARIABLES``
-and, per joint, ``JOINT_VARIABLES``. :func:`blank_arrays` makes them,
+One value per cell of the grid (``DIMS``: column, record, angle, scale, model, and ``seed`` with
+``[imperfections]``) for each of ``RESULT_VARIABLES``; a study that runs the compliant model also
+holds ``COMPLIANT_VARIABLES`` and, per joint, ``JOINT_VARIABLES``; a study of imperfect drums the
+imperfections drawn per column, seed and joint (``DRAWN_VARIABLES``). :func:`blank_arrays` makes them,
 :func:`pipeline.study.run.run_task` fills a block of them, and :func:`assemble` turns the whole
 grid into the CF Dataset that is written to netCDF (docs/studies.md has the schema).
 """
@@ -40,6 +41,10 @@ DTYPES.update({"dislocation_ratio": np.float64, "overturn_drum": np.int32, "epis
                 **{n: np.float64 for n in JOINT_VARIABLES}})
 
 
+#: What a study of imperfect drums records of each draw, per (column, seed, joint) (pipeline.structures.imperfections).
+DRAWN_VARIABLES = ("bed_offset_x", "bed_offset_y", "bed_tilt", "bed_tilt_azimuth", "bed_friction")
+
+
 def result_variables(n_joints=0):
     """Names of a study's result arrays: the common ones, and the compliant model's if ``n_joints`` > 0."""
     return RESULT_VARIABLES + (COMPLIANT_VARIABLES + JOINT_VARIABLES if n_joints else ())
@@ -67,7 +72,8 @@ def blank_arrays(shape, status, n_joints=0):
 def assemble(study, motions, measures, factors, arrays):
     """The results Dataset of a study (see docs/studies.md for the schema)."""
     n_joints = study.n_joints
-    ds = xr.Dataset({name: (DIMS + (("joint",) if name in JOINT_VARIABLES else ()), arrays[name])
+    dims = DIMS + (("seed",) if study.seeds else ())
+    ds = xr.Dataset({name: (dims + (("joint",) if name in JOINT_VARIABLES else ()), arrays[name])
                      for name in result_variables(n_joints)})
     cols = [c.column for c in study.columns]
     coords = {
@@ -126,6 +132,8 @@ def assemble(study, motions, measures, factors, arrays):
             "comment": f"calibrated on the column's outline by the model '{study.calibration}'"})
         coords["bed_restitution"] = ("column", [b[1] for b in bed], {
             "units": "1", "long_name": "planar restitution the calibrated dashpots reach, given to every model"})
+    if study.seeds:
+        coords.update(_drawn(study, n_joints))
     ds = ds.assign_coords(coords)
     if n_joints:
         _labels(ds, study)
@@ -163,6 +171,11 @@ def assemble(study, motions, measures, factors, arrays):
         "the x component of each record alone (y set to zero before scaling), turned by the incidence angle",
         "energy_units": "energies and work per unit weight, E/(m g) [m]",
     })
+    if study.seeds:
+        spec = study.imperfections
+        ds.attrs.update(imperfection_tolerance_m=spec.tolerance, imperfection_models=", ".join(spec.models),
+                        imperfection_friction_range=("the options' friction" if spec.friction_range is None else
+                                                     f"{spec.friction_range[0]:g} {spec.friction_range[1]:g}"))
     return ds
 
 
@@ -214,7 +227,8 @@ def _labels(ds, study):
         labels = D.joint_labels(_stands(info))
         joints[ci, :len(labels)] = labels
     ds["joint_label"] = (("column", "joint"), joints)
-    drum = ds["overturn_drum"].values
+    drum = ds["overturn_drum"]
+    axis = drum.dims.index("model")  # a study of imperfect drums has the dimension seed after it
     fell = np.full(drum.shape, "", dtype=object)
     for mi, m in enumerate(study.models):
         variant = study.variant(m)
@@ -222,7 +236,36 @@ def _labels(ds, study):
         for ci, info in enumerate(study.columns):
             body = info.body(variant)
             names = D.body_labels(body) if per_body else (D.whole_label(body),)
-            cell = drum[ci, ..., mi]
+            where = (ci,) + (slice(None),) * (axis - 1) + (mi,)
+            cell = drum.values[where]
             index = np.where(cell >= 0, cell if per_body else 0, -1)
-            fell[ci, ..., mi] = np.where(index >= 0, np.asarray(names, dtype=object)[np.clip(index, 0, None)], "")
-    ds["overturn_body"] = (DIMS, fell)
+            fell[where] = np.where(index >= 0, np.asarray(names, dtype=object)[np.clip(index, 0, None)], "")
+    ds["overturn_body"] = (drum.dims, fell)
+
+
+def _drawn(study, n_joints):
+    """The coordinates of a study of imperfect drums: ``seed``, which models draw from it (``seeded``) and
+    the imperfections drawn per column, seed and joint (:data:`DRAWN_VARIABLES`; NaN past a column's
+    joints).
+
+    Each column's draw is its largest structure's (its colonnade, if a model that draws imperfections
+    runs it): a model that runs fewer joints of it (the column alone, its outline) draws their first
+    ones alike (:mod:`pipeline.structures.imperfections`, the draw order).
+    """
+    from pipeline.structures.imperfections import Imperfections, bed_diameters, draw
+
+    spec = study.imperfections
+    values = {name: np.full((len(study.columns), len(spec.seeds), n_joints), np.nan) for name in DRAWN_VARIABLES}
+    for ci, info in enumerate(study.columns):
+        bodies = [info.body(study.variant(m)) for m in spec.models]
+        body = max(bodies, key=lambda b: bed_diameters(b).size)  # the one with the most joints
+        for k, seed in enumerate(spec.seeds):
+            recorded = draw(Imperfections(spec.tolerance, seed, spec.friction_range), body).recorded()
+            for name in DRAWN_VARIABLES:
+                drawn = recorded[name][:n_joints]
+                values[name][ci, k, :drawn.size] = drawn
+    coords = {"seed": ("seed", np.asarray(spec.seeds, dtype=np.int64)),
+              # a flag as a coordinate: cfchecks wants its units (CF 3.1)
+              "seeded": ("model", np.array([study.seeded(m) for m in study.models], dtype=np.int8), {"units": "1"})}
+    coords.update({name: (("column", "seed", "joint"), values[name]) for name in DRAWN_VARIABLES})
+    return coords

@@ -7,7 +7,8 @@ therefore exactly independent of the angle: a task runs 3D once per (column, rec
 broadcasts the values over the angles. The 2D model (rocking in the plane of the X component of
 the turned pair) is run at every angle, as is the compliant-contact model (``3d-compliant``),
 whose discrete contact points are not axisymmetric. The registry says which model is which
-(``Model.angle_invariant``).
+(``Model.angle_invariant``). With ``[imperfections]`` a model that draws imperfect drums runs once
+per seed (its settings' ``seed``), the others once, repeated along the seeds.
 
 A simulation that fails is flagged in its cells (status 1), never raised: one failure must not
 end a study.
@@ -54,22 +55,27 @@ def run_task(task, motion):
                 column = task.colonnades[ci]  # a model of colonnades runs the column's row
             if task.beds:  # the study's calibrated bed, the same for every model
                 settings = replace(settings, contact_damping=task.beds[ci][0], restitution=task.beds[ci][1])
+            # imperfect drums: one run per seed; perfect ones once, broadcast along the seeds (if any)
+            seed_runs = [(settings, ())] if not task.seeds else \
+                [(replace(settings, seed=seed), (k,)) for k, seed in enumerate(task.seeds)] if task.seeded[mi] else \
+                [(settings, (slice(None),))]
             for si, factor in enumerate(task.factors):
                 # angle-invariant: one run at the first angle, broadcast (axisymmetry, module docstring)
                 angle_runs = [(task.angles[0], slice(None))] if model.angle_invariant else \
                     [(a, ai) for ai, a in enumerate(task.angles)]
-                for angle, where in angle_runs:
+                for (angle, where), (drawn, at) in ((a, d) for a in angle_runs for d in seed_runs):
                     runs += 1
-                    index = (ci, where, si, mi)
+                    index = (ci, where, si, mi) + at
                     try:
                         summary = simulate(column, motion, Excitation(angle=angle, scale=factor,
                                                                       vertical=task.vertical),
-                                           settings, histories=False).summary
+                                           drawn, histories=False).summary
                     except Exception as exc:  # noqa: BLE001 - one failure must not kill the study
                         arrays["status"][index] = 1
                         if len(errors) < 5:
+                            seed = f" seed {drawn.seed}" if at and drawn.seed is not None else ""
                             errors.append(f"{column.name} {settings.model} angle {angle:g} deg "
-                                          f"factor {factor:g}: {type(exc).__name__}: {exc}")
+                                          f"factor {factor:g}{seed}: {type(exc).__name__}: {exc}")
                         continue
                     for name in FLOAT_VARIABLES:
                         arrays[name][index] = summary[name]

@@ -13,7 +13,7 @@ from pipeline.structures.column import Column
 from pipeline.models import REGISTRY
 from pipeline.settings import ModelSettings
 
-__all__ = ["Study", "ModelVariant", "ColumnInfo", "RecordSpec", "Intensity", "variant_settings", "BODIES",
+__all__ = ["Study", "ModelVariant", "ColumnInfo", "RecordSpec", "Intensity", "Seeds", "variant_settings", "BODIES",
            "BED_OPTIONS"]
 
 #: What a variant may run instead of its model's own body: the column's outline as one body.
@@ -65,6 +65,32 @@ class ModelVariant:
         parts += [f"options {k} = {v:g}" if isinstance(v, (int, float)) else f"options {k} = {v}"
                   for k, v in self.options]
         return "; ".join(parts)
+
+
+@dataclass(frozen=True)
+class Seeds:
+    """A study's imperfect drums (``[imperfections]``): the results' dimension ``seed``.
+
+    Attributes
+    ----------
+    tolerance : float
+        [m] (:mod:`pipeline.structures.imperfections`).
+    seeds : tuple of int
+        One imperfect structure per seed, the values of the dimension ``seed``.
+    friction_range : tuple of float or None
+        ``(lo, hi)`` [1] each joint of a column draws its friction from; None: the options'.
+    models : tuple of str
+        The study's models that draw them (the others run perfect drums once, repeated along ``seed``).
+    """
+
+    tolerance: float
+    seeds: tuple
+    friction_range: tuple | None
+    models: tuple
+
+    def options(self, seed):
+        """The model options of the imperfect structure of ``seed``."""
+        return (("imperfections", self.tolerance), ("seed", seed), ("friction_range", self.friction_range))
 
 
 def variant_settings(variant, options, bed=None):
@@ -281,6 +307,21 @@ class Study:
     variants: tuple = ()
     calibration: str | None = None
     components: str = "pair"
+    imperfections: Seeds | None = None
+
+    @property
+    def seeds(self):
+        """The values of the results' dimension ``seed`` (``[imperfections] seeds``); () without one."""
+        return () if self.imperfections is None else self.imperfections.seeds
+
+    def seeded(self, name):
+        """Whether the study's model ``name`` draws imperfect drums from each seed."""
+        return self.imperfections is not None and name in self.imperfections.models
+
+    @property
+    def grid_shape(self):
+        """Shape of the results' arrays: :attr:`shape`, and the seeds with ``[imperfections]``."""
+        return self.shape + ((len(self.seeds),) if self.seeds else ())
 
     @property
     def levels(self):
@@ -294,8 +335,8 @@ class Study:
 
     @property
     def n_simulations(self):
-        """Size of the grid (3D runs are shared over angles, see pipeline.study.run)."""
-        return math.prod(self.shape)
+        """Size of the grid, seeds included (3D runs are shared over angles, see pipeline.study.run)."""
+        return math.prod(self.grid_shape)
 
     @property
     def n_joints(self):
@@ -330,7 +371,7 @@ class Study:
         """The :class:`ModelVariant` of a model of the study (a registry name: that model as it is)."""
         return next((v for v in self.variants if v.name == name), None) or ModelVariant(name, name)
 
-    def settings(self, name, bed=None):
+    def settings(self, name, bed=None, seed=None):
         """:class:`pipeline.settings.ModelSettings` of one model of the study.
 
         Parameters
@@ -340,5 +381,11 @@ class Study:
         bed : tuple of float, optional
             ``(c_n [Pa s/m], restitution [1])`` of the calibrated bed (:attr:`calibration`),
             given to the model as ``contact_damping`` and ``restitution``.
+        seed : int, optional
+            A model that draws imperfect drums (:meth:`seeded`): the seed of its structure (default
+            the first of :attr:`seeds`).
         """
-        return variant_settings(self.variant(name), self.options, bed)
+        options = self.options
+        if self.seeded(name):
+            options = options + self.imperfections.options(self.seeds[0] if seed is None else seed)
+        return variant_settings(self.variant(name), options, bed)

@@ -68,6 +68,12 @@ see docs/studies.md for the full reference)::
     [options]                        # pipeline.settings.ModelSettings
     friction = 0.7
 
+    [imperfections]                  # imperfect drums (3d-compliant): the results' dimension seed
+    tolerance = 0.002                # [m]: beds offset and out of level by up to it
+    seeds = [1, 2, 3]                # one imperfect structure per seed
+    friction_range = [0.5, 0.7]      # optional: each joint of a column draws its friction
+    models = ["3d-compliant"]        # optional: which of the study's models draw them (default: all that can)
+
     [execution]
     block_columns = 4                # columns per Dask task (default: automatic)
 """
@@ -83,17 +89,17 @@ from pipeline.structures.colonnade import Colonnade, named_colonnades
 from pipeline.structures.drums import Capital, DrumColumn
 from pipeline.errors import InputError
 from pipeline.structures.column import Column
-from pipeline.models import DEFAULT, REGISTRY, unrun_part
+from pipeline.models import DEFAULT, IMPERFECTIONS, REGISTRY, check_imperfect, unrun_part
 from pipeline.models.options import OPTIONS
 from pipeline.settings import check_column
-from pipeline.study.spec import (BED_OPTIONS, BODIES, ColumnInfo, Intensity, ModelVariant, RecordSpec, Study,
+from pipeline.study.spec import (BED_OPTIONS, BODIES, ColumnInfo, Intensity, ModelVariant, RecordSpec, Seeds, Study,
                                  variant_settings)
 from pipeline.units import G
 
 __all__ = ["load_study", "load_motions", "parse_study"]
 
 _TOP = {"title", "summary", "output", "models", "calibration", "columns", "column_grid", "records", "excitation",
-        "options", "execution"}
+        "options", "imperfections", "execution"}
 _COLUMN = {"name", "R", "r", "h", "named"}
 _DRUMS = {"drums", "drum_heights", "capital"}  # a column of drums (the compliant model)
 # a row of the column carrying an epistyle (pipeline.structures.colonnade), for the models that run colonnades:
@@ -114,6 +120,7 @@ _INTENSITY = {"measure", "values", "units"}
 _OPTIONS = set().union(*(m.options for m in REGISTRY.values()))
 _VARIANT = {"model", "options", "numerics", "body"}
 _CALIBRATION = {"bed"}
+_IMPERFECTIONS = {"tolerance", "seeds", "friction_range", "models"}
 _EXECUTION = {"block_columns"}
 _GENERATORS = ("one_sine_pulse", "cycloidal_pulse", "rectangular_pulse", "ricker_wavelet",
                "mavroeidis_papageorgiou", "harmonic", "kanai_tajimi", "clough_penzien")
@@ -258,6 +265,7 @@ def parse_study(data, path="<study>", digest=""):
     angles, scales, intensity, vertical, sa_period, components = _excitation(data.get("excitation"), ck)
     options = _options(ck, data.get("options", {}), "options", _OPTIONS)
     named = {v.name: v for v in variants}  # empty for a list of registry names
+    imperfections = _imperfections(data.get("imperfections"), ck, models, named, options)
     for m in models:
         try:
             variant_settings(named.get(m, ModelVariant(m, m)), options)
@@ -274,6 +282,7 @@ def parse_study(data, path="<study>", digest=""):
         records=records, angles=angles, scales=scales, intensity=intensity, models=models, vertical=vertical,
         components=components,
         sa_period=sa_period, options=options, block_columns=block, variants=variants, calibration=calibration,
+        imperfections=imperfections,
     )
     _refuse_unread(ck, data, study)
     _check_runs(ck, study, len(data.get("columns", [])))
@@ -312,6 +321,11 @@ def _refuse_unread(ck, data, study):
         return f"{variant.name} does not read it with {why}" if why else ""
 
     for key, _ in study.options:
+        if key in IMPERFECTIONS:  # in the words of frustum simulate --imperfections
+            try:
+                check_imperfect([v.model for v in variants], f"options.{key}")
+            except InputError as exc:
+                ck.fail(f"options.{key}", str(exc))
         reasons = [unread(v, key, own=False) for v in variants]
         if all(reasons):
             readers = [m.name for m in REGISTRY.values() if key in m.options]
@@ -363,14 +377,15 @@ def _check_runs(ck, study, n_entries):
         model = REGISTRY[variant.model]
         if not model.checker:
             continue
-        settings = study.settings(name)
-        for k, info in enumerate(study.columns):
-            try:
-                model.check(info.body(variant), settings)
-            except InputError as exc:
-                column = f"columns[{k}]" if k < n_entries else "column_grid"
-                ck.fail(_field_at_fault(study, variant, str(exc), column),
-                        f"column {info.label!r}, model {name}: {exc}")
+        for seed in study.seeds if study.seeded(name) else (None,):  # each imperfect structure
+            settings = study.settings(name, seed=seed)
+            for k, info in enumerate(study.columns):
+                try:
+                    model.check(info.body(variant), settings)
+                except InputError as exc:
+                    column = f"columns[{k}]" if k < n_entries else "column_grid"
+                    ck.fail(_field_at_fault(study, variant, str(exc), column),
+                            f"column {info.label!r}, model {name}: {exc}")
 
 
 def _field_at_fault(study, variant, message, column):
@@ -381,10 +396,71 @@ def _field_at_fault(study, variant, message, column):
         for key, _ in given:
             if message.startswith(f"{key} = "):
                 return f"{prefix}.{key}"
+    if study.seeded(variant.name) and message.startswith("imperfections = "):
+        return "imperfections.tolerance"
     numerics = REGISTRY[variant.model].numeric_options
     if any(message.startswith(f"{key} = ") for key in numerics) or message.startswith("step = "):
         return f"models.{variant.name}" if study.variants else "options"
     return column
+
+
+def _imperfections(section, ck, models, named, options):
+    """``[imperfections]``: the study's imperfect drums, one structure per seed (:class:`Seeds`), or None.
+
+    Its models (``models``, default every model of the study that draws imperfections) run once per
+    seed; the others once, repeated along the results' dimension ``seed``.
+    """
+    if section is None:
+        return None
+    ck.table(section, "imperfections", _IMPERFECTIONS)
+    base = {m: named[m].model if m in named else m for m in models}
+    given = [f"options.{k}" for k, _ in options if k in IMPERFECTIONS] + [
+        f"models.{m}.options.{k}" for m in named for k, _ in named[m].options if k in IMPERFECTIONS]
+    if given:
+        ck.fail(given[0], "the study's [imperfections] draws the imperfect drums, one structure per seed: give the "
+                f"tolerance, seeds and friction range there, not {given[0].rsplit('.', 1)[1]} in the options")
+    drawing = section.get("models")
+    if drawing is None:
+        drawing = [m for m in models if "imperfections" in REGISTRY[base[m]].options]
+        try:
+            check_imperfect([base[m] for m in models], "[imperfections]")
+        except InputError as exc:
+            ck.fail("imperfections", str(exc))
+    else:
+        drawing = ck.strings(drawing, "imperfections.models")
+        ck.unique(drawing, "imperfections.models", "model {!r} is named twice")
+        for i, m in enumerate(drawing):
+            if m not in models:
+                ck.fail(f"imperfections.models[{i}]", f"{m!r} is not a model of the study; give some of "
+                        f"{', '.join(models)}")
+            try:
+                check_imperfect([base[m]], f"imperfections.models[{i}] = {m!r}")
+            except InputError as exc:
+                ck.fail(f"imperfections.models[{i}]", str(exc))
+    for key in ("tolerance", "seeds"):
+        if key not in section:
+            ck.fail(f"imperfections.{key}", "missing: [imperfections] needs a tolerance [m] and seeds (a list of "
+                    "whole numbers, one imperfect structure each)")
+    tolerance = _checked(ck, "imperfections", ck.number(section["tolerance"], "imperfections.tolerance"),
+                         "imperfections.tolerance")
+    seeds = section["seeds"]
+    if not isinstance(seeds, list) or not seeds:
+        ck.fail("imperfections.seeds", f"must be a non-empty list of whole numbers, one imperfect structure each; "
+                f"got {seeds!r}")
+    seeds = tuple(_checked(ck, "seed", v, f"imperfections.seeds[{i}]") for i, v in enumerate(seeds))
+    ck.unique([str(v) for v in seeds], "imperfections.seeds", "seed {} is given twice: each seed draws one structure")
+    friction = section.get("friction_range")
+    if friction is not None:
+        friction = _checked(ck, "friction_range", friction, "imperfections.friction_range")
+    return Seeds(tolerance, seeds, friction, tuple(drawing))
+
+
+def _checked(ck, name, value, field):
+    """``value`` checked by the declaration of the option ``name``, failing at ``field``."""
+    try:
+        return OPTIONS[name].check(value, field)
+    except InputError as exc:
+        ck.fail(field, str(exc))
 
 
 def _options(ck, table, field, allowed):
@@ -400,10 +476,10 @@ def _options(ck, table, field, allowed):
         if option.kind in ("number", "whole", "numbers"):
             value = ck.number(value, f"{field}.{key}")
         try:
-            option.check(value)
+            normal = option.check(value)
         except InputError as exc:
             ck.fail(f"{field}.{key}", str(exc))
-        checked[key] = value
+        checked[key] = normal if option.kind == "range" else value  # a range as a tuple, hashable
     return tuple(sorted(checked.items()))
 
 

@@ -268,6 +268,30 @@ CATALOGUE = [
     ("study-check-epistyle-1-cm-wide", ["study", "check", "{study_thin_epistyle}"], 2,
      ["field columns[0].colonnade: colonnade epistyle_width = 0.01 m is outside 0.5 to 2 times the abacus side 0.8 m: "
       "the blocks would stand on a strip of their capitals; give a width from 0.4 to 1.6 m"]),
+    # issue 48, item 2: imperfect drums, refused by simulate and a study in the same words
+    ("simulate-imperfections-of-a-rigid-model", SIM + ["--imperfections", "0.002", "--seed", "1", OUT,
+                                                       "{tmp}/h.nc"], 2,
+     ["--imperfections draws imperfect drums (beds offset and tilted within a tolerance, joint friction from a "
+      "range), which only 3d-compliant runs; model 3d runs perfect structures, so it would be ignored: drop "
+      "--imperfections, or run 3d-compliant"]),
+    ("study-imperfections-of-rigid-models", ["study", "check", "{study_imperfect_rigid}"], 2,
+     ["field imperfections: [imperfections] draws imperfect drums (beds offset and tilted within a tolerance, "
+      "joint friction from a range), which only 3d-compliant runs; model 3d runs perfect structures, so it would "
+      "be ignored: drop [imperfections], or run 3d-compliant"]),
+    ("simulate-imperfections-without-a-seed", SIM + ["--model", "3d-compliant", "--imperfections", "0.002", OUT,
+                                                     "{tmp}/h.nc"], 2,
+     ["imperfections = 0.002 m are drawn from a seed: give seed too"]),
+    ("simulate-seed-negative", SIM + ["--model", "3d-compliant", "--imperfections", "0.002", "--seed", "-1", OUT,
+                                      "{tmp}/h.nc"], 2,
+     ["seed = -1: the seed of the imperfections' draw must be a whole number in [0, 4294967295]"]),
+    ("simulate-friction-range-reversed", SIM + ["--model", "3d-compliant", "--imperfections", "0.002", "--seed", "1",
+                                                "--friction-range", "0.7,0.5", OUT, "{tmp}/h.nc"], 2,
+     ["friction_range = (0.7, 0.5): the range of friction coefficients each joint of a column draws from must be "
+      "two numbers LO,HI with LO <= HI"]),
+    ("simulate-imperfections-beyond-five-percent", SIM + ["--model", "3d-compliant", "--drums", "2", "--imperfections",
+                                                          "0.1", "--seed", "1", OUT, "{tmp}/h.nc"], 2,
+     ["imperfections = 0.1 m is more than 5 % of the smallest bed diameter of the columns (0.9 m)",
+      "give at most 0.045 m"]),
 ]
 
 #: Study files of the catalogue: the tiny study with one line replaced ({placeholder: (old, new)}).
@@ -293,6 +317,7 @@ STUDIES = {
                           'capital = [3.0, 0.2]\ncolonnade = {columns = 2, interaxial = 3.0, epistyle_height = 0.3}'),
     "study_thin_epistyle": ('"3d"', '"2d-frame"', 'named = "paper"', 'named = "paper"\ncolonnade = {columns = 2, '
                             'interaxial = 2.0, epistyle_height = 0.5, epistyle_width = 0.01}'),
+    "study_imperfect_rigid": ('tail = 0.5', 'tail = 0.5\n\n[imperfections]\ntolerance = 0.002\nseeds = [1, 2]'),
 }
 
 #: Hazard files of the issue 38 entries: the committed engine export, edited as a spreadsheet or a hand would.
