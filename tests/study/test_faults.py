@@ -178,7 +178,9 @@ def test_ctrl_c_prints_one_line_exits_130_and_keeps_the_checkpoint(write_study, 
     capsys.readouterr()
     assert main(["study", "run", str(path), "--serial", "--quiet"]) == 130
     err = capsys.readouterr().err.splitlines()
-    assert err[1:] == ["frustum: interrupted: run again to resume"]  # after the line that says what it computes
+    # after the lines that say what it computes (what stands and which models run it, then the grid)
+    assert err[0].startswith("small test study: ") and err[1].startswith("4 column(s) x 2 record(s)")
+    assert err[2:] == ["frustum: interrupted: run again to resume"]
     assert len(_task_files(str(path.parent / "small.nc") + ".checkpoint")) == 2
 
     monkeypatch.setattr(orchestrate, "run_task", real)
