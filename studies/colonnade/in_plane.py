@@ -57,18 +57,11 @@ def _frame(drums, columns=2):
     return column if columns == 1 else Colonnade(column, columns, 2.3, 0.7)
 
 
-# The compliant model's fixed-step scheme the findings of this script were computed with (the default
-# before the springs moved to the step's end); a variant's own numerics override it.
-EXPLICIT = (("springs", "explicit"), ("step_safety", 0.5))
-
-
 def _settings(model="3d-compliant", **bed):
     from pipeline.settings import ModelSettings
 
     options = dict(normal_stiffness=1e10, friction=0.7, joint_friction=0.6, tail=5.0)
-    options.update(bed)
-    if model == "3d-compliant":
-        options["numerics"] = tuple({**dict(EXPLICIT), **dict(bed.get("numerics", ()))}.items())
+    options.update(bed)  # the compliant model's default scheme unless a variant names its numerics
     return ModelSettings(model=model, **options)
 
 
