@@ -80,7 +80,7 @@ from numba import njit
 EDGE_TOL = 1e-9
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def overlap(rho, face_radius, band):
     """Fraction of a contact patch over the lower face, and its derivative in radius.
 

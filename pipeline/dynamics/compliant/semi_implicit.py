@@ -71,6 +71,7 @@ from pipeline.dynamics.compliant.layout import (
     SHAPE_DISC, STATUS_COLLAPSED, S_END_TIME, S_NFEV, S_OVERTURN_BODY, S_OVERTURN_TIME, S_STATUS, S_STEPS, VX, VY,
     VZ, W_F, W_OM, W_T, WX, WY, WZ, X, Y, Z,
 )
+from pipeline.dynamics.compliant.unsigned import ix
 from pipeline.dynamics.excitation import ground_acceleration
 
 # Solves of one step's active set of clipped points at most (one when no point changes).
@@ -181,8 +182,9 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, con
     """Geometry and explicit forces of every point at the step's start (step 1 of the module).
 
     Fills the point scratch ``pts`` (one row per quantity: lever arm r and forces in the frame of
-    the joint's face, elastic normal force, dashpot coefficients, relative velocity, active
-    flag), the list of the points in contact (``contacts[start:start + n_contact[j]]`` for joint
+    the joint's face, elastic normal force, dashpot coefficients, active flag; not the relative
+    velocity, which the law reads at the step's start and :func:`_update_active_set` stores at the
+    new velocities after every solve), the list of the points in contact (``contacts[start:start + n_contact[j]]`` for joint
     j's points from ``start``, in their order), the joint frames and motions, and returns the
     friction the returns to the cone dissipate; ``fric_slip[j]`` gets the joint's area-weighted
     plastic slip of this step. Shear states are returned onto the cone in y. Then the joints'
@@ -206,7 +208,6 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, con
     friction = 0.0
     PX, PY, PZ, AREA = pcols[P_X], pcols[P_Y], pcols[P_Z], pcols[P_AREA]
     RX, RY, RZ = pts[Q_RX], pts[Q_RY], pts[Q_RZ]
-    VTX, VTY, DDOT = pts[Q_VTX], pts[Q_VTY], pts[Q_DDOT]
     FEL, CN, CT, FX, FY = pts[Q_FEL], pts[Q_CN], pts[Q_CT], pts[Q_FX], pts[Q_FY]
     PULLX, PULLY, S, ACTIVE = pts[Q_PX], pts[Q_PY], pts[Q_S], pts[Q_ACTIVE]
     for j in range(joints.shape[0]):
@@ -233,10 +234,11 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, con
         vx_rel, vy_rel, vz_rel = motion[j, 0], motion[j, 1], motion[j, 2]
         wx_rel, wy_rel, wz_rel = motion[j, 3], motion[j, 4], motion[j, 5]
         slip = 0.0
-        sums = ZERO_SUMS
         n_in = 0
-        for p in range(start, stop):
-            iu = sh + 2 * p
+        for point in range(start, stop):
+            p = ix(point)
+            iu = ix(sh + 2 * point)
+            iv = iu + ix(1)
             # the lever arm r = P p (face frame) and the penetration; the rest only in contact
             px, py, pz = PX[p], PY[p], PZ[p]
             rz = p20 * px + p21 * py + p22 * pz
@@ -251,20 +253,19 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, con
                     s, sx, sy = sk.face_overlap(xi_x, xi_y, joints[j, J_SHAPE], joints[j, J_FA], joints[j, J_FB],
                                                    joints[j, J_BAND])
             if d <= 0.0 or s <= 0.0:
-                ux, uy = y[iu], y[iu + 1]
+                ux, uy = y[iu], y[iv]
                 uu = ux * ux + uy * uy
                 if uu >= SPENT:  # an unloaded spring relaxes; its energy goes as friction
                     friction += 0.5 * ks * AREA[p] * uu * (1.0 - decay * decay)
                     y[iu] = ux * decay
-                    y[iu + 1] = uy * decay
+                    y[iv] = uy * decay
                 elif uu > 0.0:  # spent (see SPENT): what is left of its energy goes at once
                     friction += 0.5 * ks * AREA[p] * uu
-                    y[iu] = y[iu + 1] = 0.0
+                    y[iu] = y[iv] = 0.0
                 continue
             vtx = vx_rel + wy_rel * rz - wz_rel * ry
             vty = vy_rel + wz_rel * rx - wx_rel * rz
             d_dot = -(vz_rel + wx_rel * ry - wy_rel * rx)
-            VTX[p], VTY[p], DDOT[p] = vtx, vty, d_dot
             area = AREA[p]
             f_el = area * s * kn * d
             engage = min(1.0, d / delta)
@@ -273,7 +274,7 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, con
             c_n = area * s * cn * engage + area * s * lag * kn
             k_area = ks * area
             cap = mu * f_el
-            ux, uy = y[iu], y[iu + 1]
+            ux, uy = y[iu], y[iv]
             uu = ux * ux + uy * uy
             c_t = 0.0
             if k_area * k_area * uu > cap * cap:  # on the cone: return the state to it, Coulomb's force
@@ -287,7 +288,7 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, con
                 ux *= scale
                 uy *= scale
                 y[iu] = ux
-                y[iu + 1] = uy
+                y[iv] = uy
             else:  # sticking: the shear dashpot, with the share that keeps it within the cone
                 c_full = shear_dashpot * area * s * engage + lag * k_area
                 c_t = c_full * jl._viscous_share(k_area * ux, k_area * uy, c_full * vtx, c_full * vty, cap)
@@ -303,16 +304,13 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, con
             CT[p] = c_t
             FX[p] = fx
             FY[p] = fy
-            contacts[start + n_in] = p
+            contacts[ix(start + n_in)] = point
             n_in += 1
             # the clipped joint: active if the normal force at the current velocities pushes
             active = f_el + c_n * d_dot >= 0.0
             ACTIVE[p] = 1.0 if active else 0.0
-            # the joint's sums as :func:`_joint_sums` takes them, in the same pass
-            sums = _add_point(sums, rx, ry, rz, f_el if active else 0.0, fx, fy, c_t,
-                              (c_n if active else 0.0) - c_t)
         n_contact[j] = n_in
-        _close_joint(y, j, joints, work, jwork, sums, mats)
+        _close_joint(y, j, joints, work, jwork, _joint_sums(pts, contacts, start, start + n_in), mats)
         fric_slip[j] = slip / joints[j, J_AREA]
     return friction
 
@@ -358,19 +356,19 @@ def _add_point(sums, rx, ry, rz, f_n, fx, fy, alpha, beta):
 ZERO_SUMS = (0.0,) * N_SUMS
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _joint_sums(pts, contacts, start, stop):
     """The sums (:data:`N_SUMS`) of a joint's points in contact, ``contacts[start:stop]``: their dashpot
     moments and explicit forces and torques, in the points' order (point pairs next to each other, so
-    that at rest a symmetric joint's moments cancel exactly)."""
-    RX, RY, RZ, FEL, CN, CT = pts[Q_RX], pts[Q_RY], pts[Q_RZ], pts[Q_FEL], pts[Q_CN], pts[Q_CT]
-    FX, FY, ACTIVE = pts[Q_FX], pts[Q_FY], pts[Q_ACTIVE]
+    that at rest a symmetric joint's moments cancel exactly). Inlined, called once a joint: the table is
+    indexed by row and point, not taken as row views (each a reference count taken and dropped)."""
     sums = ZERO_SUMS
     for k in range(start, stop):
-        p = contacts[k]
-        active = ACTIVE[p] > 0.0
-        sums = _add_point(sums, RX[p], RY[p], RZ[p], FEL[p] if active else 0.0, FX[p], FY[p], CT[p],
-                          (CN[p] if active else 0.0) - CT[p])
+        p = ix(contacts[k])
+        active = pts[Q_ACTIVE, p] > 0.0
+        ct = pts[Q_CT, p]
+        sums = _add_point(sums, pts[Q_RX, p], pts[Q_RY, p], pts[Q_RZ, p], pts[Q_FEL, p] if active else 0.0,
+                          pts[Q_FX, p], pts[Q_FY, p], ct, (pts[Q_CN, p] if active else 0.0) - ct)
     return sums
 
 
@@ -490,7 +488,7 @@ def _update_active_set(params, pts, vel, motion, contacts, n_contact):
         wx_rel, wy_rel, wz_rel = motion[j, 3], motion[j, 4], motion[j, 5]
         start = joint_start[j]
         for k in range(start, start + n_contact[j]):
-            p = contacts[k]
+            p = ix(contacts[k])
             rx, ry, rz = RX[p], RY[p], RZ[p]
             d_dot = -(vz_rel + wx_rel * ry - wy_rel * rx)
             VTX[p] = vx_rel + wy_rel * rz - wz_rel * ry
@@ -580,7 +578,7 @@ def step(t, y, h, params, s):
         normal = normal_el = tx = ty = bx = by = cx = cy = area = 0.0
         start = joint_start[j]
         for k in range(start, start + n_contact[j]):
-            p = contacts[k]
+            p = ix(contacts[k])
             vtx, vty, d_dot = VTX[p], VTY[p], DDOT[p]
             f_el, ct = FEL[p], CT[p]
             f_n = 0.0
@@ -592,8 +590,9 @@ def step(t, y, h, params, s):
             else:  # clipped: the spring's energy goes without work as the point separates
                 damping -= h * f_el * d_dot
             damping += h * ct * (vtx * vtx + vty * vty)
-            y[sh + 2 * p] += h * vtx
-            y[sh + 2 * p + 1] += h * vty
+            iu = ix(sh + 2 * contacts[k])
+            y[iu] += h * vtx
+            y[iu + ix(1)] += h * vty
             # the monitor: shear spring and dashpot held within the point's cone (see above)
             sx = FX[p] - PULLX[p] - ct * vtx
             sy = FY[p] - PULLY[p] - ct * vty
