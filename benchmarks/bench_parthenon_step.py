@@ -120,7 +120,7 @@ def _prefixes():
     def prefix(last, reps, ts, ys, y, h, params, s, g, stats):
         bodies, joints = params[0], params[3]
         pts, mats, diag, blocks, tmp66, tmp6, pattern, vel, slip, impulse, frames, motion, pcols, contacts, \
-            n_contact = s
+            n_contact, kept, changed = s
         summary, body_stats, joint_stats, joint_committed = stats
         solves = 0
         for _ in range(reps):
@@ -140,13 +140,13 @@ def _prefixes():
                 sk._kinematics(y, params)
                 if last == 1:
                     continue
-                si._point_forces(y, h, params, pts, pcols, frames, motion, slip, mats, contacts, n_contact)
+                si._point_forces(y, h, params, pts, pcols, frames, motion, slip, mats, contacts, n_contact, kept)
                 if last == 2:
                     continue
                 n = 0
                 while True:
                     if n > 0:
-                        si._joint_loads(y, params, pts, mats, contacts, n_contact)
+                        si._joint_loads(y, params, pts, mats, contacts, n_contact, kept, changed)
                     ls.assemble_system(y, bodies, joints, mats, h, params[6], pattern, diag, blocks, tmp66)
                     if last == 3:
                         break
@@ -156,8 +156,8 @@ def _prefixes():
                     if last == 4:
                         break
                     n += 1
-                    changed = si._update_active_set(params, pts, vel, motion, contacts, n_contact)
-                    if last == 5 or changed == 0 or n >= si.MAX_PASSES:
+                    moved = si._update_active_set(params, pts, vel, motion, contacts, n_contact, changed)
+                    if last == 5 or moved == 0 or n >= si.MAX_PASSES:
                         break
         return solves
 

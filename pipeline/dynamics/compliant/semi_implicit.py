@@ -178,7 +178,7 @@ def _joint_motion_of_bodies(vel, j, joints, jwork, motion):
 
 
 @njit(cache=True)
-def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, contacts, n_contact):
+def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, contacts, n_contact, kept):
     """Geometry and explicit forces of every point at the step's start (step 1 of the module).
 
     Fills the point scratch ``pts`` (one row per quantity: lever arm r and forces in the frame of
@@ -310,7 +310,9 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, con
             active = f_el + c_n * d_dot >= 0.0
             ACTIVE[p] = 1.0 if active else 0.0
         n_contact[j] = n_in
-        _close_joint(y, j, joints, work, jwork, _joint_sums(pts, contacts, start, start + n_in), mats)
+        sums = _joint_sums(pts, contacts, start, start + n_in)
+        _keep_sums(kept, j, sums)
+        _close_joint(y, j, joints, work, jwork, sums, mats, True)
         fric_slip[j] = slip / joints[j, J_AREA]
     return friction
 
@@ -327,17 +329,18 @@ def _add_point(sums, rx, ry, rz, f_n, fx, fy, alpha, beta):
     f_n (0 if clipped), shear force (fx, fy), shear dashpot alpha and beta = normal dashpot - alpha.
     Inlined: the caller's accumulators stay in registers."""
     (a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, b0, b1, b2, b3, b4, b5, sfx, sfy, sfz, stx, sty, stz) = sums
-    if alpha != 0.0:
-        a0 += alpha
-        a1 += alpha * rx
-        a2 += alpha * ry
-        a3 += alpha * rz
-        a4 += alpha * rx * rx
-        a5 += alpha * ry * ry
-        a6 += alpha * rz * rz
-        a7 += alpha * rx * ry
-        a8 += alpha * rx * rz
-        a9 += alpha * ry * rz
+    # alpha = 0 (a slipping point) adds zeros, which leave the sums as they are (a sum that starts at +0
+    # is never -0): no branch to mispredict between the sticking and slipping points of a joint
+    a0 += alpha
+    a1 += alpha * rx
+    a2 += alpha * ry
+    a3 += alpha * rz
+    a4 += alpha * rx * rx
+    a5 += alpha * ry * ry
+    a6 += alpha * rz * rz
+    a7 += alpha * rx * ry
+    a8 += alpha * rx * rz
+    a9 += alpha * ry * rz
     b0 += beta
     b1 += beta * rx
     b2 += beta * ry
@@ -373,12 +376,13 @@ def _joint_sums(pts, contacts, start, stop):
 
 
 @njit(cache=True, inline="always")
-def _close_joint(y, j, joints, work, jwork, sums, mats):
-    """Joint j's dashpot matrix (``mats[j]``, ground frame) and its force on both bodies (scratch
-    W_F, W_T) from its running ``sums`` (:func:`_joint_sums`, frame of its face)."""
+def _close_joint(y, j, joints, work, jwork, sums, mats, matrix):
+    """Joint j's dashpot matrix (``mats[j]``, ground frame; if ``matrix``, else it stands) and its force
+    on both bodies (scratch W_F, W_T) from its running ``sums`` (:func:`_joint_sums`, frame of its face)."""
     (a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, b0, b1, b2, b3, b4, b5,
      sfx, sfy, sfz, stx, sty, stz) = sums
-    ls.turned_joint_matrix_z(a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, b0, b1, b2, b3, b4, b5, jwork, j, mats)
+    if matrix:
+        ls.turned_joint_matrix_z(a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, b0, b1, b2, b3, b4, b5, jwork, j, mats)
     f0, f1, f2, f3, f4, f5 = jwork[j, 0], jwork[j, 1], jwork[j, 2], jwork[j, 3], jwork[j, 4], jwork[j, 5]
     f6, f7, f8 = jwork[j, 6], jwork[j, 7], jwork[j, 8]
     Fx = f0 * sfx + f1 * sfy + f2 * sfz
@@ -388,11 +392,14 @@ def _close_joint(y, j, joints, work, jwork, sums, mats):
     Ty = f3 * stx + f4 * sty + f5 * stz
     Tz = f6 * stx + f7 * sty + f8 * stz
     u, lower = int(joints[j, J_UPPER]), int(joints[j, J_LOWER])
+    # the centres' offset read whatever the lower body (body 0 stands in for the ground, its offset
+    # unused): a table whose last use lies in a branch keeps its reference count taken and dropped
+    # (atomic calls into numba's runtime) at every joint
+    up, lo = NB * u, NB * max(lower, 0)
+    ex = y[up + X] - y[lo + X]
+    ey = y[up + Y] - y[lo + Y]
+    ez = y[up + Z] - y[lo + Z]
     if lower != GROUND:
-        up, lo = NB * u, NB * lower
-        ex = y[up + X] - y[lo + X]
-        ey = y[up + Y] - y[lo + Y]
-        ez = y[up + Z] - y[lo + Z]
         # the reaction on the lower body, its moment about the lower centre
         work[lower, W_F] -= Fx
         work[lower, W_F + 1] -= Fy
@@ -418,18 +425,42 @@ def _clear_loads(params):
 
 
 @njit(cache=True)
-def _joint_loads(y, params, pts, mats, contacts, n_contact):
+def _joint_loads(y, params, pts, mats, contacts, n_contact, kept, changed):
     """Explicit joint forces on the bodies (scratch W_F, W_T) and each joint's dashpot matrix,
     from the points' scratch as it stands (:func:`_point_forces` does the same in its point pass).
 
     Summed per joint in the frame of its face, point pairs next to each other, so that at rest
-    the moments of a symmetric joint cancel exactly.
+    the moments of a symmetric joint cancel exactly. A joint none of whose points changed its
+    clipping (``changed[j]`` 0, :func:`_update_active_set`) has the sums it had (``kept``, the same
+    numbers: the same points' same values in the same order) and its matrix: only the points of
+    the joints that changed are summed again (issue 48, speed).
     """
     joint_start, joints, work, jwork = params[2], params[3], params[6], params[8]
     _clear_loads(params)
     for j in range(joints.shape[0]):
-        start = joint_start[j]
-        _close_joint(y, j, joints, work, jwork, _joint_sums(pts, contacts, start, start + n_contact[j]), mats)
+        if changed[j] > 0:
+            start = joint_start[j]
+            sums = _joint_sums(pts, contacts, start, start + n_contact[j])
+            _keep_sums(kept, j, sums)
+            _close_joint(y, j, joints, work, jwork, sums, mats, True)
+        else:
+            _close_joint(y, j, joints, work, jwork, _kept_sums(kept, j), mats, False)
+
+
+@njit(cache=True, inline="always")
+def _keep_sums(kept, j, sums):
+    """Joint j's sums (:data:`N_SUMS`) into row j of ``kept``."""
+    for k in range(N_SUMS):
+        kept[j, k] = sums[k]
+
+
+@njit(cache=True, inline="always")
+def _kept_sums(kept, j):
+    """The sums :func:`_keep_sums` kept for joint j, as the tuple :func:`_joint_sums` returns."""
+    r = kept
+    return (r[j, 0], r[j, 1], r[j, 2], r[j, 3], r[j, 4], r[j, 5], r[j, 6], r[j, 7], r[j, 8], r[j, 9], r[j, 10],
+            r[j, 11], r[j, 12], r[j, 13], r[j, 14], r[j, 15], r[j, 16], r[j, 17], r[j, 18], r[j, 19], r[j, 20],
+            r[j, 21])
 
 
 @njit(cache=True)
@@ -438,8 +469,9 @@ def set_static_loads(y, h, params, s):
     as this integrator sums them: at rest its velocity update is then exactly zero."""
     bodies, work = params[0], params[6]
     pts, mats, frames, motion, slip, pcols, contacts, n_contact = s[0], s[1], s[10], s[11], s[8], s[12], s[13], s[14]
+    kept = s[15]
     sk._kinematics(y, params)
-    _point_forces(y, h, params, pts, pcols, frames, motion, slip, mats, contacts, n_contact)
+    _point_forces(y, h, params, pts, pcols, frames, motion, slip, mats, contacts, n_contact, kept)
     for b in range(bodies.shape[0]):
         for k in range(6):
             bodies[b, B_HOLD + k] = work[b, W_F + k]
@@ -471,11 +503,11 @@ def _momentum(y, bodies, work, h, ax, ay, az, rhs):
 
 
 @njit(cache=True)
-def _update_active_set(params, pts, vel, motion, contacts, n_contact):
+def _update_active_set(params, pts, vel, motion, contacts, n_contact, joint_changed):
     """Relative velocities of the points in contact at the new body velocities (stored in ``pts``),
     and the clipped joint: points whose normal force would pull are clipped, those that push
-    are not. Returns the number of points that changed. Points out of contact are not on the
-    lists (they stay clipped: their elastic force and dashpot are zero).
+    are not. Returns the number of points that changed (``joint_changed[j]``: joint j's). Points out
+    of contact are not on the lists (they stay clipped: their elastic force and dashpot are zero).
     """
     joint_start, joints, jwork = params[2], params[3], params[8]
     RX, RY, RZ = pts[Q_RX], pts[Q_RY], pts[Q_RZ]
@@ -487,6 +519,7 @@ def _update_active_set(params, pts, vel, motion, contacts, n_contact):
         vx_rel, vy_rel, vz_rel = motion[j, 0], motion[j, 1], motion[j, 2]  # (as above)
         wx_rel, wy_rel, wz_rel = motion[j, 3], motion[j, 4], motion[j, 5]
         start = joint_start[j]
+        before = changed
         for k in range(start, start + n_contact[j]):
             p = ix(contacts[k])
             rx, ry, rz = RX[p], RY[p], RZ[p]
@@ -498,6 +531,7 @@ def _update_active_set(params, pts, vel, motion, contacts, n_contact):
             if push != ACTIVE[p]:
                 ACTIVE[p] = push
                 changed += 1
+        joint_changed[j] = changed - before
     return changed
 
 
@@ -549,22 +583,22 @@ def step(t, y, h, params, s):
     step (history rows and the energy budget evaluate the joint law).
     """
     bodies, points, joint_start, joints, record, dt, work, mon = params[:8]
-    pts, mats, diag, blocks, tmp66, tmp6, pattern, vel, slip, impulse, frames, motion, pcols, contacts, n_contact = s
+    pts, mats, diag, blocks, tmp66, tmp6, pattern, vel, slip, impulse, frames, motion, pcols, contacts, n_contact, \
+        kept, changed = s
     n_bodies = bodies.shape[0]
     ax, ay, az = ground_acceleration(t, record, dt)
     sk._kinematics(y, params)
-    friction = _point_forces(y, h, params, pts, pcols, frames, motion, slip, mats, contacts, n_contact)
+    friction = _point_forces(y, h, params, pts, pcols, frames, motion, slip, mats, contacts, n_contact, kept)
     solves = 0
     while True:
         if solves > 0:  # the active set changed: the loads again
-            _joint_loads(y, params, pts, mats, contacts, n_contact)
+            _joint_loads(y, params, pts, mats, contacts, n_contact, kept, changed)
         ls.assemble_system(y, bodies, joints, mats, h, work, pattern, diag, blocks, tmp66)
         _momentum(y, bodies, work, h, ax, ay, az, vel)
         impulse[:, :] = vel
         ls.sparse_block_solve(pattern, diag, blocks, vel, tmp6)
         solves += 1
-        changed = _update_active_set(params, pts, vel, motion, contacts, n_contact)
-        if changed == 0 or solves >= MAX_PASSES:
+        if _update_active_set(params, pts, vel, motion, contacts, n_contact, changed) == 0 or solves >= MAX_PASSES:
             break
     # bookings at the new velocities, the monitor, then the shear states
     sh = NB * n_bodies
@@ -670,11 +704,13 @@ def make_scratch(params, pattern):
     # points (one row per quantity); joint matrices; diagonal and coupling blocks of the solve;
     # scratch; the pattern; velocities; joints' plastic slips; momenta before the dashpots; joint
     # frames and motions; the point table, one row per column (the passes over points read it so);
-    # the points in contact, listed joint by joint, and their count per joint
+    # the points in contact, listed joint by joint, and their count per joint; the joints' sums
+    # (:func:`_keep_sums`) and the count of each joint's points whose clipping the last solve changed
     return (np.zeros((N_Q, n_points)), np.zeros((n_joints, 6, 6)), np.zeros((n_bodies, 6, 6)),
             np.zeros((n_edges, 6, 6)), np.zeros((6, 6)), np.zeros(6), pattern, np.zeros((n_bodies, 6)),
             np.zeros(n_joints), np.zeros((n_bodies, 6)), np.zeros((n_joints, 12)), np.zeros((n_joints, 9)),
-            np.ascontiguousarray(params[1].T), np.zeros(n_points, dtype=np.int64), np.zeros(n_joints, dtype=np.int64))
+            np.ascontiguousarray(params[1].T), np.zeros(n_points, dtype=np.int64), np.zeros(n_joints, dtype=np.int64),
+            np.zeros((n_joints, N_SUMS)), np.zeros(n_joints, dtype=np.int64))
 
 
 @njit(cache=True)
