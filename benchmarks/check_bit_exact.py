@@ -76,9 +76,9 @@ def save(out):
                 arrays[f"{name}|history|{key}"] = value
                 kept += 1
         s = r.summary
+        end = f"overturned at {s['overturn_time']:.4f} s" if s["overturned"] else "stands"
         print(f"{name}: {kept} arrays, {s['steps']} steps, {time.process_time() - t0:.1f} s of CPU; peak "
-              f"{s['peak_theta_ratio']:.9f} theta_crit, {'overturned at %.4f s' % s['overturn_time'] if s['overturned'] else 'stands'}",
-              flush=True)
+              f"{s['peak_theta_ratio']:.9f} theta_crit, {end}", flush=True)
     np.savez_compressed(out, **arrays)
 
 

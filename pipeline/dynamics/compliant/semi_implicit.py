@@ -184,22 +184,24 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, con
     Fills the point scratch ``pts`` (one row per quantity: lever arm r and forces in the frame of
     the joint's face, elastic normal force, dashpot coefficients, active flag; not the relative
     velocity, which the law reads at the step's start and :func:`_update_active_set` stores at the
-    new velocities after every solve), the list of the points in contact (``contacts[start:start + n_contact[j]]`` for joint
-    j's points from ``start``, in their order), the joint frames and motions, and returns the
-    friction the returns to the cone dissipate; ``fric_slip[j]`` gets the joint's area-weighted
-    plastic slip of this step. Shear states are returned onto the cone in y. Then the joints'
-    loads and dashpot matrices with the active set at the step's start (as :func:`_joint_loads`).
+    new velocities after every solve), the list of the points in contact
+    (``contacts[start:start + n_contact[j]]`` for joint j's points from ``start``, in their order),
+    the joint frames and motions, and returns the friction the returns to the cone dissipate;
+    ``fric_slip[j]`` gets the joint's area-weighted plastic slip of this step. Shear states are
+    returned onto the cone in y. Then the joints' sums (kept in ``kept`` for a later solve), loads
+    and dashpot matrices with the active set at the step's start (as :func:`_joint_loads`).
 
     One pass over a joint's points: the penetration of each, and for those in contact their lever
-    arm, velocity and law, each point added to the joint's sums as it goes, in the points' order
-    (as :func:`_joint_sums` does). Split into passes (the geometry of every point, then the law,
-    then the sums) the step of a 10-drum stack cost 30 % more: the passes did not vectorise, and
-    they worked on the many points of a rocking column that are out of contact. Made to run in
+    arm, velocity and law; then the joint's sums over its points in contact (:func:`_joint_sums`),
+    in a loop of their own: their 22 running sums in the point loop kept its other numbers on the
+    stack (issue 48: the front's point pass 6 % cheaper so). Split further (the geometry of every
+    point, then the law) the step of a 10-drum stack cost 30 % more: the passes did not vectorise,
+    and they worked on the many points of a rocking column that are out of contact. Made to run in
     SIMD lanes (each joint's rows as slices indexed from 0, the law's branches as selects, in
     loops of few enough arrays for LLVM's run-time overlap checks) it cost more still: on a row
     of 6 mid-record the pass took 134 us against 77 us, the geometry alone of 44 joints of 48
     points 15.5 us in lanes against 6.8 us scalar (slices and overlap checks cost more than the
-    lanes save on so few points).
+    lanes save on so few points; docs/model.md, "Where a step's time goes").
     """
     bodies, joint_start, joints, work, jwork = params[0], params[2], params[3], params[6], params[8]
     n_bodies = bodies.shape[0]
