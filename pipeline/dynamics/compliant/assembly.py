@@ -101,7 +101,7 @@ def _kinematics(y, params):
         face_frame(y, joints, j, work, jwork)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def face_overlap(xi_x, xi_y, shape, half_a, half_b, band):
     """Fraction of a point's patch over its joint's face, and its gradient in the face's plane.
 
@@ -113,9 +113,10 @@ def face_overlap(xi_x, xi_y, shape, half_a, half_b, band):
     xi_x, xi_y : float
         The point's position on the face [L].
     shape, half_a, half_b, band : float
-        The face's ``J_SHAPE``, ``J_FA``, ``J_FB`` and ``J_BAND`` (its joint's row). Numbers, not
-        the table: an array passed to a call that is not inlined costs its caller two calls into
-        numba's runtime for the array's reference count, at every contact point.
+        The face's ``J_SHAPE``, ``J_FA``, ``J_FB`` and ``J_BAND`` (its joint's row). Inlined: a
+        quarter of the points in contact lie on the edge of a face of their own radius (a drum's rim
+        on the drum below, a block's bearing on the abacus' edge) and come here at every step; as a
+        call, the point pass kept its many live numbers on the stack around it.
 
     Returns
     -------
@@ -368,7 +369,6 @@ def event_values(y, bodies, joints, g):
     support (``z_fall - d >= 0``, d its centre's distance from the supporting face along the face's
     normal, in the frame of the body below; a body on the ground: its height above the ground)."""
     n_bodies = bodies.shape[0]
-    rot = np.empty(9)
     for b in range(n_bodies):
         o = NB * b
         qw, qx, qy, qz = y[o + QW], y[o + QX], y[o + QY], y[o + QZ]
@@ -384,7 +384,8 @@ def event_values(y, bodies, joints, g):
             px, py, pz = dx, dy, dz
         else:
             ol = NB * lower
-            rotation_matrix(y[ol + QW], y[ol + QX], y[ol + QY], y[ol + QZ], rot)
+            # the entries as numbers (no scratch array to allocate and free at every step)
+            rot = rotation_entries(y[ol + QW], y[ol + QX], y[ol + QY], y[ol + QZ])
             dx, dy, dz = dx - y[ol + X], dy - y[ol + Y], dz - y[ol + Z]
             # in the lower body's axes: R^T (x_b - x_lower)
             px = rot[0] * dx + rot[3] * dy + rot[6] * dz

@@ -70,6 +70,7 @@ Kernel layer: floats and arrays in, floats out; units are the caller's (the stac
 passes dimensionless values).
 """
 
+import functools
 import math
 
 import numpy as np
@@ -80,7 +81,7 @@ from numba import njit
 EDGE_TOL = 1e-9
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def overlap(rho, face_radius, band):
     """Fraction of a contact patch over the lower face, and its derivative in radius.
 
@@ -245,11 +246,19 @@ def lobatto_nodes(n):
     """Gauss-Lobatto nodes and weights on [-1, 1] (n >= 2 points, exact to degree 2n - 3)."""
     if n < 2:
         raise ValueError("Gauss-Lobatto needs at least 2 nodes")
+    x, w = _lobatto(int(n))
+    return np.array(x), np.array(w)
+
+
+@functools.lru_cache(maxsize=None)
+def _lobatto(n):
+    """:func:`lobatto_nodes` as tuples, once per n: a structure asks for them at every joint (a
+    colonnade's layout, twice a run, spent a third of its time in numpy's polynomials)."""
     inner = np.polynomial.legendre.Legendre.basis(n - 1).deriv().roots()
     x = np.concatenate([[-1.0], np.sort(inner.real), [1.0]])
     p = np.polynomial.legendre.Legendre.basis(n - 1)(x)
     w = 2.0 / (n * (n - 1) * p * p)
-    return x, w
+    return tuple(x.tolist()), tuple(w.tolist())
 
 
 def contact_points(radius, inner_radius, rings, sectors):

@@ -71,6 +71,7 @@ from pipeline.dynamics.compliant.layout import (
     SHAPE_DISC, STATUS_COLLAPSED, S_END_TIME, S_NFEV, S_OVERTURN_BODY, S_OVERTURN_TIME, S_STATUS, S_STEPS, VX, VY,
     VZ, W_F, W_OM, W_T, WX, WY, WZ, X, Y, Z,
 )
+from pipeline.dynamics.compliant.unsigned import ix
 from pipeline.dynamics.excitation import ground_acceleration
 
 # Solves of one step's active set of clipped points at most (one when no point changes).
@@ -177,27 +178,30 @@ def _joint_motion_of_bodies(vel, j, joints, jwork, motion):
 
 
 @njit(cache=True)
-def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, contacts, n_contact):
+def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, contacts, n_contact, kept):
     """Geometry and explicit forces of every point at the step's start (step 1 of the module).
 
     Fills the point scratch ``pts`` (one row per quantity: lever arm r and forces in the frame of
-    the joint's face, elastic normal force, dashpot coefficients, relative velocity, active
-    flag), the list of the points in contact (``contacts[start:start + n_contact[j]]`` for joint
-    j's points from ``start``, in their order), the joint frames and motions, and returns the
-    friction the returns to the cone dissipate; ``fric_slip[j]`` gets the joint's area-weighted
-    plastic slip of this step. Shear states are returned onto the cone in y. Then the joints'
-    loads and dashpot matrices with the active set at the step's start (as :func:`_joint_loads`).
+    the joint's face, elastic normal force, dashpot coefficients, active flag; not the relative
+    velocity, which the law reads at the step's start and :func:`_update_active_set` stores at the
+    new velocities after every solve), the list of the points in contact
+    (``contacts[start:start + n_contact[j]]`` for joint j's points from ``start``, in their order),
+    the joint frames and motions, and returns the friction the returns to the cone dissipate;
+    ``fric_slip[j]`` gets the joint's area-weighted plastic slip of this step. Shear states are
+    returned onto the cone in y. Then the joints' sums (kept in ``kept`` for a later solve), loads
+    and dashpot matrices with the active set at the step's start (as :func:`_joint_loads`).
 
     One pass over a joint's points: the penetration of each, and for those in contact their lever
-    arm, velocity and law, each point added to the joint's sums as it goes, in the points' order
-    (as :func:`_joint_sums` does). Split into passes (the geometry of every point, then the law,
-    then the sums) the step of a 10-drum stack cost 30 % more: the passes did not vectorise, and
-    they worked on the many points of a rocking column that are out of contact. Made to run in
+    arm, velocity and law; then the joint's sums over its points in contact (:func:`_joint_sums`),
+    in a loop of their own: their 22 running sums in the point loop kept its other numbers on the
+    stack (issue 48: the front's point pass 6 % cheaper so). Split further (the geometry of every
+    point, then the law) the step of a 10-drum stack cost 30 % more: the passes did not vectorise,
+    and they worked on the many points of a rocking column that are out of contact. Made to run in
     SIMD lanes (each joint's rows as slices indexed from 0, the law's branches as selects, in
     loops of few enough arrays for LLVM's run-time overlap checks) it cost more still: on a row
     of 6 mid-record the pass took 134 us against 77 us, the geometry alone of 44 joints of 48
     points 15.5 us in lanes against 6.8 us scalar (slices and overlap checks cost more than the
-    lanes save on so few points).
+    lanes save on so few points; docs/model.md, "Where a step's time goes").
     """
     bodies, joint_start, joints, work, jwork = params[0], params[2], params[3], params[6], params[8]
     n_bodies = bodies.shape[0]
@@ -206,7 +210,6 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, con
     friction = 0.0
     PX, PY, PZ, AREA = pcols[P_X], pcols[P_Y], pcols[P_Z], pcols[P_AREA]
     RX, RY, RZ = pts[Q_RX], pts[Q_RY], pts[Q_RZ]
-    VTX, VTY, DDOT = pts[Q_VTX], pts[Q_VTY], pts[Q_DDOT]
     FEL, CN, CT, FX, FY = pts[Q_FEL], pts[Q_CN], pts[Q_CT], pts[Q_FX], pts[Q_FY]
     PULLX, PULLY, S, ACTIVE = pts[Q_PX], pts[Q_PY], pts[Q_S], pts[Q_ACTIVE]
     for j in range(joints.shape[0]):
@@ -233,10 +236,11 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, con
         vx_rel, vy_rel, vz_rel = motion[j, 0], motion[j, 1], motion[j, 2]
         wx_rel, wy_rel, wz_rel = motion[j, 3], motion[j, 4], motion[j, 5]
         slip = 0.0
-        sums = ZERO_SUMS
         n_in = 0
-        for p in range(start, stop):
-            iu = sh + 2 * p
+        for point in range(start, stop):
+            p = ix(point)
+            iu = ix(sh + 2 * point)
+            iv = iu + ix(1)
             # the lever arm r = P p (face frame) and the penetration; the rest only in contact
             px, py, pz = PX[p], PY[p], PZ[p]
             rz = p20 * px + p21 * py + p22 * pz
@@ -251,20 +255,19 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, con
                     s, sx, sy = sk.face_overlap(xi_x, xi_y, joints[j, J_SHAPE], joints[j, J_FA], joints[j, J_FB],
                                                    joints[j, J_BAND])
             if d <= 0.0 or s <= 0.0:
-                ux, uy = y[iu], y[iu + 1]
+                ux, uy = y[iu], y[iv]
                 uu = ux * ux + uy * uy
                 if uu >= SPENT:  # an unloaded spring relaxes; its energy goes as friction
                     friction += 0.5 * ks * AREA[p] * uu * (1.0 - decay * decay)
                     y[iu] = ux * decay
-                    y[iu + 1] = uy * decay
+                    y[iv] = uy * decay
                 elif uu > 0.0:  # spent (see SPENT): what is left of its energy goes at once
                     friction += 0.5 * ks * AREA[p] * uu
-                    y[iu] = y[iu + 1] = 0.0
+                    y[iu] = y[iv] = 0.0
                 continue
             vtx = vx_rel + wy_rel * rz - wz_rel * ry
             vty = vy_rel + wz_rel * rx - wx_rel * rz
             d_dot = -(vz_rel + wx_rel * ry - wy_rel * rx)
-            VTX[p], VTY[p], DDOT[p] = vtx, vty, d_dot
             area = AREA[p]
             f_el = area * s * kn * d
             engage = min(1.0, d / delta)
@@ -273,7 +276,7 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, con
             c_n = area * s * cn * engage + area * s * lag * kn
             k_area = ks * area
             cap = mu * f_el
-            ux, uy = y[iu], y[iu + 1]
+            ux, uy = y[iu], y[iv]
             uu = ux * ux + uy * uy
             c_t = 0.0
             if k_area * k_area * uu > cap * cap:  # on the cone: return the state to it, Coulomb's force
@@ -287,7 +290,7 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, con
                 ux *= scale
                 uy *= scale
                 y[iu] = ux
-                y[iu + 1] = uy
+                y[iv] = uy
             else:  # sticking: the shear dashpot, with the share that keeps it within the cone
                 c_full = shear_dashpot * area * s * engage + lag * k_area
                 c_t = c_full * jl._viscous_share(k_area * ux, k_area * uy, c_full * vtx, c_full * vty, cap)
@@ -303,16 +306,15 @@ def _point_forces(y, h, params, pts, pcols, frames, motion, fric_slip, mats, con
             CT[p] = c_t
             FX[p] = fx
             FY[p] = fy
-            contacts[start + n_in] = p
+            contacts[ix(start + n_in)] = point
             n_in += 1
             # the clipped joint: active if the normal force at the current velocities pushes
             active = f_el + c_n * d_dot >= 0.0
             ACTIVE[p] = 1.0 if active else 0.0
-            # the joint's sums as :func:`_joint_sums` takes them, in the same pass
-            sums = _add_point(sums, rx, ry, rz, f_el if active else 0.0, fx, fy, c_t,
-                              (c_n if active else 0.0) - c_t)
         n_contact[j] = n_in
-        _close_joint(y, j, joints, work, jwork, sums, mats)
+        sums = _joint_sums(pts, contacts, start, start + n_in)
+        _keep_sums(kept, j, sums)
+        _close_joint(y, j, joints, work, jwork, sums, mats, True)
         fric_slip[j] = slip / joints[j, J_AREA]
     return friction
 
@@ -329,17 +331,18 @@ def _add_point(sums, rx, ry, rz, f_n, fx, fy, alpha, beta):
     f_n (0 if clipped), shear force (fx, fy), shear dashpot alpha and beta = normal dashpot - alpha.
     Inlined: the caller's accumulators stay in registers."""
     (a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, b0, b1, b2, b3, b4, b5, sfx, sfy, sfz, stx, sty, stz) = sums
-    if alpha != 0.0:
-        a0 += alpha
-        a1 += alpha * rx
-        a2 += alpha * ry
-        a3 += alpha * rz
-        a4 += alpha * rx * rx
-        a5 += alpha * ry * ry
-        a6 += alpha * rz * rz
-        a7 += alpha * rx * ry
-        a8 += alpha * rx * rz
-        a9 += alpha * ry * rz
+    # alpha = 0 (a slipping point) adds zeros, which leave the sums as they are (a sum that starts at +0
+    # is never -0): no branch to mispredict between the sticking and slipping points of a joint
+    a0 += alpha
+    a1 += alpha * rx
+    a2 += alpha * ry
+    a3 += alpha * rz
+    a4 += alpha * rx * rx
+    a5 += alpha * ry * ry
+    a6 += alpha * rz * rz
+    a7 += alpha * rx * ry
+    a8 += alpha * rx * rz
+    a9 += alpha * ry * rz
     b0 += beta
     b1 += beta * rx
     b2 += beta * ry
@@ -358,29 +361,30 @@ def _add_point(sums, rx, ry, rz, f_n, fx, fy, alpha, beta):
 ZERO_SUMS = (0.0,) * N_SUMS
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _joint_sums(pts, contacts, start, stop):
     """The sums (:data:`N_SUMS`) of a joint's points in contact, ``contacts[start:stop]``: their dashpot
     moments and explicit forces and torques, in the points' order (point pairs next to each other, so
-    that at rest a symmetric joint's moments cancel exactly)."""
-    RX, RY, RZ, FEL, CN, CT = pts[Q_RX], pts[Q_RY], pts[Q_RZ], pts[Q_FEL], pts[Q_CN], pts[Q_CT]
-    FX, FY, ACTIVE = pts[Q_FX], pts[Q_FY], pts[Q_ACTIVE]
+    that at rest a symmetric joint's moments cancel exactly). Inlined, called once a joint: the table is
+    indexed by row and point, not taken as row views (each a reference count taken and dropped)."""
     sums = ZERO_SUMS
     for k in range(start, stop):
-        p = contacts[k]
-        active = ACTIVE[p] > 0.0
-        sums = _add_point(sums, RX[p], RY[p], RZ[p], FEL[p] if active else 0.0, FX[p], FY[p], CT[p],
-                          (CN[p] if active else 0.0) - CT[p])
+        p = ix(contacts[k])
+        active = pts[Q_ACTIVE, p] > 0.0
+        ct = pts[Q_CT, p]
+        sums = _add_point(sums, pts[Q_RX, p], pts[Q_RY, p], pts[Q_RZ, p], pts[Q_FEL, p] if active else 0.0,
+                          pts[Q_FX, p], pts[Q_FY, p], ct, (pts[Q_CN, p] if active else 0.0) - ct)
     return sums
 
 
 @njit(cache=True, inline="always")
-def _close_joint(y, j, joints, work, jwork, sums, mats):
-    """Joint j's dashpot matrix (``mats[j]``, ground frame) and its force on both bodies (scratch
-    W_F, W_T) from its running ``sums`` (:func:`_joint_sums`, frame of its face)."""
+def _close_joint(y, j, joints, work, jwork, sums, mats, matrix):
+    """Joint j's dashpot matrix (``mats[j]``, ground frame; if ``matrix``, else it stands) and its force
+    on both bodies (scratch W_F, W_T) from its running ``sums`` (:func:`_joint_sums`, frame of its face)."""
     (a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, b0, b1, b2, b3, b4, b5,
      sfx, sfy, sfz, stx, sty, stz) = sums
-    ls.turned_joint_matrix_z(a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, b0, b1, b2, b3, b4, b5, jwork, j, mats)
+    if matrix:
+        ls.turned_joint_matrix_z(a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, b0, b1, b2, b3, b4, b5, jwork, j, mats)
     f0, f1, f2, f3, f4, f5 = jwork[j, 0], jwork[j, 1], jwork[j, 2], jwork[j, 3], jwork[j, 4], jwork[j, 5]
     f6, f7, f8 = jwork[j, 6], jwork[j, 7], jwork[j, 8]
     Fx = f0 * sfx + f1 * sfy + f2 * sfz
@@ -390,11 +394,14 @@ def _close_joint(y, j, joints, work, jwork, sums, mats):
     Ty = f3 * stx + f4 * sty + f5 * stz
     Tz = f6 * stx + f7 * sty + f8 * stz
     u, lower = int(joints[j, J_UPPER]), int(joints[j, J_LOWER])
+    # the centres' offset read whatever the lower body (body 0 stands in for the ground, its offset
+    # unused): a table whose last use lies in a branch keeps its reference count taken and dropped
+    # (atomic calls into numba's runtime) at every joint
+    up, lo = NB * u, NB * max(lower, 0)
+    ex = y[up + X] - y[lo + X]
+    ey = y[up + Y] - y[lo + Y]
+    ez = y[up + Z] - y[lo + Z]
     if lower != GROUND:
-        up, lo = NB * u, NB * lower
-        ex = y[up + X] - y[lo + X]
-        ey = y[up + Y] - y[lo + Y]
-        ez = y[up + Z] - y[lo + Z]
         # the reaction on the lower body, its moment about the lower centre
         work[lower, W_F] -= Fx
         work[lower, W_F + 1] -= Fy
@@ -420,18 +427,42 @@ def _clear_loads(params):
 
 
 @njit(cache=True)
-def _joint_loads(y, params, pts, mats, contacts, n_contact):
+def _joint_loads(y, params, pts, mats, contacts, n_contact, kept, changed):
     """Explicit joint forces on the bodies (scratch W_F, W_T) and each joint's dashpot matrix,
     from the points' scratch as it stands (:func:`_point_forces` does the same in its point pass).
 
     Summed per joint in the frame of its face, point pairs next to each other, so that at rest
-    the moments of a symmetric joint cancel exactly.
+    the moments of a symmetric joint cancel exactly. A joint none of whose points changed its
+    clipping (``changed[j]`` 0, :func:`_update_active_set`) has the sums it had (``kept``, the same
+    numbers: the same points' same values in the same order) and its matrix: only the points of
+    the joints that changed are summed again (issue 48, speed).
     """
     joint_start, joints, work, jwork = params[2], params[3], params[6], params[8]
     _clear_loads(params)
     for j in range(joints.shape[0]):
-        start = joint_start[j]
-        _close_joint(y, j, joints, work, jwork, _joint_sums(pts, contacts, start, start + n_contact[j]), mats)
+        if changed[j] > 0:
+            start = joint_start[j]
+            sums = _joint_sums(pts, contacts, start, start + n_contact[j])
+            _keep_sums(kept, j, sums)
+            _close_joint(y, j, joints, work, jwork, sums, mats, True)
+        else:
+            _close_joint(y, j, joints, work, jwork, _kept_sums(kept, j), mats, False)
+
+
+@njit(cache=True, inline="always")
+def _keep_sums(kept, j, sums):
+    """Joint j's sums (:data:`N_SUMS`) into row j of ``kept``."""
+    for k in range(N_SUMS):
+        kept[j, k] = sums[k]
+
+
+@njit(cache=True, inline="always")
+def _kept_sums(kept, j):
+    """The sums :func:`_keep_sums` kept for joint j, as the tuple :func:`_joint_sums` returns."""
+    r = kept
+    return (r[j, 0], r[j, 1], r[j, 2], r[j, 3], r[j, 4], r[j, 5], r[j, 6], r[j, 7], r[j, 8], r[j, 9], r[j, 10],
+            r[j, 11], r[j, 12], r[j, 13], r[j, 14], r[j, 15], r[j, 16], r[j, 17], r[j, 18], r[j, 19], r[j, 20],
+            r[j, 21])
 
 
 @njit(cache=True)
@@ -440,8 +471,9 @@ def set_static_loads(y, h, params, s):
     as this integrator sums them: at rest its velocity update is then exactly zero."""
     bodies, work = params[0], params[6]
     pts, mats, frames, motion, slip, pcols, contacts, n_contact = s[0], s[1], s[10], s[11], s[8], s[12], s[13], s[14]
+    kept = s[15]
     sk._kinematics(y, params)
-    _point_forces(y, h, params, pts, pcols, frames, motion, slip, mats, contacts, n_contact)
+    _point_forces(y, h, params, pts, pcols, frames, motion, slip, mats, contacts, n_contact, kept)
     for b in range(bodies.shape[0]):
         for k in range(6):
             bodies[b, B_HOLD + k] = work[b, W_F + k]
@@ -473,11 +505,11 @@ def _momentum(y, bodies, work, h, ax, ay, az, rhs):
 
 
 @njit(cache=True)
-def _update_active_set(params, pts, vel, motion, contacts, n_contact):
+def _update_active_set(params, pts, vel, motion, contacts, n_contact, joint_changed):
     """Relative velocities of the points in contact at the new body velocities (stored in ``pts``),
     and the clipped joint: points whose normal force would pull are clipped, those that push
-    are not. Returns the number of points that changed. Points out of contact are not on the
-    lists (they stay clipped: their elastic force and dashpot are zero).
+    are not. Returns the number of points that changed (``joint_changed[j]``: joint j's). Points out
+    of contact are not on the lists (they stay clipped: their elastic force and dashpot are zero).
     """
     joint_start, joints, jwork = params[2], params[3], params[8]
     RX, RY, RZ = pts[Q_RX], pts[Q_RY], pts[Q_RZ]
@@ -489,8 +521,9 @@ def _update_active_set(params, pts, vel, motion, contacts, n_contact):
         vx_rel, vy_rel, vz_rel = motion[j, 0], motion[j, 1], motion[j, 2]  # (as above)
         wx_rel, wy_rel, wz_rel = motion[j, 3], motion[j, 4], motion[j, 5]
         start = joint_start[j]
+        before = changed
         for k in range(start, start + n_contact[j]):
-            p = contacts[k]
+            p = ix(contacts[k])
             rx, ry, rz = RX[p], RY[p], RZ[p]
             d_dot = -(vz_rel + wx_rel * ry - wy_rel * rx)
             VTX[p] = vx_rel + wy_rel * rz - wz_rel * ry
@@ -500,6 +533,7 @@ def _update_active_set(params, pts, vel, motion, contacts, n_contact):
             if push != ACTIVE[p]:
                 ACTIVE[p] = push
                 changed += 1
+        joint_changed[j] = changed - before
     return changed
 
 
@@ -551,22 +585,22 @@ def step(t, y, h, params, s):
     step (history rows and the energy budget evaluate the joint law).
     """
     bodies, points, joint_start, joints, record, dt, work, mon = params[:8]
-    pts, mats, diag, blocks, tmp66, tmp6, pattern, vel, slip, impulse, frames, motion, pcols, contacts, n_contact = s
+    pts, mats, diag, blocks, tmp66, tmp6, pattern, vel, slip, impulse, frames, motion, pcols, contacts, n_contact, \
+        kept, changed = s
     n_bodies = bodies.shape[0]
     ax, ay, az = ground_acceleration(t, record, dt)
     sk._kinematics(y, params)
-    friction = _point_forces(y, h, params, pts, pcols, frames, motion, slip, mats, contacts, n_contact)
+    friction = _point_forces(y, h, params, pts, pcols, frames, motion, slip, mats, contacts, n_contact, kept)
     solves = 0
     while True:
         if solves > 0:  # the active set changed: the loads again
-            _joint_loads(y, params, pts, mats, contacts, n_contact)
+            _joint_loads(y, params, pts, mats, contacts, n_contact, kept, changed)
         ls.assemble_system(y, bodies, joints, mats, h, work, pattern, diag, blocks, tmp66)
         _momentum(y, bodies, work, h, ax, ay, az, vel)
         impulse[:, :] = vel
         ls.sparse_block_solve(pattern, diag, blocks, vel, tmp6)
         solves += 1
-        changed = _update_active_set(params, pts, vel, motion, contacts, n_contact)
-        if changed == 0 or solves >= MAX_PASSES:
+        if _update_active_set(params, pts, vel, motion, contacts, n_contact, changed) == 0 or solves >= MAX_PASSES:
             break
     # bookings at the new velocities, the monitor, then the shear states
     sh = NB * n_bodies
@@ -580,7 +614,7 @@ def step(t, y, h, params, s):
         normal = normal_el = tx = ty = bx = by = cx = cy = area = 0.0
         start = joint_start[j]
         for k in range(start, start + n_contact[j]):
-            p = contacts[k]
+            p = ix(contacts[k])
             vtx, vty, d_dot = VTX[p], VTY[p], DDOT[p]
             f_el, ct = FEL[p], CT[p]
             f_n = 0.0
@@ -592,8 +626,9 @@ def step(t, y, h, params, s):
             else:  # clipped: the spring's energy goes without work as the point separates
                 damping -= h * f_el * d_dot
             damping += h * ct * (vtx * vtx + vty * vty)
-            y[sh + 2 * p] += h * vtx
-            y[sh + 2 * p + 1] += h * vty
+            iu = ix(sh + 2 * contacts[k])
+            y[iu] += h * vtx
+            y[iu + ix(1)] += h * vty
             # the monitor: shear spring and dashpot held within the point's cone (see above)
             sx = FX[p] - PULLX[p] - ct * vtx
             sy = FY[p] - PULLY[p] - ct * vty
@@ -671,11 +706,13 @@ def make_scratch(params, pattern):
     # points (one row per quantity); joint matrices; diagonal and coupling blocks of the solve;
     # scratch; the pattern; velocities; joints' plastic slips; momenta before the dashpots; joint
     # frames and motions; the point table, one row per column (the passes over points read it so);
-    # the points in contact, listed joint by joint, and their count per joint
+    # the points in contact, listed joint by joint, and their count per joint; the joints' sums
+    # (:func:`_keep_sums`) and the count of each joint's points whose clipping the last solve changed
     return (np.zeros((N_Q, n_points)), np.zeros((n_joints, 6, 6)), np.zeros((n_bodies, 6, 6)),
             np.zeros((n_edges, 6, 6)), np.zeros((6, 6)), np.zeros(6), pattern, np.zeros((n_bodies, 6)),
             np.zeros(n_joints), np.zeros((n_bodies, 6)), np.zeros((n_joints, 12)), np.zeros((n_joints, 9)),
-            np.ascontiguousarray(params[1].T), np.zeros(n_points, dtype=np.int64), np.zeros(n_joints, dtype=np.int64))
+            np.ascontiguousarray(params[1].T), np.zeros(n_points, dtype=np.int64), np.zeros(n_joints, dtype=np.int64),
+            np.zeros((n_joints, N_SUMS)), np.zeros(n_joints, dtype=np.int64))
 
 
 @njit(cache=True)

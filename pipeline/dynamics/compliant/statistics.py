@@ -95,7 +95,9 @@ def _unwrap(previous, angle):
     return angle + 2.0 * math.pi * round((previous - angle) / (2.0 * math.pi))
 
 
-@njit(cache=True)
+# inlined (with _cop_radius): called for every joint at every step, and a call that passes tables
+# takes and drops their reference counts, atomic operations that cost more than the test itself
+@njit(cache=True, inline="always")
 def _on_rim(mon, joints, j):
     """Joint j rocks on its rim: its centre of pressure lies beyond ``J_RIM`` from the axis
     (only a rim point and its neighbours carry it), or it carries nothing (flight)."""
@@ -104,7 +106,7 @@ def _on_rim(mon, joints, j):
     return _cop_radius(mon, j) >= joints[j, J_RIM]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _cop_radius(mon, j):
     """Distance of joint j's centre of pressure from the centre of its upper body's bearing face."""
     return math.sqrt(mon[j, M_COP_BX] ** 2 + mon[j, M_COP_BY] ** 2)
