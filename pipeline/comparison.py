@@ -23,8 +23,8 @@ import xarray as xr
 
 from pipeline.dataset import annotate, append_history
 from pipeline.errors import InputError
-from pipeline.fragility import RESULT_DIMS, _normalise, _valid, _where
-from pipeline.models import of_results, results_title
+from pipeline.fragility import _normalise, _sample_dims, _valid, _where, counted
+from pipeline.models import results_title
 from pipeline.units import G
 
 __all__ = ["merge_results", "reference_model", "compare_models", "outcome_agreement", "peak_ratio", "comparison_rows",
@@ -95,22 +95,22 @@ def merge_results(datasets):
 
 
 def _cells(results, column, reference, model):
-    """The (record, angle, scale) cells of a column that both models ran without failure.
+    """The (record, angle[, seed], scale) cells of a column that both models ran without failure.
 
-    An angle-invariant model ran once per record and scale; when both models are, the angles
-    would only repeat the same runs, so the first angle alone is counted.
+    An angle-invariant model ran once per record and scale, a model of perfect drums once over the
+    seeds of a study of imperfect drums; where both models only repeat a run, the repeat is not
+    counted (:func:`pipeline.fragility.counted`).
 
     Returns
     -------
     numpy.ndarray of bool
-        Dims (record, angle, scale).
+        Dims (record, angle[, seed], scale).
     """
-    valid = _valid(results).broadcast_like(results["overturned"]).transpose(*RESULT_DIMS)
-    cell = valid.sel(column=column)
-    both = (cell.sel(model=reference) & cell.sel(model=model)).values
-    if all(getattr(of_results(results, m), "angle_invariant", False) for m in (reference, model)):
-        both[:, 1:, :] = False
-    return both
+    dims = _sample_dims(results)
+    valid = _valid(results).broadcast_like(results["overturned"]).transpose(*dims).sel(column=column)
+    once = counted(results).sel(column=column) > 0
+    pair = [valid.sel(model=m) for m in (reference, model)]
+    return (pair[0] & pair[1] & (once.sel(model=reference) | once.sel(model=model))).values
 
 
 def outcome_agreement(results, column, reference, model):
@@ -131,7 +131,7 @@ def outcome_agreement(results, column, reference, model):
         overturned); counts [1].
     """
     both = _cells(results, column, reference, model)
-    over = results["overturned"].transpose(*RESULT_DIMS).sel(column=column)
+    over = results["overturned"].transpose(*_sample_dims(results)).sel(column=column)
     a = over.sel(model=reference).values.astype(bool)[both]
     b = over.sel(model=model).values.astype(bool)[both]
     return {"cells": int(both.sum()), "same": int(np.sum(a == b)), "reference_only": int(np.sum(a & ~b)),
@@ -156,8 +156,8 @@ def peak_ratio(results, column, reference, model, variable="peak_theta"):
         ``p10``, ``p90`` of the ratio [1] (NaN without such cells).
     """
     both = _cells(results, column, reference, model)
-    over = results["overturned"].transpose(*RESULT_DIMS).sel(column=column)
-    peak = results[variable].transpose(*RESULT_DIMS).sel(column=column)
+    over = results["overturned"].transpose(*_sample_dims(results)).sel(column=column)
+    peak = results[variable].transpose(*_sample_dims(results)).sel(column=column)
     stood = both & ~over.sel(model=reference).values.astype(bool) & ~over.sel(model=model).values.astype(bool)
     a, b = peak.sel(model=reference).values[stood], peak.sel(model=model).values[stood]
     keep = np.isfinite(a) & np.isfinite(b) & (a > 0)

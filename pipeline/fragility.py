@@ -518,10 +518,10 @@ def _pooled(values, results):
     return values.reshape(*lead, c, r, a * n, k, m)
 
 
-def _once(results):
+def counted(results):
     """1 for each run a fit counts, 0 for a repeat: an angle-invariant model's results do not depend on
     the incidence angle (axisymmetric column), a model of perfect drums (``seeded`` 0) on the seed; each
-    is counted once. Over :func:`_sample_dims`, seeds pooled (:func:`_pooled`)."""
+    is counted once. A DataArray over :func:`_sample_dims` (reports count runs with it as fits do)."""
     dims = _sample_dims(results)
     like = results[_first_response(results)].transpose(*dims)
     weight = xr.ones_like(like, dtype=float)
@@ -531,7 +531,12 @@ def _once(results):
     if "seed" in results.dims:
         seeded = results["seeded"] if "seeded" in results.variables else xr.ones_like(results["model"], dtype=int)
         weight = weight * xr.where((results["seed"] != results["seed"][0]) & (seeded == 0), 0.0, 1.0)
-    return _pooled(weight.transpose(*dims).values, results)
+    return weight.transpose(*dims)
+
+
+def _once(results):
+    """:func:`counted` as the fits read it: over :func:`_sample_dims`, seeds pooled (:func:`_pooled`)."""
+    return _pooled(counted(results).values, results)
 
 
 def _per_record(results, im, labels):

@@ -331,7 +331,8 @@ def plot_angle_polar(results, stem, column, model=None, scales=None, title=None)
         model = next((m for m in names if flag(results, m, "planar")), names[0])
     one = results.sel(column=column, model=model)
     valid = one["status"] == 0 if "status" in one else True
-    frac = (one["overturned"].where(valid) > 0).where(valid).mean("record")  # (angle, scale)
+    pool = [d for d in ("record", "seed") if d in one.dims]  # the seeds of imperfect drums pooled as records
+    frac = (one["overturned"].where(valid) > 0).where(valid).mean(pool)  # (angle, scale)
     angles = one["angle"].values
     if scales is None:
         scales = [s for s in one["scale"].values if np.nanmax(frac.sel(scale=s).values) > 0]
@@ -344,7 +345,7 @@ def plot_angle_polar(results, stem, column, model=None, scales=None, title=None)
     if spatial in names:
         ref = results.sel(column=column, model=spatial).isel(angle=0)
         ok = ref["status"] == 0 if "status" in ref else True
-        reference = (ref["overturned"].where(ok) > 0).where(ok).mean("record")  # (scale,)
+        reference = (ref["overturned"].where(ok) > 0).where(ok).mean(pool)  # (scale,)
     ring = np.linspace(0, 2 * np.pi, 181)
     for i, s in enumerate(scales):
         color = cmap(i / max(len(scales) - 1, 1))

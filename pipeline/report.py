@@ -38,6 +38,8 @@ from pipeline import models as MD
 from pipeline.models import planar_pair
 from pipeline import plotting_fragility as P
 from pipeline import report_angles as A
+from pipeline import report_colonnade as RC
+from pipeline import report_seeds as RS
 from pipeline.report_risk import risk_section
 from pipeline.atomic import atomic_folder, atomic_open
 from pipeline.dataset import write_netcdf
@@ -105,33 +107,6 @@ def assumptions(models, vertical=True, options=None):
 def _has_epistyle(results):
     """Whether any run of the results carried an epistyle (a colonnade run by a model of colonnades)."""
     return "epistyle_slip" in results and bool(np.isfinite(results["epistyle_slip"]).any())
-
-
-def _epistyle_section(results):
-    """A colonnade's epistyle in the runs that stood: how far its blocks slid on the capitals and opened
-    between them, per column, model and incidence angle ([] for a study without colonnades)."""
-    if not _has_epistyle(results):
-        return []
-    lines = ["## The epistyle of the runs that stood", "",
-             "Residual slip of the epistyle blocks on their capitals and opening of the head joints between "
-             "blocks at the end of the runs in which nothing fell, over every record and stripe [mm].", "",
-             "| column | model | angle [deg] | runs stood | slip median | slip 90 % | opening median | opening 90 % |",
-             "|---|---|---|---|---|---|---|---|"]
-    valid = F._valid(results)
-    for c in results["column"].values:
-        for m in results["model"].values:
-            for a in results["angle"].values:
-                cell = dict(column=c, model=m, angle=a)
-                slip = results["epistyle_slip"].sel(cell).values
-                if not np.isfinite(slip).any():
-                    continue  # a column alone, or a model that does not run the colonnade
-                stood = valid.sel(cell).values & (results["overturned"].sel(cell).values == 0)
-                opening = results["epistyle_opening"].sel(cell).values
-                stats = [_fmt(1e3 * float(np.nanpercentile(v[stood], q))) if stood.any() else "n/a"
-                         for v in (slip, opening) for q in (50, 90)]
-                lines.append(f"| {c} | {str(m).upper()} | {_fmt(float(a))} | {int(stood.sum())} | "
-                             + " | ".join(stats) + " |")
-    return lines + [""]
 
 
 def _fmt(value, digits=3):
@@ -283,7 +258,9 @@ def summary_rows(results, frag, pga_levels_g=DEFAULT_PGA_LEVELS_G):
     """
     probs = overturning_probabilities(frag, pga_levels_g)
     rows = []
-    valid = F._valid(results)
+    failed = ~F._valid(results) & (F.counted(results) > 0)  # a repeated run (angles, perfect drums' seeds) once
+    seeds = RS.seed_spread(results) if RS.seeded_models(results) else None
+    colonnades = bool(RC.colonnade_cells(results))
 
     def coord(name, c, factor=1.0):
         return float(frag[name].sel(column=c)) * factor if name in frag.coords else ""
@@ -312,7 +289,7 @@ def summary_rows(results, frag, pga_levels_g=DEFAULT_PGA_LEVELS_G):
                 "runs": int(over["n_runs"]),
                 "runs_overturned": int(over["n_exceed"]),
                 "fraction_overturned": int(over["n_exceed"]) / int(over["n_runs"]) if int(over["n_runs"]) else "",
-                "failed_runs_excluded": int((~valid.sel(column=c, model=m)).sum()),
+                "failed_runs_excluded": int(failed.sel(column=c, model=m).sum()),
                 "pga_simulated_min_g": lo_pga / G,
                 "pga_simulated_max_g": hi_pga / G,
                 "fit_status": F.FIT_STATUS[int(over["fit_status"])],
@@ -338,6 +315,10 @@ def summary_rows(results, frag, pga_levels_g=DEFAULT_PGA_LEVELS_G):
                 cell = frag.sel(state=state, column=c, model=m)
                 row[f"median_pga_{state}_m_s2"] = float(cell["median"])
                 row[f"beta_{state}"] = float(cell["beta"])
+            if colonnades:  # what fell first, what the standing ones kept (report_colonnade)
+                row.update(RC.colonnade_columns(results, c, m))
+            if seeds is not None:  # do the seeds of imperfect drums agree (report_seeds)
+                row.update(RS.seed_columns(seeds, c, m))
             rows.append(row)
     return rows
 
@@ -482,10 +463,6 @@ def write_report(results, out_dir, pga_levels_g=DEFAULT_PGA_LEVELS_G, states=F.D
         Paths written (``report``, ``csv``, ``geojson`` or None,
         ``fragility``, ``figures``) and the fragility Dataset (``frag``).
     """
-    if "seed" in results.dims:  # its tables and model comparisons read cells without a seed (issue 48)
-        raise InputError(f"{results.attrs.get('source_file', 'the results')}: a study of imperfect drums (dimension "
-                         "seed) is not yet reported; 'frustum fragility' fits it (its seeds pooled as angles) and "
-                         "'frustum risk' reads that fit, or select one seed: xr.open_dataset(f).sel(seed=N)")
     dest = os.fspath(out_dir)
     with atomic_folder(dest) as tmp:
         out = _write_report_into(F.resolve_undecided(results, undecided), tmp, pga_levels_g, states, bootstrap, seed,
@@ -512,6 +489,7 @@ def _write_report_into(results, out_dir, pga_levels_g, states, bootstrap, seed, 
         raise InputError(f"{F._where(results)}: every one of its {int(valid.size)} simulations failed (status 1), "
                          "so there is nothing to report; see why in the messages of 'frustum study run', fix the "
                          "study and run it again")
+    RC.check_labels(results)  # the bodies that fell first, read before anything is fitted
     os.makedirs(os.path.join(out_dir, "figures"), exist_ok=True)
     frag = F.fragility(results, im="pga", states=states, bootstrap=bootstrap, seed=seed, confidence=confidence)
     frag_path = F.write(frag, os.path.join(out_dir, "fragility.nc"))
@@ -724,9 +702,9 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
     models = [str(m) for m in frag["model"].values]
     records = _values(results, "record")
     quakes = sorted(set(_values(results, "earthquake"))) if "earthquake" in results.variables else []
-    valid = F._valid(results)
-    n_total = int(valid.size)
-    n_failed = int((~F._ok(results)).sum())
+    once = F.counted(results) > 0  # runs as the fits count them: a repeat (angle-invariant, perfect seeds) once
+    n_total = int(once.sum())
+    n_failed = int((~F._ok(results) & once).sum())
     lines = [f"# {title or results.attrs.get('title', 'Study report')}", ""]
     if results.attrs.get("summary"):
         lines += [str(results.attrs["summary"]), ""]
@@ -783,14 +761,12 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
             "given to every model).")
     lines.append(f"- {n_total} simulations in the dataset, {n_failed} failed and left out.")
     lines += undecided_lines(results, _options(results).get("settle_limit"))
+    lines += RS.imperfection_lines(results, _fmt)
     for flag in ("sliding_onset", "lift_off"):  # each model says what its flag counts (its registry entry)
         if flag in results.variables:
             for m in models:
-                one = results.sel(model=m)
-                ok = F._valid(one)
-                if MD.flag(results, m, "angle_invariant"):  # one run per angle set, broadcast
-                    one, ok = one.isel(angle=[0]), ok.isel(angle=[0])
-                count = int(((one[flag] > 0) & ok).sum())
+                ok = (F._valid(results) & once).sel(model=m)  # a repeated run once
+                count = int(((results[flag].sel(model=m) > 0) & ok).sum())
                 lines.append(f"- {m.upper()}: in {count} of {int(ok.sum())} runs {getattr(MD.describe(MD.base_of(results, m)), flag)}.")
     lines += ["", "## Assumptions of the models" if len(models) > 1 else "## Assumptions of the model", ""]
     options = _options(results)
@@ -839,7 +815,9 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
     lines.append("")
     lines += _caveats(rows)
     lines += A.angle_section(results, by_angle, _fmt)
-    lines += _epistyle_section(results)
+    lines += RC.dislocation_section(results, frag, _fmt)
+    lines += RC.colonnade_section(results, _fmt)
+    lines += RS.seeds_section(results, _fmt)
     if risk[0] is not None:
         lines += risk_section(risk[0], risk[1], frag, _fmt)
 

@@ -79,7 +79,7 @@ def fragility_by_angle(results, bootstrap=0, seed=0, confidence=F.DEFAULT_CONFID
 def _stripe_counts(results, column, model, angle):
     """Overturned runs of a cell at each stripe of a study in stripes (:func:`pipeline.fragility.in_stripes`)."""
     cell = dict(column=column, model=model, angle=angle)
-    valid = F._valid(results).sel(cell)
+    valid = F._valid(results).sel(cell) & (F.counted(results).sel(cell) > 0)  # a perfect model's seeds once
     over = (results["overturned"].sel(cell) > 0) & valid
     return [int(over.sel(scale=s).sum()) for s in results["scale"].values]
 

@@ -104,3 +104,35 @@ def test_the_compliant_models_bodies_and_joints_carry_the_structures_labels_in_i
         word = {"base": "base of", "bed": "bed joint under", "capital": "capital on its shaft",
                 "bearing": " / epistyle", "head": "head joint"}[c.kind]
         assert word in label and (column is None or column in label), (c.kind, label)
+
+
+@pytest.mark.parametrize("structure", [ROW, named_colonnade("parthenon-east"), Colonnade(PAPER, 2, 2.0, 0.5),
+                                       DrumColumn.equal(PAPER, 4, Capital(1.1, 0.3)), PAPER])
+def test_a_body_label_reads_back_to_its_column_and_part(structure):
+    """classify_body is the inverse of the labels: each body of a structure, in the model's order, gives back the
+    column it stands in (None for a block or a column alone) and its part; the whole reads as the whole."""
+    labels = D.body_labels(structure)
+    parts = [D.classify_body(label) for label in labels]
+    if isinstance(structure, Colonnade):
+        per_column = len(D.column_labels(structure.column)[0])
+        for i in range(structure.n_columns):  # column i's bodies, bottom up, without their column's words
+            mine = parts[i * per_column:(i + 1) * per_column]
+            assert [p.column for p in mine] == [i] * per_column
+            assert [p.part for p in mine] == list(D.column_labels(structure.column)[0])
+        blocks = parts[structure.n_columns * per_column:]
+        assert blocks == [D.BodyPart(None, D.block_label(k)) for k in range(structure.n_blocks)]
+        assert {p.kind for p in blocks} == {"epistyle block"}
+    else:
+        assert parts == [D.BodyPart(None, label) for label in labels]
+    assert {p.kind for p in parts} <= {"drum", "shaft", "capital", "epistyle block"}
+    whole = D.classify_body(D.whole_label(structure))
+    assert whole == D.BodyPart(None, D.whole_label(structure)) and whole.kind == "whole"
+
+
+def test_a_body_label_of_another_scheme_is_refused_naming_it():
+    assert D.classify_body("") is None  # no body fell
+    assert D.classify_body("column 12 drum 11") == D.BodyPart(11, "drum 11")
+    assert D.classify_body("column 2 drum 3 ") == D.BodyPart(1, "drum 3")  # a label padded in a file
+    for label in ("column 0 drum 1", "drum 0", "column 2", "block 1", "the frame", "column 2 drum 3 capital"):
+        with pytest.raises(InputError, match=f"body label '{label}' is not one this project writes"):
+            D.classify_body(label)

@@ -26,6 +26,8 @@ Nothing here imports a model or a kernel.
 """
 
 import math
+import re
+from typing import NamedTuple
 
 from pipeline.errors import InputError
 from pipeline.structures.colonnade import Colonnade, named_colonnades
@@ -35,7 +37,7 @@ from pipeline.structures.named import named_columns
 
 __all__ = ["title", "named_title", "what_ran", "run_title", "history_attributes", "attributes", "dimensions",
            "DIMENSIONS", "colonnade_from_attributes", "body_labels", "joint_labels", "column_labels", "block_label",
-           "bearing_label", "head_label", "whole_label"]
+           "bearing_label", "head_label", "whole_label", "BodyPart", "classify_body"]
 
 #: A colonnade's numbers by catalog name (:mod:`pipeline.dataset`): ``(name, unit, value of a colonnade)``;
 #: a column alone has 1 column, 0 blocks and NaN lengths. Global attributes name a length with its unit
@@ -120,10 +122,14 @@ def title(structure, named=True):
     return f"{words} ({said})" if said else words
 
 
+#: What a structure run as one body is called when it falls as one: a column, a colonnade (the rigid frame).
+_WHOLE = ("the column", "the colonnade")
+
+
 def whole_label(structure):
     """The label of a structure that a model runs as one body and that fell as one: "the column", "the
     colonnade" (the rigid frame)."""
-    return "the colonnade" if isinstance(structure, Colonnade) else "the column"
+    return _WHOLE[1] if isinstance(structure, Colonnade) else _WHOLE[0]
 
 
 def what_ran(runs):
@@ -285,3 +291,66 @@ def joint_labels(structure):
         out += [bearing_label(k, b.column, capital) for b in structure.bearings(k)]
     out += [head_label(h.left, h.right) for h in structure.head_joints()]
     return tuple(out)
+
+
+class BodyPart(NamedTuple):
+    """What a body label (:func:`body_labels`, :func:`whole_label`) names, read back by :func:`classify_body`.
+
+    Attributes
+    ----------
+    column : int or None
+        The body's column in a colonnade (0 first); None for an epistyle block, a column alone
+        and a structure that fell as one body.
+    part : str
+        The body without its column: ``"drum 3"``, ``"shaft"``, ``"capital"``, ``"epistyle block 2"``,
+        or the whole ``"the column"`` / ``"the colonnade"``.
+    """
+
+    column: object
+    part: str
+
+    @property
+    def kind(self):
+        """``"drum"``, ``"shaft"``, ``"capital"``, ``"epistyle block"`` or ``"whole"``."""
+        if self.part in _WHOLE:
+            return "whole"
+        return self.part.rstrip("0123456789").strip()
+
+
+#: A body label, the inverse of :func:`column_labels`, :func:`block_label` and :func:`whole_label`.
+_BODY = re.compile(r"(?:column (?P<column>[1-9][0-9]*) )?(?P<part>drum [1-9][0-9]*|shaft|capital)"
+                   r"|(?P<block>epistyle block [1-9][0-9]*)|(?P<whole>" + "|".join(_WHOLE) + ")")
+
+
+def classify_body(label):
+    """Which column and which part a body label names: ``"column 2 drum 3"`` -> ``BodyPart(1, "drum 3")``,
+    ``"epistyle block 1"`` -> ``BodyPart(None, "epistyle block 1")``, ``"the colonnade"`` ->
+    ``BodyPart(None, "the colonnade")``, ``"capital"`` (a column alone) -> ``BodyPart(None, "capital")``.
+
+    Parameters
+    ----------
+    label : str
+        A label of :func:`body_labels` or :func:`whole_label` (e.g. a study's ``overturn_body``);
+        ``""`` (no body fell) gives None.
+
+    Returns
+    -------
+    BodyPart or None
+
+    Raises
+    ------
+    InputError
+        A label this scheme does not write, naming it.
+    """
+    label = str(label).strip()
+    if not label:
+        return None
+    match = _BODY.fullmatch(label)
+    if match is None:
+        raise InputError(f"body label {label!r} is not one this project writes (\"column 2 drum 3\", \"column 2 "
+                         "capital\", \"epistyle block 1\", \"drum 2\", \"shaft\", \"capital\", \"the column\", "
+                         "\"the colonnade\"; docs/studies.md): label the bodies so, or run the study again with "
+                         "'frustum study run'")
+    if match["block"] or match["whole"]:
+        return BodyPart(None, match["block"] or match["whole"])
+    return BodyPart(int(match["column"]) - 1 if match["column"] else None, match["part"])

@@ -44,6 +44,23 @@ def failed_results_nc(tmp_path_factory):
 
 
 @pytest.fixture(scope="session")
+def foreign_labels_nc(tmp_path_factory):
+    """Study results of a colonnade whose ``overturn_body`` names a body in words this project does not write
+    ("column 2 pillar"), as another program might."""
+    import numpy as np
+    from fragility_synthetic import make_colonnade_results
+
+    from pipeline.dataset import write_results
+
+    ds, _ = make_colonnade_results(columns=("row",), n_records=6, angles=(0.0,), scales=(0.5, 1.0, 2.0),
+                                   models=("3d-compliant",))
+    bodies = ds["overturn_body"].values.copy()
+    bodies.flat[np.flatnonzero(bodies != "")[0]] = "column 2 pillar"
+    ds["overturn_body"] = (ds["overturn_body"].dims, bodies)
+    return Path(write_results(ds, tmp_path_factory.mktemp("foreign") / "foreign.nc"))
+
+
+@pytest.fixture(scope="session")
 def old_frame_nc(tmp_path_factory):
     """A histories file of the rigid frame (2d-frame, 2 columns, SYN-RICKER and 0.5 s of tail) as written before files
     recorded their structure: without its ``n_columns`` attribute."""

@@ -132,6 +132,9 @@ CATALOGUE = [
     # failures that looked like success
     ("report-every-cell-failed", ["report", "{failed}", OUT, "{tmp}/rep", "--bootstrap", "0"], 2,
      ["simulations failed (status 1), so there is nothing to report"]),
+    ("report-a-body-label-of-another-scheme", ["report", "{foreign_labels}", OUT, "{tmp}/rep", "--bootstrap", "0"], 2,
+     ["foreign.nc: variable 'overturn_body': body label 'column 2 pillar' is not one this project writes",
+      "run the study again with 'frustum study run'"]),
     ("records-units-on-catalog-id", ["records", "show", "SYN-RICKER", "--units", "g"], 2,
      ["--units: SYN-RICKER is a catalog record", "drop --units"]),
     ("study-unreachable-scheduler", ["study", "run", "{study}", OUT, "{tmp}/s.nc", "--scheduler",
@@ -330,13 +333,13 @@ ISSUE_38_HAZARD = {
 
 
 @pytest.fixture
-def files(tmp_path, results_nc, histories_nc, failed_results_nc, old_frame_nc):
+def files(tmp_path, results_nc, histories_nc, failed_results_nc, old_frame_nc, foreign_labels_nc):
     """Every file a catalogue entry names, in a fresh folder: {placeholder: path}."""
     from pipeline import fragility as F
 
     paths = {"tmp": tmp_path}
     for name, source in (("results", results_nc), ("histories", histories_nc), ("failed", failed_results_nc),
-                         ("old_frame", old_frame_nc)):
+                         ("old_frame", old_frame_nc), ("foreign_labels", foreign_labels_nc)):
         paths[name] = tmp_path / source.name
         shutil.copy(source, paths[name])
     paths["fragility"] = tmp_path / "fragility.nc"

@@ -106,3 +106,59 @@ def make_results(
         ds.coords["latitude"] = ("column", np.linspace(37.97, 38.0, nC), {"units": "degrees_north"})
         ds.coords["longitude"] = ("column", np.linspace(23.72, 23.75, nC), {"units": "degrees_east"})
     return ds, truth
+
+
+def colonnade_body_labels(n_columns, n_drums, n_blocks):
+    """The bodies of a colonnade of ``n_columns`` columns of ``n_drums`` drums and a capital under ``n_blocks``
+    epistyle blocks, as a study labels them (docs/studies.md): "column 2 drum 3", "column 2 capital",
+    "epistyle block 1"."""
+    bodies = [f"column {i} {part}" for i in range(1, n_columns + 1)
+              for part in [f"drum {k}" for k in range(1, n_drums + 1)] + ["capital"]]
+    return bodies + [f"epistyle block {b}" for b in range(1, n_blocks + 1)]
+
+
+def make_colonnade_results(n_columns=4, n_drums=3, seed=5, **kwargs):
+    """Synthetic results of a study of a colonnade ``row`` beside a column alone ``paper``, run by the
+    compliant model (the row as bodies on joints), the rigid frame (the row as one body) and the rigid 3D
+    model (each column alone), as ``frustum study run`` writes them (issue 48, item 3).
+
+    Besides :func:`make_results`: ``n_columns`` and ``n_blocks`` per column (1 and 0 for the column
+    alone); ``overturn_body`` per run, "" where it stood, else a body drawn at random (the compliant
+    model's from :func:`colonnade_body_labels`, its drums and capital for the column alone; "the
+    colonnade" for the frame, "the column" for the 3D model); ``epistyle_slip`` and
+    ``epistyle_opening`` [m], lognormal, for the compliant model's runs of the row (NaN elsewhere, and
+    for the runs that fell); ``dislocation_ratio`` for the compliant model, 0.03 ``peak_theta_ratio``.
+    """
+    kwargs.setdefault("columns", ("row", "paper"))
+    kwargs.setdefault("models", ("3d-compliant", "2d-frame", "3d"))
+    ds, truth = make_results(seed=seed, **kwargs)
+    rng = np.random.default_rng(seed + 100)
+    n_blocks = n_columns - 1
+    columns = [str(c) for c in ds["column"].values]
+    ds.coords["n_columns"] = ("column", np.array([n_columns if c == "row" else 1 for c in columns]))
+    ds.coords["n_blocks"] = ("column", np.array([n_blocks if c == "row" else 0 for c in columns]))
+    over = ds["overturned"].values > 0
+    bodies = np.full(over.shape, "", dtype=object)
+    slip, opening = np.full(over.shape, np.nan), np.full(over.shape, np.nan)
+    models = [str(m) for m in ds["model"].values]
+    for i, c in enumerate(columns):
+        for j, m in enumerate(models):
+            cell = (i, Ellipsis, j)
+            if m == "3d-compliant":
+                labels = (colonnade_body_labels(n_columns, n_drums, n_blocks) if c == "row" else
+                          [f"drum {k}" for k in range(1, n_drums + 1)] + ["capital"])
+                drawn = rng.choice(np.array(labels, dtype=object), size=over[cell].shape)
+            else:
+                drawn = np.full(over[cell].shape, "the colonnade" if m == "2d-frame" and c == "row" else "the column",
+                                dtype=object)
+            bodies[cell] = np.where(over[cell], drawn, "")
+            if m == "3d-compliant" and c == "row":
+                slip[cell] = np.where(over[cell], np.nan, 0.004 * np.exp(rng.standard_normal(over[cell].shape)))
+                opening[cell] = np.where(over[cell], np.nan, 0.002 * np.exp(rng.standard_normal(over[cell].shape)))
+    dims = ds["overturned"].dims
+    ds["overturn_body"] = (dims, bodies)
+    ds["epistyle_slip"] = (dims, slip, {"units": "m"})
+    ds["epistyle_opening"] = (dims, opening, {"units": "m"})
+    ratio = (0.03 * ds["peak_theta_ratio"]).where(ds["overturned"] == 0, 0.3)  # DS1 from a third of theta_crit
+    ds["dislocation_ratio"] = ratio.where(ds["model"] == "3d-compliant").transpose(*dims)
+    return ds, truth

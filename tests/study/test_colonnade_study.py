@@ -165,13 +165,15 @@ def test_the_report_of_a_colonnade_study_says_what_stood_and_how_the_epistyle_mo
     assert f"- **frame**: {frame.describe()}." in text
     assert f"- **alone**: {alone.stack.describe()}." in text
     assert "falls off the body it rests on" in text
-    section = text.split("## The epistyle of the runs that stood")[1].split("\n## ")[0]
+    section = text.split("## What falls first, and what the standing ones keep")[1].split("\n## ")[0]
+    section = section[section.index("Of the runs that stood"):]
     rows = [line for line in section.splitlines() if line.startswith("| frame |")]
-    assert len(rows) == 2 and not any(line.startswith("| alone |") for line in section.splitlines())
-    for line, angle in zip(rows, (0.0, 90.0)):
+    # the stripe, all stripes, and all stripes at each angle (report_colonnade); the column alone has none
+    assert len(rows) == 4 and not any(line.startswith("| alone |") for line in section.splitlines())
+    for line, angle in zip(rows[2:], (0.0, 90.0)):
         cell = ds.sel(column="frame", model="3d-compliant", angle=angle).isel(record=0, scale=0)
         stood = int(cell.overturned) == 0
         cells = [x.strip() for x in line.strip("|").split("|")]
-        assert cells[3] == str(int(stood))
+        assert cells[2:5] == ["all", f"{angle:g}", str(int(stood))]
         if stood:
-            assert cells[4] == f"{1e3 * float(cell.epistyle_slip):.3g}"
+            assert cells[5] == f"{1e3 * float(cell.epistyle_slip):.3g}"

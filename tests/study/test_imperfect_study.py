@@ -149,16 +149,35 @@ def test_what_a_study_of_imperfect_drums_cannot_run_is_refused_naming_the_field(
     assert f"field {field}: " in message and words in message, message
 
 
-def test_the_study_plot_draws_the_seeds_and_the_report_says_it_cannot_yet(seeded, tmp_path):
+def test_the_study_plot_draws_the_seeds_and_the_report_says_how_far_they_agree(seeded, tmp_path):
     """frustum study run --plot draws every seed's runs as it draws the angles' (a marker each); frustum
-    report, whose tables read cells without a seed, refuses the file naming what reads it instead."""
+    report reports the study (it refused it before): what was drawn, the seeds pooled in its counts, and
+    the section on the spread over seeds, whose every count is recomputed here from the dataset."""
     from pipeline.plotting import plot_study
     from pipeline.report import write_report
 
     _, ds = seeded
     plot_study(ds, tmp_path / "seeds.png")
     assert (tmp_path / "seeds.png").stat().st_size > 0
-    with pytest.raises(InputError, match="a study of imperfect drums \\(dimension seed\\) is not yet reported; "
-                                         "'frustum fragility' fits it"):
-        write_report(ds, tmp_path / "report")
-    assert not (tmp_path / "report").exists()
+    out = write_report(ds, tmp_path / "report", bootstrap=0)
+    text = open(out["report"], encoding="utf-8").read()
+    assert ("- **Imperfect drums**: `imperfect` drew a structure for each of 2 seed(s) (5, 9): every drum's bed "
+            "offset and tilted by random amounts up to 3 mm, the friction of every joint drawn from 0.5 to 0.7."
+            ) in text
+    assert "- 8 simulations in the dataset, 0 failed" in text  # 2 stripes x (rigid + perfect + 2 seeds)
+    section = text[text.index("## Imperfect drums: do apparently identical structures differ?"):]
+    rows = [[c.strip() for c in line.strip("|").split("|")] for line in section[:section.index("\n## ")].splitlines()
+            if line.startswith("| two |")]
+    one = ds.sel(column="two", model="imperfect")
+    perfect = ds.sel(column="two", model="perfect").isel(seed=0)
+    assert len(rows) == 3
+    for row, scale in zip(rows, (1.0, 2.0, None)):
+        pick = {} if scale is None else {"scale": [scale]}
+        falls = (one["overturned"].sel(pick) == 1).sum("seed")  # of 2 seeds, over (record, angle[, scale]) cells
+        alone = perfect["overturned"].sel(pick) == 1
+        cells = falls.size
+        expected = [str(cells)] + [str(int((falls == k).sum())) for k in (0, 2, 1)]  # all stand, all fall, divided
+        assert row[1] == "imperfect" and row[3:7] == expected
+        ties = int((falls == 1).sum())  # one seed of two fell: no majority
+        differ = int(((falls != 1) & ((falls == 2) != alone)).sum())
+        assert row[9] == f"`perfect`: {differ} of {cells}" + (f" ({ties} tied)" if ties else "")
