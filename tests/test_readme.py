@@ -27,9 +27,9 @@ OUTPUTS = ("out", "plot", "csv", "animate")
 REPOSITORY_FOLDERS = (".ci", "pipeline", "studies", "docs", "records", "tests", "benchmarks", "workflows", "examples")
 
 
-def _commands():
+def _commands(text=None):
     """The README's ``frustum`` commands in order, each as its argv (continuation lines joined, comments dropped)."""
-    text = README.read_text(encoding="utf-8")
+    text = README.read_text(encoding="utf-8") if text is None else text
     commands = []
     for block in re.findall(r"```sh\n(.*?)```", text, re.S):
         for line in block.replace("\\\n", " ").splitlines():
@@ -47,6 +47,21 @@ def _in_repository():
         return None
     files = set(listed.splitlines())
     return files | {str(Path(f).parent) for f in files}
+
+
+def _section(title):
+    """The README's text under ``## title`` up to the next ``## `` heading."""
+    text = README.read_text(encoding="utf-8")
+    match = re.search(rf"^## {re.escape(title)}\n(.*?)(?=^## |\Z)", text, re.S | re.M)
+    assert match, f"README.md has no section '## {title}'"
+    return match.group(1)
+
+
+def _written_before(path, written):
+    """Whether ``path`` or a folder holding it was written by an earlier command (``frustum report --out DIR``
+    writes ``DIR/fragility.nc``, as its help says)."""
+    path = os.path.normpath(path)
+    return any(p in written for p in [path, *map(str, Path(path).parents)] if p != ".")
 
 
 def _held(path, held):
@@ -68,8 +83,10 @@ def _reads_and_writes(args):
                 continue
             parts = one.split(",") if name == "record" else [one]  # --record X,Y[,Z]: files of one record
             for part in parts:
-                if _looks_like_a_path(part):
-                    (writes if name in OUTPUTS else reads).append(part)
+                if name in OUTPUTS:  # a file or a folder (frustum report --out DIR)
+                    writes.append(part)
+                elif _looks_like_a_path(part):
+                    reads.append(part)
     if args.command == "study" and getattr(args, "study_command", None) == "run" and args.out is None:
         from pipeline.study.studyfile import load_study
 
@@ -78,12 +95,71 @@ def _reads_and_writes(args):
     return reads, writes
 
 
+def _parse(argv):
+    """``argv`` parsed by the real command line, or the error argparse would print (it exits)."""
+    import contextlib
+    import io
+
+    parser, err = build_parser(), io.StringIO()
+    try:
+        with contextlib.redirect_stderr(err):
+            return parser.parse_args(argv)
+    except SystemExit:
+        return "frustum " + shlex.join(argv) + ": " + err.getvalue().strip().splitlines()[-1]
+
+
 @pytest.fixture(scope="module")
 def commands():
-    parser = build_parser()
-    parsed = [parser.parse_args(argv) for argv in _commands() if "--help" not in argv]
+    parsed = [_parse(argv) for argv in _commands() if "--help" not in argv]
     assert len(parsed) >= 15  # the premise: the README's examples were found
+    assert [p for p in parsed if isinstance(p, str)] == []  # every one parses
     return parsed
+
+
+def test_every_command_of_using_it_parses_with_the_real_command_line():
+    """Each ``frustum`` line of "Using it" (continuation lines joined) is a command ``frustum`` accepts."""
+    argvs = [argv for argv in _commands(_section("Using it")) if "--help" not in argv]
+    assert len(argvs) >= 25  # the premise: the single column's block and the colonnades' block
+    assert [p for p in map(_parse, argvs) if isinstance(p, str)] == []
+
+
+def test_using_it_shows_colonnades_imperfect_drums_one_component_and_code_hazard():
+    """Issue 47 item 6 and issue 48: "Using it" runs the rigid frame, a compliant row with its capitals,
+    interaxial and epistyle, a named colonnade, animates a frame and a row from the files they wrote, runs a
+    colonnade study driven by one component and reports on it, runs imperfect drums from a seed, and a risk
+    from a code's 475-year PGA over 50 and 2,100 years."""
+    from pipeline.study.studyfile import load_study
+
+    runs = [_parse(argv) for argv in _commands(_section("Using it")) if "--help" not in argv]
+    simulated = {a.out: a for a in runs if a.command == "simulate"}
+    rows = [a for a in simulated.values() if a.colonnade]
+    assert any(a.model == "2d-frame" and a.colonnade.isdigit() and a.interaxial and a.epistyle for a in rows)
+    assert any(a.model == "3d-compliant" and a.colonnade.isdigit() and a.capital and a.interaxial and a.epistyle
+               for a in rows)
+    assert any(a.colonnade == "parthenon-east" for a in rows)
+    animated = [simulated[a.result] for a in runs if a.command == "animate" and a.result in simulated]
+    assert {a.model for a in animated if a.colonnade} >= {"2d-frame", "3d-compliant"}
+    assert any(a.imperfections and a.seed is not None for a in simulated.values())
+    studies = [a for a in runs if a.command == "study" and a.study_command == "run"]
+    one_component = [load_study(ROOT / a.file, load_records=False) for a in studies]
+    one_component = [st for st in one_component if st.components == "x" and any(c.colonnade for c in st.columns)]
+    assert one_component, "no colonnade study driven by one component"
+    reported = {os.path.normpath(f) for a in runs if a.command == "report" for f in a.results}
+    assert {os.path.relpath(st.output, ROOT) for st in one_component} & reported
+    assert any(a.command == "risk" and a.hazard_pga == "475:0.16" and a.hazard_slope == 3
+               and a.years == "50,2100" for a in runs)
+
+
+def test_the_readme_names_every_study_folder():
+    """Each folder of ``studies/`` a clone holds is named in the README (before, ``studies/colonnade/``
+    and ``studies/imperfections/`` were not)."""
+    held = _in_repository()
+    if held is None:  # without git, what is on disk
+        held = {str(p.relative_to(ROOT)) for p in (ROOT / "studies").rglob("*") if p.is_file()}
+    folders = sorted({Path(p).parts[1] for p in held if p.startswith("studies/") and len(Path(p).parts) > 2})
+    assert len(folders) >= 10  # the premise
+    text = README.read_text(encoding="utf-8")
+    assert [f for f in folders if f"`studies/{f}/`" not in text] == []
 
 
 def test_every_file_a_readme_command_reads_is_in_the_repository_or_written_before(commands):
@@ -92,7 +168,7 @@ def test_every_file_a_readme_command_reads_is_in_the_repository_or_written_befor
     for args in commands:
         reads, writes = _reads_and_writes(args)
         missing += [f"frustum {args.command}: {path}" for path in reads
-                    if os.path.normpath(path) not in written and not _held(path, held)]
+                    if not _written_before(path, written) and not _held(path, held)]
         written.update(os.path.normpath(path) for path in writes)
     assert missing == [], "\n".join(missing)
     assert {"out/quickstart.nc", "out/drums_vs_rigid/paper.nc"} <= written  # the premise: studies' outputs found
@@ -143,7 +219,7 @@ def test_the_readme_example_files_load_as_its_commands_read_them(commands):
         for args in commands:
             if args.command == "simulate" and args.record and _looks_like_a_path(args.record):
                 records[args.record] = load_record(args)
-            if args.command == "risk":
+            if args.command == "risk" and args.hazard:  # a hazard curve file (not --hazard-pga's code values)
                 hazard = read_hazard_curve(args.hazard)
     assert len(records) == 2 and hazard is not None  # the AT2 pair, the record in g, the hazard curve
     pair = next(gm for name, gm in records.items() if "," in name)
@@ -199,7 +275,7 @@ def test_every_file_a_help_example_reads_is_in_the_repository_or_a_placeholder()
             if path.startswith("tcp://") or path in ("m/s2", "m/s", "cm/s2"):
                 continue  # a scheduler's address, a unit: not files
             checked += 1
-            if not (os.path.normpath(path) in written or path.startswith("out/")  # a study's (test above)
+            if not (_written_before(path, written) or path.startswith("out/")  # a study's (test above)
                     or os.path.basename(path).startswith("YOUR_")
                     or _held(path, held)):
                 missing.append(f"frustum {args.command}: {path}")

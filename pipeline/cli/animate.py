@@ -12,6 +12,10 @@ examples:
   a colonnade: the Parthenon's east front as the rigid frame (every column, capital and the epistyle):
     frustum simulate --model 2d-frame --colonnade parthenon-east --record FEMA-FF-01 --out front.nc
     frustum animate front.nc --out front.gif
+  a compliant row of 3 columns of 3 drums under 2 epistyle blocks, every body at its own displacement and tilt:
+    frustum simulate --column 0.5,0.4,4 --drums 3 --capital 1.1,0.3 --model 3d-compliant --colonnade 3 \
+        --interaxial 2.3 --epistyle 0.7 --record SYN-RICKER --scale 2 --out row.nc
+    frustum animate row.nc --out row.gif
 """
 
 
@@ -22,9 +26,10 @@ def register(subparsers):
     p = subparsers.add_parser(
         "animate", help="animate a simulated column or colonnade (GIF or MP4)",
         description="Draw the structure of a 'frustum simulate' file in 3D moving with the ground: a column as a "
-        "solid frustum, its drums and capital, or a colonnade with its capitals and epistyle (the rigid frame "
-        "2d-frame as its columns rocking in unison under the epistyle); its contact path on the ground, an arrow "
-        "for the ground acceleration, time and tilt against the model's own theta_crit; one view per model, side "
+        "solid frustum, its drums and capital, or a colonnade: a 3d-compliant row body by body (every drum, "
+        "capital and epistyle block at its own displacement, tilt and twist), a 2d-frame result as the frame "
+        "(every column with its capital rocking in unison under the epistyle); its contact path on the ground, an "
+        "arrow for the ground acceleration, time and tilt against the model's own theta_crit; one view per model, side "
         "by side. A structure that overturned is shown from then on as the run left it, still and "
         f"greyed, with when it fell and which bodies fell; the animation ends {HOLD:g} s after that.",
         epilog=_EXAMPLES, formatter_class=argparse.RawDescriptionHelpFormatter,

@@ -15,6 +15,7 @@ from pipeline.limits import check_tolerance
 from pipeline.paths import check_output_file, check_plot_file
 from pipeline.cli.summary_lines import run_lines
 from pipeline.settings import FREE_MOTION, ModelSettings
+from pipeline.structures import colonnade as row_limits
 from pipeline.structures.colonnade import named_colonnades
 from pipeline.units import MARBLE_DENSITY
 
@@ -56,9 +57,10 @@ def register(subparsers):
     """Add the ``simulate`` sub-command."""
     p = subparsers.add_parser(
         "simulate",
-        help="simulate one column and write its time histories to netCDF",
-        description="Simulate one column (a rigid conical frustum rolling on the rim of its base) "
-        "and write its time histories as a CF netCDF file.",
+        help="simulate one column, column of drums or colonnade and write its time histories to netCDF",
+        description="Simulate one column (a rigid conical frustum rolling on the rim of its base), a column of "
+        "drums with its capital, or a colonnade (a row of such columns carrying an epistyle), under one record or "
+        "released free, and write its time histories as a CF netCDF file.",
         epilog=_EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -94,14 +96,19 @@ def register(subparsers):
     rows = ", ".join(m.name for m in REGISTRY.values() if m.runs("colonnade"))
     row = p.add_argument_group(f"colonnade (--model {rows})")
     row.add_argument("--colonnade", default=None, metavar="N|NAME",
-                     help="a row of N of the column (with its drums and --capital) carrying an epistyle of N - 1 "
-                     "blocks laid from axis to axis; or a named colonnade of pipeline/data/colonnades.toml "
+                     help=f"a row of N (2 to {row_limits.MAX_COLUMNS}) of the column (with its --capital; for "
+                     "3d-compliant also its drums, which --model 2d-frame alone refuses) carrying an epistyle of "
+                     "N - 1 blocks laid from axis to axis; or a named colonnade of pipeline/data/colonnades.toml "
                      f"({', '.join(sorted(named_colonnades()))}), which brings its column, spacing and epistyle")
     row.add_argument("--interaxial", type=float, default=None, metavar="S",
-                     help="spacing of the column axes [m], at least the abacus side")
+                     help="spacing of the column axes [m], at least the abacus side and the base diameter, at most "
+                     f"{row_limits.MAX_INTERAXIAL:g} m and {row_limits.MAX_INTERAXIAL_DIAMETERS:g} base diameters")
     row.add_argument("--epistyle", default=None, metavar="HEIGHT[,WIDTH]",
-                     help="height of the epistyle blocks and their width across the row [m] (width default: the "
-                     "abacus side, 2 r without --capital)")
+                     help="height of the epistyle blocks and their width across the row [m]: a height from "
+                     f"1/{row_limits.MAX_SPAN_DEPTH:g} of the interaxial to {row_limits.MAX_EPISTYLE_FRACTION:g} of "
+                     f"the columns' height, a width {row_limits.EPISTYLE_WIDTH_RANGE[0]:g} to "
+                     f"{row_limits.EPISTYLE_WIDTH_RANGE[1]:g} times the abacus side (width default: the abacus side, "
+                     "2 r without --capital)")
     row.add_argument("--course", type=float, default=None, metavar="HEIGHT",
                      help="a course on the epistyle (frieze and cornice) as a height [m] of its width and density, "
                      "carried as mass (default 0: none; a named colonnade takes one too)")
