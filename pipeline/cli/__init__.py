@@ -7,6 +7,7 @@ a ``register(subparsers)`` function; this module only assembles them.
 import argparse
 import contextlib
 import importlib
+import os
 import re
 import signal
 import sys
@@ -103,7 +104,9 @@ def main(argv=None):
         return 2
     try:
         with _warnings_as_lines(), _termination_as_interrupt():
-            return int(args.handler(args) or 0)
+            status = int(args.handler(args) or 0)
+        sys.stdout.flush()  # a reader gone (`| head`) shows here, inside the handlers below, not at exit
+        return status
     except InputError as exc:
         print(f"frustum: error: {exc}", file=sys.stderr)
         return 2
@@ -113,6 +116,12 @@ def main(argv=None):
     except KeyboardInterrupt:  # Ctrl-C: finished work is kept (checkpoints), no traceback
         print("frustum: interrupted: run again to resume", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # `frustum ... | head`: the reader has all it wanted; no traceback
+        # Python flushes stdout again at exit: point it at devnull so that flush cannot raise once more
+        # (the recipe of the signal module's documentation, "Note on SIGPIPE")
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 128 + signal.SIGPIPE
 
 
 class Terminated(KeyboardInterrupt):
