@@ -57,7 +57,7 @@ MIN_RECORDS = 7
 #: Significant digits of the numbers in summary.csv (records, bootstrap and fit carry no more).
 CSV_DIGITS = 4
 
-def assumptions(models, vertical=True, options=None):
+def assumptions(models, vertical=True, options=None, one_component=False):
     """The report's assumptions as Markdown bullets: what every model shares, then each model run.
 
     Each model is described by its entry of the registry (:mod:`pipeline.models`) and only the
@@ -71,6 +71,8 @@ def assumptions(models, vertical=True, options=None):
         Whether the records' vertical components were used.
     options : dict, optional
         The study's model options (``model_options``), listed as given.
+    one_component : bool
+        Whether each record's x component drove alone (``components = "x"``: y set to zero before scaling).
 
     Returns
     -------
@@ -83,8 +85,10 @@ def assumptions(models, vertical=True, options=None):
              "flutes are ignored.")
     lines = [
         f"- {shape}",
-        "- It stands free on a horizontal ground that moves with the recorded earthquake (both horizontal "
-        f"components{' and the vertical one where recorded' if vertical else '; the vertical one is ignored'}); "
+        "- It stands free on a horizontal ground that moves with the recorded earthquake ("
+        + ("the x component of each record alone, turned by the incidence angle, the y component set to zero "
+           "before scaling" if one_component else "both horizontal components")
+        + f"{' and the vertical one where recorded' if vertical else '; the vertical one is ignored'}); "
         "the ground itself is rigid: what gives is the contact of the base on it, as each model says below.",
     ]
     lines += [MD.markdown(m) for m in models]  # registry names (a study's variants: their models)
@@ -772,7 +776,8 @@ def _markdown(results, frag, rows, comparison, pga_levels_g, figs, out_dir, titl
     options = _options(results)
     bases = list(dict.fromkeys(MD.base_of(results, m) for m in models))
     lines.append(assumptions([m for m in bases if m in MD.REGISTRY],
-                             vertical=results.attrs.get("vertical_component", "used") != "ignored", options=options))
+                             vertical=results.attrs.get("vertical_component", "used") != "ignored", options=options,
+                             one_component="x component" in str(results.attrs.get("horizontal_components", ""))))
     for m in (m for m in bases if m not in MD.REGISTRY):  # e.g. a peer engine's cells, merged in
         said = str(results["model_description"].sel(model=m).values) if "model_description" in results.coords else ""
         lines.append(f"- **{m}** (`{m}`): {said or 'a model this pipeline does not know (no description)'}.")

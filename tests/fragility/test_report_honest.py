@@ -126,3 +126,14 @@ def test_percentages_are_never_rounded_to_certainty():
     assert _pct(0.99996) == "> 99.9 %" and _pct(1.0) == "100.0 %"
     assert _pct(0.00004) == "< 0.1 %" and _pct(0.0) == "0.0 %"
     assert _pct(np.nan) == "n/a"
+
+
+def test_a_study_driven_by_one_component_says_so_in_its_assumptions(tmp_path):
+    """components = "x" (results attr horizontal_components): the report must not claim both components drove."""
+    ds, _ = make_results(n_records=6, columns=("paper",), scales=(0.25, 0.5, 1.0), seed=4)
+    pair = open(write_report(ds, tmp_path / "pair", bootstrap=0)["report"], encoding="utf-8").read()
+    ds.attrs["horizontal_components"] = ("the x component of each record alone (y set to zero before scaling), "
+                                         "turned by the incidence angle")
+    one = open(write_report(ds, tmp_path / "one", bootstrap=0)["report"], encoding="utf-8").read()
+    assert "both horizontal components" in pair and "x component of each record alone" not in pair
+    assert "x component of each record alone" in one and "both horizontal components" not in one
