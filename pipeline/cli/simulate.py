@@ -405,6 +405,9 @@ def _earthquake(args, bodies, models):
     if args.theta0 is not None:
         raise InputError("--theta0 starts a free motion; an earthquake response starts at rest (drop --theta0)")
     excitation = Excitation(angle=args.angle, scale=args.scale, vertical=not args.no_vertical)
+    for name in IMPERFECTIONS:  # in the words a study's [imperfections] gets (pipeline.models.check_imperfect)
+        if getattr(args, name) is not None:
+            check_imperfect(models, "--" + name.replace("_", "-"))
     _refuse_unread(args, {name for model in models for name in REGISTRY[model].options}, f"--model {args.model}")
     settings = {model: _model_settings(args, model, output_step=args.output_step) for model in models}
     for model in models:  # what any run would refuse, before the first one computes (as a study checks)
@@ -415,10 +418,6 @@ def _earthquake(args, bodies, models):
                        f"record {motion.duration:g} s + --tail {tail:g} s", "--tail")
     _check_history_memory(len(models) * (motion.duration + tail), args.output_step,
                           "the record and --tail" + (" for each model" if len(models) > 1 else ""))
-    for name in IMPERFECTIONS:  # in the words a study's [imperfections] gets (pipeline.models.check_imperfect)
-        if getattr(args, name) is not None:
-            check_imperfect(models, "--" + name.replace("_", "-"))
-    _refuse_unread(args, {name for model in models for name in REGISTRY[model].options}, f"--model {args.model}")
     runs = []
     for model in models:
         response = simulate(bodies[model], motion, excitation, settings[model],

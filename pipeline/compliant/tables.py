@@ -29,6 +29,7 @@ from pipeline.dynamics.compliant.layout import (
     J_DELTA, J_F, J_FA, J_FB, J_G, J_IMPLICIT, J_KN, J_KS, J_LAND, J_LOWER, J_MU, J_OX, J_RIM, J_SHAPE, J_TAU,
     J_UFLOOR, J_UPPER, J_UX, N_BODY_COLS, N_JOINT_COLS, N_POINT_COLS, SHAPE_DISC,
 )
+from pipeline.errors import InputError
 from pipeline.units import G
 
 __all__ = ["Assembly", "assemble", "numerics"]
