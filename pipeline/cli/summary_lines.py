@@ -80,7 +80,7 @@ def _tilts(summary, columns):
     blocks = np.flatnonzero(columns < 0)
     if blocks.size:
         lines.append("  peak tilt [deg] of each epistyle block: "
-                     + ", ".join(f"{labels[b]} {_deg(tilts[b])}" for b in blocks))
+                     + ", ".join(f"{str(labels[b]).removeprefix('epistyle ')} {_deg(tilts[b])}" for b in blocks))
     return lines
 
 
