@@ -240,6 +240,9 @@ def _probit_newton(x, n, k, a, b, max_iter=100):
     return a, b, current, hess
 
 
+_LN_FLOAT_MAX = math.log(np.finfo(float).max)  # ln of the largest float, about 709.8
+
+
 def fit_lognormal(im, n, k):
     """Maximum-likelihood lognormal fragility from counts at IM levels (Baker 2015, Eq. 11).
 
@@ -287,7 +290,9 @@ def fit_lognormal(im, n, k):
     spread = float(np.sqrt(np.sum(weights * (x - mean) ** 2))) or 0.5
     b0 = 1.0 / max(spread, 0.1)
     a, b, loglik, hess = _probit_newton(x, n, k, -b0 * mean, b0)
-    if not (np.isfinite(a) and np.isfinite(b)) or b <= 0:
+    if not (np.isfinite(a) and np.isfinite(b)) or b <= 0 or abs(a / b) > _LN_FLOAT_MAX:
+        # b <= 0: the probability falls with the IM; b -> 0+ with a != 0: it is flat (the same share at every
+        # level, e.g. 2 of 22 at both of two stripes), the median beyond any float: no increasing curve either
         return LognormalFit(np.nan, np.nan, FIT_DECREASING, loglik, nan_cov)
     median, beta = math.exp(-a / b), 1.0 / b
     # delta method: (ln median, beta) = (-a/b, 1/b)

@@ -145,3 +145,14 @@ def test_bad_counts_rejected():
         fit_lognormal([0.0, 1.0], [1, 1], [0, 1])
     with pytest.raises(InputError, match="0 <= k <= n"):
         fit_lognormal([1.0, 2.0], [1, 1], [0, 2])
+
+
+def test_the_same_share_at_every_level_is_no_increasing_curve_not_an_overflow():
+    """2 of 22 at both of two stripes (a bootstrap resample of studies/parthenon/imperfect.toml did this):
+    the likelihood's best curve is flat, b -> 0+ with a = probit(2/22) != 0, and exp(-a/b) overflowed."""
+    from pipeline.fragility import FIT_DECREASING
+
+    fit = fit_lognormal([5.88, 9.81], [22, 22], [2, 2])
+    assert fit.status == FIT_DECREASING and np.isnan(fit.median) and np.isnan(fit.beta)
+    rising = fit_lognormal([5.88, 9.81], [22, 22], [2, 3])  # one more at the higher level: a curve
+    assert rising.status == FIT_OK and rising.median > 9.81 and rising.beta > 0
