@@ -92,8 +92,9 @@ def _random_blocks(pattern, n, rng):
     for e, (r, c) in enumerate(edges):
         blocks[e] = rng.normal(size=(6, 6))
         br, bc = order[r], order[c]
-        dense[6 * br:6 * br + 6, 6 * bc:6 * bc + 6] = blocks[e]
-        dense[6 * bc:6 * bc + 6, 6 * br:6 * br + 6] = blocks[e].T
+        # stored transposed (sparse_block_solve): blocks[e, m, i] is entry (i, m) of the coupling
+        dense[6 * br:6 * br + 6, 6 * bc:6 * bc + 6] = blocks[e].T
+        dense[6 * bc:6 * bc + 6, 6 * br:6 * br + 6] = blocks[e]
     for k in range(n):
         x = rng.normal(size=(6, 6))
         diag[k] = x @ x.T + 6.0 * (1 + len(edges)) * np.eye(6)  # diagonally dominant: positive definite
