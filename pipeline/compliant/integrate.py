@@ -17,6 +17,7 @@ from pipeline.dynamics.compliant import assembly as sk
 from pipeline.dynamics.compliant import linear_system
 from pipeline.dynamics.compliant import semi_implicit as si
 from pipeline.dynamics.compliant import statistics
+from pipeline.dynamics.compliant.vector_lanes import compile_with_slp
 from pipeline.dynamics.compliant.layout import (
     GROUND, J_DELTA, J_KN, J_LOWER, N_BODY_STATS, N_DIAG, N_HBODY, N_JOINT_STATS, N_SUMMARY, S_END_TIME,
     S_ENERGY_END, S_ENERGY_START, S_OVERTURN_TIME, S_STATUS, S_UNDECIDED, kept_size,
@@ -177,12 +178,14 @@ def integrate(asm, params, y0, duration, monitor, stride, settings, histories, t
         piece = second if progress is not None else m
         peaked = np.zeros(len(asm.layout.watched), dtype=bool)  # _stands_for_good's memory
         decided = False
+        h = step / asm.time
+        arrays = (raw.hist_y, raw.hist_diag, raw.hist_body, raw.summary, raw.body_stats, raw.joint_stats,
+                  raw.joint_committed, y0, between, scratch)
+        compile_with_slp(si.run, (params, y, t_mon, 0, m, h, stride, theta_commit) + arrays)
         k = 0
         while k < m:
             stop = min(k_decide + 1, max(k, 1) + piece) if k <= k_decide else min(m, k + second)
-            k = si.run(params, y, t_mon, k, stop, step / asm.time, stride, theta_commit,
-                       raw.hist_y, raw.hist_diag, raw.hist_body, raw.summary, raw.body_stats, raw.joint_stats,
-                       raw.joint_committed, y0, between, scratch)
+            k = si.run(params, y, t_mon, k, stop, h, stride, theta_commit, *arrays)
             if progress is not None and k <= k_decide + 1:  # the record and its tail (after them: deciding)
                 progress(min(k - 1, k_decide) * monitor, k_decide * monitor)
             if k > k_decide and _stands_for_good(asm, params, y, raw, peaked):

@@ -16,7 +16,9 @@ Kernel layer (dimensionless arrays in, arrays out), compiled with numba. One mod
   sharing the assembly's layout, tables, monitor and statistics;
 * ``linear_system``: its joints' linear algebra: a joint's dashpot (or spring) matrix from its
   points' moments, ``M + h C`` as 6 x 6 blocks on the joints' pattern and its block Cholesky
-  solve in an order that fills in nothing, and the stiffest mode that bounds the step.
+  solve in an order that fills in nothing, and the stiffest mode that bounds the step;
+* ``unsigned`` and ``vector_lanes``: how the compiled loops are compiled (indices without a
+  negative-index test; the fixed-step loop with LLVM's SLP vectoriser), the numbers unchanged.
 
 The ground motion is read as every family reads it (:mod:`pipeline.dynamics.excitation`).
 """
