@@ -12,6 +12,9 @@ positions, the statistics, the event values). Speed is measured here, never in t
 Run by hand:  python benchmarks/bench_parthenon_step.py total parts [--seconds 10] [--repeat 3]
 
 The numbers depend on the machine and its load: compare two trees in one session (PYTHONPATH).
+``total`` runs the loop as the package compiles it (LLVM's SLP vectoriser on for it:
+pipeline/dynamics/compliant/vector_lanes.py); ``parts`` compiles its own loop, as numba does by
+default: set ``NUMBA_SLP_VECTORIZE=1`` to time the parts as the package's loop runs them.
 """
 
 import argparse

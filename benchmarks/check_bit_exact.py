@@ -12,6 +12,9 @@ Parthenon's east front at x1 along the row and at x2 and 30 deg (which may overt
 run); and 3 drums with the adaptive DOPRI5 reference over the first 4 s (the right-hand side shares
 the tables and helpers of the fixed-step kernel).
 
+Give each tree an empty numba cache (``NUMBA_CACHE_DIR``): numba does not recompile a cached kernel
+when only a kernel it calls, in another file, has changed.
+
 Run by hand:
     PYTHONPATH=/path/to/tree-a python benchmarks/check_bit_exact.py save /tmp/a.npz
     PYTHONPATH=/path/to/tree-b python benchmarks/check_bit_exact.py save /tmp/b.npz
