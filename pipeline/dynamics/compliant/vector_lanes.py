@@ -4,8 +4,8 @@ numba compiles with LLVM's superword-level-parallelism (SLP) vectoriser off by d
 0.57 (numba pull request #8852, after the miscompilations of its issues #8705 and #8681). The block
 solve's updates are six independent multiply-subtracts a term
 (:func:`pipeline.dynamics.compliant.linear_system.sparse_block_solve`), which the SLP vectoriser puts
-side by side in vector lanes; without it they stay scalar, and the Parthenon's front runs about 7 %
-slower (issue 48, speed). Without fast-math flags the vectoriser neither reassociates nor contracts,
+side by side in vector lanes; without it they stay scalar, and the Parthenon's front runs about 6 %
+slower (issue 48, speed: docs/model.md, "Then the block solve in vector lanes"). Without fast-math flags the vectoriser neither reassociates nor contracts,
 so every number is the one the scalar code computes; that is checked, not assumed:
 ``benchmarks/check_bit_exact.py`` (every case the same to the bit with it and without) and
 ``tests/dynamics/compliant/test_vector_lanes.py`` (a frame's run compiled each way in a fresh
